@@ -1,0 +1,62 @@
+#pragma once
+// Plain MAP-Elites over a grid archive (SPEC.md section 1): an initial population of random
+// genotypes, then generations of `batch_size` offspring, each a mutated copy of a parent drawn
+// uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
+#include <memory>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/task.hpp"
+#include "qdmeta/featuremap/feature_map.hpp"
+
+namespace qdmeta {
+
+struct MapElitesParams {
+  Index batch_size = 400;          // offspring per generation, >= 1
+  Index initial_population = 2000; // random genotypes evaluated first, >= 1
+  void validate() const;
+};
+
+// Building blocks shared with QD-Meta's per-map evolution.
+// Fills `genotypes` (count x n) uniformly at random in [0, 1].
+void random_genotypes(RowMatrix& genotypes, Rng& rng);
+// Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites.
+void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring);
+// Maps base features to target features and inserts the valid rows in batch order.
+// `targets` is a scratch buffer. Returns the number of rows that entered the archive.
+Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,
+                   const EvaluationBatch& evaluations, RowMatrix& targets);
+
+class MapElites final : public Algorithm {
+ public:
+  // `archive` gets its solution size from the task; its qd_offset from the task too.
+  MapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureMap> feature_map,
+            GridArchiveParams archive, MutationParams mutation, std::uint64_t seed);
+
+  std::string name() const override { return "map-elites"; }
+  void step(Evaluator& evaluator) override;
+  std::int64_t generation() const override { return generation_; }
+  EvaluationCounters counters() const override { return counters_; }
+  ArchiveStats stats() const override { return archive_.stats(); }
+  EliteTable elites() const override;
+  const GridArchive& archive() const { return archive_; }
+
+ private:
+  MapElitesParams params_;
+  Task task_;
+  std::unique_ptr<FeatureMap> feature_map_;
+  GridArchive archive_;
+  Mutation mutation_;
+  std::uint64_t seed_;
+  std::int64_t generation_ = 0;
+  EvaluationCounters counters_;
+  RowMatrix genotypes_;
+  EvaluationBatch evaluations_;
+  RowMatrix targets_;
+};
+
+// The elites of a grid archive as a table (shared by every grid-based algorithm).
+EliteTable grid_elites(const GridArchive& archive);
+
+}  // namespace qdmeta

@@ -1,0 +1,106 @@
+#include "qdmeta/archive/grid_archive.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+void GridArchiveParams::validate() const {
+  if (bins.empty()) throw InputError("archive.bins is empty: give the number of bins of each target feature");
+  double cells = 1;
+  for (int b : bins) {
+    if (b < 1) throw InputError(fmt::format("archive.bins = [{}] is out of range: each must be at least 1",
+                                            fmt::join(bins, ", ")));
+    cells *= b;
+  }
+  if (cells > 1e8)
+    throw InputError(fmt::format("archive.bins = [{}] gives {} cells: at most 100,000,000 are allowed",
+                                 fmt::join(bins, ", "), cells));
+  if (!(lower < upper) || !std::isfinite(lower) || !std::isfinite(upper))
+    throw InputError(fmt::format("archive range [{}, {}] is invalid: lower must be below upper", lower, upper));
+  require_at_least("archive solution size", solution_size, Index{1});
+  require_at_least("archive base-feature size", base_feature_size, Index{0});
+  require_range("archive.epsilon", epsilon, 0.0, 0.5);
+}
+
+GridArchive::GridArchive(GridArchiveParams params) : params_(std::move(params)) {
+  params_.validate();
+  const auto dims = params_.bins.size();
+  strides_.assign(dims, 1);
+  cells_ = 1;
+  for (std::size_t d = dims; d-- > 0;) {  // row-major: the last dimension varies fastest
+    strides_[d] = cells_;
+    cells_ *= params_.bins[d];
+  }
+  occupied_.assign(static_cast<std::size_t>(cells_), 0);
+  objectives_.assign(static_cast<std::size_t>(cells_), 0);
+  solutions_.resize(cells_, params_.solution_size);
+  measures_.resize(cells_, static_cast<Index>(dims));
+  base_.resize(cells_, params_.base_feature_size);
+}
+
+Index GridArchive::index_of(const Real* measures) const {
+  const double scale = 1.0 / (params_.upper - params_.lower);
+  Index cell = 0;
+  for (std::size_t d = 0; d < params_.bins.size(); ++d) {
+    const double m = measures[d];
+    if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
+    const double pos = std::floor((m - params_.lower) * scale * params_.bins[d] + params_.epsilon);
+    const double clamped = std::clamp(pos, 0.0, static_cast<double>(params_.bins[d] - 1));
+    cell += static_cast<Index>(clamped) * strides_[d];
+  }
+  return cell;
+}
+
+AddStatus GridArchive::add(const Real* solution, Real objective, const Real* measures, const Real* base_features) {
+  const Index cell = index_of(measures);
+  auto& occ = occupied_[static_cast<std::size_t>(cell)];
+  AddStatus status;
+  if (!occ) {
+    status = AddStatus::kNew;
+    occ = 1;
+    filled_.push_back(cell);
+  } else if (objective > objectives_[static_cast<std::size_t>(cell)]) {
+    status = AddStatus::kImproved;
+  } else {
+    return AddStatus::kNotAdded;
+  }
+  objectives_[static_cast<std::size_t>(cell)] = objective;
+  std::copy_n(solution, params_.solution_size, solutions_.row(cell).data());
+  std::copy_n(measures, dimensions(), measures_.row(cell).data());
+  if (params_.base_feature_size > 0 && base_features != nullptr)
+    std::copy_n(base_features, params_.base_feature_size, base_.row(cell).data());
+  return status;
+}
+
+void GridArchive::clear() {
+  for (Index c : filled_) occupied_[static_cast<std::size_t>(c)] = 0;
+  filled_.clear();
+}
+
+ArchiveStats GridArchive::stats() const {
+  ArchiveStats s;
+  s.num_elites = size();
+  s.coverage = static_cast<double>(s.num_elites) / static_cast<double>(cells_);
+  if (filled_.empty()) return s;
+  double sum = 0.0;
+  double best = -std::numeric_limits<double>::infinity();
+  for (Index c : filled_) {
+    const double f = objectives_[static_cast<std::size_t>(c)];
+    sum += f;
+    best = std::max(best, f);
+  }
+  s.obj_max = best;
+  s.obj_mean = sum / static_cast<double>(s.num_elites);
+  s.qd_score = sum - params_.qd_offset * static_cast<double>(s.num_elites);
+  s.norm_qd_score = s.qd_score / static_cast<double>(cells_);
+  return s;
+}
+
+}  // namespace qdmeta

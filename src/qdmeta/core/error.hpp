@@ -1,0 +1,20 @@
+#pragma once
+// The one exception type of the library. Library code throws it (never aborts or exits);
+// the CLI turns it into a one-line message and exit status 2.
+#include <stdexcept>
+#include <string>
+
+namespace qdmeta {
+
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message) : std::runtime_error(message) {}
+};
+
+// Raised for invalid user input: bad config keys or values, missing files, size mismatches.
+class InputError : public Error {
+ public:
+  explicit InputError(const std::string& message) : Error(message) {}
+};
+
+}  // namespace qdmeta

@@ -1,0 +1,63 @@
+#include "qdmeta/core/mutation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace qdmeta {
+
+void MutationParams::validate() const {
+  require_range("mutation.rate", rate, 0.0, 1.0);
+  if (kind == MutationKind::kGaussian && !(sigma > 0.0 && std::isfinite(sigma)))
+    throw InputError(fmt::format("mutation.sigma = {} is out of range: must be a positive number", sigma));
+  if (kind != MutationKind::kGaussian) {
+    if (!(step > 0.0 && step <= 1.0))
+      throw InputError(fmt::format("mutation.step = {} is out of range: must be in (0, 1]", step));
+    const double steps = 1.0 / step;
+    if (std::abs(steps - std::round(steps)) > 1e-6)
+      throw InputError(fmt::format("mutation.step = {} must divide 1 into a whole number of steps", step));
+  }
+}
+
+Mutation::Mutation(MutationParams params) : params_(params) {
+  params_.validate();
+  if (params_.rate > 0.0 && params_.rate < 1.0) log1m_rate_ = std::log1p(-params_.rate);
+  if (params_.kind != MutationKind::kGaussian) grid_steps_ = static_cast<int>(std::lround(1.0 / params_.step));
+}
+
+Real Mutation::mutate_gene(Real gene, Rng& rng) const {
+  switch (params_.kind) {
+    case MutationKind::kGaussian: {
+      const double g = static_cast<double>(gene) + params_.sigma * rng.normal();
+      return static_cast<Real>(std::clamp(g, 0.0, 1.0));
+    }
+    case MutationKind::kDiscreteStep: {
+      const long k = std::lround(static_cast<double>(gene) * grid_steps_);
+      const long moved = std::clamp<long>(k + ((rng() >> 63) ? 1 : -1), 0, grid_steps_);
+      return static_cast<Real>(static_cast<double>(moved) / grid_steps_);
+    }
+    case MutationKind::kUniformResample: {
+      const auto k = static_cast<double>(rng.below(static_cast<std::uint64_t>(grid_steps_) + 1));
+      return static_cast<Real>(k / grid_steps_);
+    }
+  }
+  return gene;
+}
+
+void Mutation::apply(Real* genes, Index count, Rng& rng) const {
+  if (params_.rate <= 0.0 || count <= 0) return;
+  if (params_.rate >= 1.0) {
+    for (Index i = 0; i < count; ++i) genes[i] = mutate_gene(genes[i], rng);
+    return;
+  }
+  // Position of the next mutated gene: skip a Geometric(rate) number of untouched genes.
+  auto pos = static_cast<std::uint64_t>(0) + rng.geometric(log1m_rate_);
+  const auto n = static_cast<std::uint64_t>(count);
+  while (pos < n) {
+    genes[pos] = mutate_gene(genes[pos], rng);
+    pos += 1 + rng.geometric(log1m_rate_);
+  }
+}
+
+void Mutation::apply(RowMatrix& genotypes, Rng& rng) const { apply(genotypes.data(), genotypes.size(), rng); }
+
+}  // namespace qdmeta

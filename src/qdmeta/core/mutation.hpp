@@ -1,0 +1,46 @@
+#pragma once
+// Mutation operators over a block of genotypes in [0, 1]. Each gene mutates independently with
+// probability `rate`; the mask is drawn by geometric skipping over the whole block, so the cost
+// is proportional to the number of mutated genes, not to the block size.
+#include <string_view>
+
+#include "qdmeta/core/params.hpp"
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/core/types.hpp"
+
+namespace qdmeta {
+
+enum class MutationKind {
+  kGaussian,        // gene += N(0, sigma), clamped to [0, 1] (Rastrigin)
+  kDiscreteStep,    // gene moves one step up or down on the grid {0, step, ..., 1}, clamped (RHex, paper)
+  kUniformResample  // gene redrawn uniformly on the grid (RHex, the authors' QD-Meta/CVT code)
+};
+inline constexpr EnumNames<MutationKind, 3> kMutationKindNames{{{MutationKind::kGaussian, "gaussian"},
+                                                                 {MutationKind::kDiscreteStep, "discrete-step"},
+                                                                 {MutationKind::kUniformResample, "uniform-resample"}}};
+
+struct MutationParams {
+  MutationKind kind = MutationKind::kGaussian;  // which operator
+  double rate = 0.10;                           // per-gene mutation probability, in [0, 1]
+  double sigma = 0.05;                          // Gaussian SD (kGaussian only), > 0
+  double step = 0.025;                          // grid step (kDiscreteStep, kUniformResample), in (0, 1]
+  void validate() const;
+};
+
+class Mutation {
+ public:
+  explicit Mutation(MutationParams params);
+  const MutationParams& params() const { return params_; }
+  // Mutates every row of `genotypes` in place.
+  void apply(RowMatrix& genotypes, Rng& rng) const;
+  // Mutates `count` contiguous genes in place (the rows of a block, flattened).
+  void apply(Real* genes, Index count, Rng& rng) const;
+
+ private:
+  Real mutate_gene(Real gene, Rng& rng) const;
+  MutationParams params_;
+  double log1m_rate_ = 0.0;
+  int grid_steps_ = 0;  // number of steps between 0 and 1 on the discrete grid
+};
+
+}  // namespace qdmeta

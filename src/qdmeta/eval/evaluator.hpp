@@ -1,0 +1,32 @@
+#pragma once
+// Evaluators run a batch of genotypes through a task, results in batch order. Tasks are
+// deterministic functions of the genotype, so any evaluator gives the same bits.
+#include <memory>
+
+#include "qdmeta/core/task.hpp"
+
+namespace qdmeta {
+
+class Evaluator {
+ public:
+  virtual ~Evaluator() = default;
+  virtual void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) = 0;
+  virtual int workers() const = 0;
+};
+
+class SerialEvaluator final : public Evaluator {
+ public:
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    task.evaluate(genotypes, out);
+  }
+  int workers() const override { return 1; }
+};
+
+// Threads from oneTBB. `threads` = 0 uses every core. Rows are split into chunks of at most
+// `chunk_rows`; a task that may not be shared gets one copy per thread.
+std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows = 32);
+
+// Serial for 1 thread, TBB otherwise.
+std::unique_ptr<Evaluator> make_evaluator(int threads);
+
+}  // namespace qdmeta

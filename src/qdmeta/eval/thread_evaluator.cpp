@@ -1,0 +1,74 @@
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <optional>
+
+#include "qdmeta/eval/evaluator.hpp"
+
+namespace qdmeta {
+namespace {
+
+class ThreadEvaluator final : public Evaluator {
+ public:
+  ThreadEvaluator(int threads, Index chunk_rows)
+      : threads_(threads > 0 ? threads : tbb::info::default_concurrency()),
+        chunk_rows_(chunk_rows > 0 ? chunk_rows : 32),
+        arena_(threads_) {}
+
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    const Index chunks = (genotypes.count + chunk_rows_ - 1) / chunk_rows_;
+    if (chunks <= 1 || threads_ == 1) {
+      task.evaluate(genotypes, out);
+      return;
+    }
+    // Per-thread copies of a task that may not be shared (e.g. a physics world), kept
+    // across batches while the same task is evaluated.
+    if (copies_of_ != task.id()) {
+      copies_.clear();
+      copies_of_ = task.id();
+    }
+    arena_.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<Index>(0, chunks, 1),
+          [&](const tbb::blocked_range<Index>& range) {
+            const Task* worker_task = &task;
+            if (!task.shareable()) {
+              auto& copy = copies_.local();
+              if (!copy) copy.emplace(task.clone());
+              worker_task = &*copy;
+            }
+            for (Index c = range.begin(); c < range.end(); ++c) {
+              const Index first = c * chunk_rows_;
+              const Index n = std::min(chunk_rows_, genotypes.count - first);
+              worker_task->evaluate(genotypes.rows(first, n), out.rows(first, n));
+            }
+          },
+          tbb::simple_partitioner());
+    });
+  }
+  int workers() const override { return threads_; }
+
+ private:
+  int threads_;
+  Index chunk_rows_;
+  tbb::task_arena arena_;
+  tbb::enumerable_thread_specific<std::optional<Task>> copies_;
+  const void* copies_of_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows) {
+  return std::make_unique<ThreadEvaluator>(threads, chunk_rows);
+}
+
+std::unique_ptr<Evaluator> make_evaluator(int threads) {
+  if (threads == 1) return std::make_unique<SerialEvaluator>();
+  return make_thread_evaluator(threads);
+}
+
+}  // namespace qdmeta

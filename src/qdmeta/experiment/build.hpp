@@ -1,0 +1,43 @@
+#pragma once
+// From a config file to a ready algorithm: the one place that knows every config key.
+// docs/config.md lists them; keep the two in step.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+enum class BudgetCount { kBottom, kAll };  // what the evaluation budget counts
+inline constexpr EnumNames<BudgetCount, 2> kBudgetCountNames{{{BudgetCount::kBottom, "bottom"},
+                                                              {BudgetCount::kAll, "all"}}};
+
+struct RunSettings {
+  std::string algorithm;
+  std::uint64_t seed = 1;
+  std::int64_t budget = 0;  // evaluations; the run stops at the first generation at or past it
+  BudgetCount counts = BudgetCount::kBottom;
+  std::int64_t log_every = 0;  // evaluations between metrics rows
+  std::int64_t evals(const EvaluationCounters& c) const { return counts == BudgetCount::kAll ? c.total() : c.bottom; }
+};
+
+struct Overrides {
+  std::optional<std::uint64_t> seed;
+  std::optional<std::int64_t> evaluations;
+};
+
+struct BuiltRun {
+  RunSettings settings;
+  std::unique_ptr<Algorithm> algorithm;
+  toml::table resolved;  // every key in force, defaults included
+};
+
+// Throws InputError naming the file and key for anything wrong in the config.
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides);
+
+}  // namespace qdmeta

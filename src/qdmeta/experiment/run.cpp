@@ -1,0 +1,100 @@
+#include "qdmeta/experiment/run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
+
+namespace qdmeta {
+
+const std::vector<std::string>& metrics_columns() {
+  static const std::vector<std::string> columns = {"evals",     "evals_bottom", "evals_meta", "generation",
+                                                   "num_elites", "coverage",     "qd_score",   "norm_qd_score",
+                                                   "obj_max",   "obj_mean"};
+  return columns;
+}
+
+namespace {
+
+std::vector<std::string> metrics_row(const Algorithm& algorithm, std::int64_t evals) {
+  const ArchiveStats s = algorithm.stats();
+  const EvaluationCounters c = algorithm.counters();
+  return {fmt::format("{}", evals),        fmt::format("{}", c.bottom),     fmt::format("{}", c.meta),
+          fmt::format("{}", algorithm.generation()), fmt::format("{}", s.num_elites), fmt::format("{}", s.coverage),
+          fmt::format("{}", s.qd_score),   fmt::format("{}", s.norm_qd_score), fmt::format("{}", s.obj_max),
+          fmt::format("{}", s.obj_mean)};
+}
+
+void write_summary(const std::filesystem::path& path, const RunResult& r, const RunSettings& settings,
+                   const Algorithm& algorithm, int threads) {
+  nlohmann::ordered_json j;
+  j["algorithm"] = algorithm.name();
+  j["stop_reason"] = std::string(enum_to_string(kStopReasonNames, r.reason));
+  j["message"] = r.message;
+  j["seed"] = settings.seed;
+  j["budget"] = settings.budget;
+  j["budget_counts"] = std::string(enum_to_string(kBudgetCountNames, settings.counts));
+  j["evals"] = r.evals;
+  j["evals_bottom"] = r.counters.bottom;
+  j["evals_meta"] = r.counters.meta;
+  j["generations"] = r.generations;
+  j["num_elites"] = r.stats.num_elites;
+  j["coverage"] = r.stats.coverage;
+  j["qd_score"] = r.stats.qd_score;
+  j["norm_qd_score"] = r.stats.norm_qd_score;
+  j["obj_max"] = r.stats.obj_max;
+  j["obj_mean"] = r.stats.obj_mean;
+  j["threads"] = threads;
+  j["wall_seconds"] = r.wall_seconds;
+  j["evals_per_second"] = r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0.0;
+  write_file_atomic(path, j.dump(2) + "\n");
+}
+
+}  // namespace
+
+RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
+                        const std::filesystem::path& out_dir, const ProgressCallback& progress,
+                        const std::atomic<bool>* stop) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+  CsvAppender metrics(out_dir / "metrics.csv", metrics_columns());
+  RunResult result;
+  std::int64_t next_log = 0;
+  std::int64_t evals = settings.evals(algorithm.counters());
+  std::int64_t last_logged_generation = -1;
+  while (evals < settings.budget) {
+    if (stop && stop->load()) {
+      result.reason = StopReason::kInterrupted;
+      break;
+    }
+    algorithm.step(evaluator);
+    evals = settings.evals(algorithm.counters());
+    if (evals >= next_log || evals >= settings.budget) {
+      metrics.row(metrics_row(algorithm, evals));
+      last_logged_generation = algorithm.generation();
+      while (next_log <= evals) next_log += settings.log_every;
+    }
+    if (progress) progress({evals, settings.budget, algorithm.generation(), elapsed(), &algorithm});
+  }
+  if (last_logged_generation != algorithm.generation() && algorithm.generation() > 0)
+    metrics.row(metrics_row(algorithm, evals));
+
+  result.counters = algorithm.counters();
+  result.evals = evals;
+  result.generations = algorithm.generation();
+  result.stats = algorithm.stats();
+  write_elites_csv(out_dir / "archive.csv", algorithm.elites());
+  result.wall_seconds = elapsed();
+  result.message = result.reason == StopReason::kBudget
+                       ? fmt::format("reached the budget of {} evaluations ({} spent)", settings.budget, evals)
+                       : fmt::format("interrupted after {} of {} evaluations", evals, settings.budget);
+  write_summary(out_dir / "summary.json", result, settings, algorithm, evaluator.workers());
+  return result;
+}
+
+}  // namespace qdmeta

@@ -1,0 +1,49 @@
+#pragma once
+// Drives an algorithm to its evaluation budget: metrics rows, progress, final archive and a
+// summary. The run stops at the first generation boundary at or past the budget; the
+// overshoot is real and shows in the `evals` column.
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/experiment/build.hpp"
+
+namespace qdmeta {
+
+enum class StopReason { kBudget, kInterrupted };
+inline constexpr EnumNames<StopReason, 2> kStopReasonNames{{{StopReason::kBudget, "budget"},
+                                                            {StopReason::kInterrupted, "interrupted"}}};
+
+struct RunResult {
+  StopReason reason = StopReason::kBudget;
+  std::string message;
+  EvaluationCounters counters;
+  std::int64_t evals = 0;  // what the budget counts
+  std::int64_t generations = 0;
+  ArchiveStats stats;
+  double wall_seconds = 0.0;
+};
+
+// Called after every generation; cheap callbacks only.
+struct RunProgress {
+  std::int64_t evals = 0;
+  std::int64_t budget = 0;
+  std::int64_t generation = 0;
+  double wall_seconds = 0.0;
+  const Algorithm* algorithm = nullptr;
+};
+using ProgressCallback = std::function<void(const RunProgress&)>;
+
+// The metrics.csv header (DESIGN.md contract plus `generation`).
+const std::vector<std::string>& metrics_columns();
+
+// Runs to the budget, writing metrics.csv as it goes and archive.csv + summary.json at the
+// end (atomically) into `out_dir`, which must exist. Setting `*stop` ends the run at the next
+// generation boundary with reason kInterrupted; its files are written all the same.
+RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
+                        const std::filesystem::path& out_dir, const ProgressCallback& progress = {},
+                        const std::atomic<bool>* stop = nullptr);
+
+}  // namespace qdmeta

@@ -1,0 +1,137 @@
+#pragma once
+// Ask/tell (mu/mu_W, lambda)-CMA-ES with full covariance, following Hansen's tutorial
+// ("The CMA Evolution Strategy: A Tutorial", arXiv:1604.00772) with positive recombination
+// weights only. QD-Meta uses it to search meta-genotypes (feature-map weights).
+//
+// Usage:
+//   qdmeta::CmaEs cma(params);                    // params.validate() is called
+//   const Eigen::MatrixXd& x = cma.ask(rng);      // n x lambda, one candidate per column
+//   cma.tell(fitness, qdmeta::CmaObjective::kMaximise);
+//
+// The protocol is checked: tell() without a pending ask(), ask() twice in a row, a fitness
+// vector of the wrong size or a NaN fitness throw qdmeta::InputError. The whole algorithm state
+// is the plain struct CmaEsState (state()/set_state() for checkpoints); the object itself holds
+// only the params, the constant strategy parameters and scratch buffers.
+#include <cstdint>
+#include <functional>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace qdmeta {
+
+// What ask() does with a candidate that falls outside [lower_bound, upper_bound].
+enum class CmaBoundsHandling {
+  kNone,      // unbounded: the bounds are ignored
+  kClamp,     // clamp each coordinate; the clamped point is returned and used in the update
+  kResample,  // redraw the candidate (up to max_resample_attempts times), then clamp
+};
+std::string to_string(CmaBoundsHandling value);
+// Accepts "none", "clamp", "resample"; anything else throws InputError listing those.
+CmaBoundsHandling cma_bounds_handling_from_string(std::string_view text);
+
+// Whether tell() receives values to minimise or to maximise (QD-Meta maximises meta-fitness).
+enum class CmaObjective { kMinimise, kMaximise };
+std::string to_string(CmaObjective value);
+// Accepts "minimise", "maximise"; anything else throws InputError listing those.
+CmaObjective cma_objective_from_string(std::string_view text);
+
+struct CmaEsParams {
+  int dimension = 0;                 // n, number of search variables (required, >= 1)
+  int population_size = 10;          // lambda, candidates per ask (>= 2); mu = lambda / 2
+  double initial_sigma = 2.0 / 3.0;  // sigma0, initial step size (> 0; range / 3 for [-1, 1])
+  double initial_mean = 0.0;         // every coordinate of the initial mean (unless x0 is set)
+  std::vector<double> x0;            // optional initial mean; if non-empty its size is n
+  double lower_bound = -1.0;         // lower bound of every coordinate (unused with kNone)
+  double upper_bound = 1.0;          // upper bound of every coordinate (unused with kNone)
+  CmaBoundsHandling bounds = CmaBoundsHandling::kClamp;  // what to do outside the bounds
+  int max_resample_attempts = 100;   // kResample: draws per candidate before clamping (>= 1)
+  bool frozen = false;  // ablation control: always sample the initial distribution, never update
+
+  // Throws InputError naming the field, its value and the rule it breaks.
+  void validate() const;
+};
+
+// Constants derived from (n, lambda) once, as in the tutorial's Table 1 (positive weights).
+struct CmaEsStrategy {
+  int n = 0;                  // dimension
+  int lambda = 0;             // population size
+  int mu = 0;                 // parents, floor(lambda / 2)
+  Eigen::VectorXd weights;    // w_i proportional to ln((lambda + 1) / 2) - ln i, sum 1
+  double mu_eff = 0.0;        // 1 / sum w_i^2
+  double c_sigma = 0.0;       // step-size path learning rate
+  double d_sigma = 0.0;       // step-size damping
+  double c_c = 0.0;           // covariance path learning rate
+  double c1 = 0.0;            // rank-one learning rate
+  double c_mu = 0.0;          // rank-mu learning rate
+  double chi_n = 0.0;         // E||N(0, I)||
+  double eigen_interval = 0.0;  // decompose C only after more than this many evaluations
+};
+
+// The complete mutable state; copy it to checkpoint, compare it with ==.
+struct CmaEsState {
+  Eigen::VectorXd mean;     // m, distribution mean (n)
+  double sigma = 0.0;       // step size
+  Eigen::MatrixXd C;        // covariance (n x n)
+  Eigen::MatrixXd B;        // eigenvectors of C at the last decomposition (columns)
+  Eigen::VectorXd D;        // square roots of the eigenvalues at the last decomposition
+  Eigen::VectorXd p_sigma;  // conjugate evolution path
+  Eigen::VectorXd p_c;      // evolution path
+  std::int64_t generation = 0;          // completed tell() calls
+  std::int64_t evaluations = 0;         // fitness values received
+  std::int64_t eigen_evaluations = 0;   // value of `evaluations` at the last decomposition
+  std::int64_t decompositions = 0;      // eigendecompositions of C performed
+  bool awaiting_tell = false;           // ask() returned candidates that tell() has not seen
+  Eigen::MatrixXd samples;              // the pending candidates (n x lambda), as returned
+
+  friend bool operator==(const CmaEsState& a, const CmaEsState& b);
+};
+
+class CmaEs {
+ public:
+  explicit CmaEs(CmaEsParams params);
+
+  // Samples lambda candidates (columns of an n x lambda matrix) from N(m, sigma^2 C), with
+  // bounds handling applied. `standard_normal` must return independent N(0, 1) draws; it is the
+  // only source of randomness. The reference stays valid until the next ask() or set_state().
+  const Eigen::MatrixXd& ask(const std::function<double()>& standard_normal);
+
+  // Convenience: draws the normals from a seeded UniformRandomBitGenerator through
+  // std::normal_distribution (so the exact sequence depends on the standard library).
+  template <class Rng>
+  const Eigen::MatrixXd& ask(Rng& rng) {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    return ask(std::function<double()>([&rng, &normal] { return normal(rng); }));
+  }
+
+  // Updates the distribution from the fitness of the pending candidates, in ask() order.
+  void tell(const Eigen::VectorXd& fitness, CmaObjective objective);
+
+  const CmaEsParams& params() const { return params_; }
+  const CmaEsStrategy& strategy() const { return strategy_; }
+  const CmaEsState& state() const { return state_; }
+  // Replaces the state (e.g. from a checkpoint); throws InputError if its sizes do not match
+  // the params or it is not a valid state (non-positive sigma, pending flag without samples).
+  void set_state(const CmaEsState& state);
+
+  // The state of a freshly constructed optimiser for these params.
+  static CmaEsState initial_state(const CmaEsParams& params);
+
+ private:
+  void sample_column(int column, const std::function<double()>& standard_normal);
+  void decompose();
+
+  CmaEsParams params_;
+  CmaEsStrategy strategy_;
+  CmaEsState state_;
+  CmaEsState initial_;  // the frozen control samples from this distribution forever
+  // Scratch buffers, not state.
+  Eigen::VectorXd z_;
+  Eigen::MatrixXd y_;
+  std::vector<int> order_;
+};
+
+}  // namespace qdmeta
