@@ -20,15 +20,15 @@ void MutationParams::validate() const {
 
 Mutation::Mutation(MutationParams params) : params_(params) {
   params_.validate();
-  if (params_.rate > 0.0 && params_.rate < 1.0) log1m_rate_ = std::log1p(-params_.rate);
+  if (params_.rate > 0.0 && params_.rate < 1.0) inv_log1m_rate_ = static_cast<float>(1.0 / std::log1p(-params_.rate));
   if (params_.kind != MutationKind::kGaussian) grid_steps_ = static_cast<int>(std::lround(1.0 / params_.step));
 }
 
 Real Mutation::mutate_gene(Real gene, Rng& rng) const {
   switch (params_.kind) {
     case MutationKind::kGaussian: {
-      const double g = static_cast<double>(gene) + params_.sigma * rng.normal();
-      return static_cast<Real>(std::clamp(g, 0.0, 1.0));
+      const Real g = gene + static_cast<Real>(params_.sigma) * rng.normal_float();
+      return std::clamp(g, Real{0}, Real{1});
     }
     case MutationKind::kDiscreteStep: {
       const long k = std::lround(static_cast<double>(gene) * grid_steps_);
@@ -50,11 +50,11 @@ void Mutation::apply(Real* genes, Index count, Rng& rng) const {
     return;
   }
   // Position of the next mutated gene: skip a Geometric(rate) number of untouched genes.
-  auto pos = static_cast<std::uint64_t>(0) + rng.geometric(log1m_rate_);
+  std::uint64_t pos = rng.geometric(inv_log1m_rate_);
   const auto n = static_cast<std::uint64_t>(count);
   while (pos < n) {
     genes[pos] = mutate_gene(genes[pos], rng);
-    pos += 1 + rng.geometric(log1m_rate_);
+    pos += 1 + rng.geometric(inv_log1m_rate_);
   }
 }
 

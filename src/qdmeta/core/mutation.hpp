@@ -39,7 +39,7 @@ class Mutation {
  private:
   Real mutate_gene(Real gene, Rng& rng) const;
   MutationParams params_;
-  double log1m_rate_ = 0.0;
+  float inv_log1m_rate_ = 0.0f;
   int grid_steps_ = 0;  // number of steps between 0 and 1 on the discrete grid
 };
 

@@ -27,13 +27,22 @@ void Task::evaluate(GenotypeView genotypes, EvaluationView out) const {
     throw Error(fmt::format("task '{}': {} genotypes but room for {} evaluations", name(), genotypes.count,
                             out.count));
   impl_->evaluate(genotypes, out);
+  // Fast pass without early exits (it vectorises); the slow pass only names the culprit.
+  bool ok = true;
+  for (Index i = 0; i < out.count; ++i) {
+    const Real* b = out.base_row(i);
+    bool row_ok = std::isfinite(out.fitness[i]);
+    for (Index j = 0; j < out.base_feature_size; ++j) row_ok &= (b[j] >= 0) & (b[j] <= 1);  // NaN fails
+    ok &= row_ok | (out.valid[i] == 0);
+  }
+  if (ok) return;
   for (Index i = 0; i < out.count; ++i) {
     if (!out.valid[i]) continue;
     if (!std::isfinite(out.fitness[i]))
       throw Error(fmt::format("task '{}': fitness of solution {} is {}", name(), i, out.fitness[i]));
     const Real* b = out.base_row(i);
     for (Index j = 0; j < out.base_feature_size; ++j)
-      if (!(b[j] >= 0 && b[j] <= 1))  // also catches NaN
+      if (!(b[j] >= 0 && b[j] <= 1))
         throw Error(fmt::format("task '{}': base feature {} of solution {} is {}, outside [0, 1]", name(), j, i,
                                 b[j]));
   }

@@ -3,6 +3,7 @@
 // g in [0,1]^N, mapped to x = -5.12 + 10.24 g. Maximisation: f <= 0, optimum 0 at g = 0.5.
 // The scalar functions are the reference (double); evaluate_batch is the vectorised hot path.
 #include <array>
+#include <cmath>
 #include <optional>
 #include <span>
 #include <vector>
@@ -30,19 +31,19 @@ inline double score(double f, double m = kDefaultScoreM) { return m + (f > -m ? 
 
 // cos(2 pi x) for |x| < 2^22, accurate to ~1e-7 absolute; branch-free so loops vectorise.
 inline Real cos_2pi(Real x) {
-  constexpr Real kRound = 12582912.0f;  // 1.5 * 2^23: adding and subtracting rounds to nearest
-  const Real r = x - ((x + kRound) - kRound);  // in [-0.5, 0.5]
-  const Real a = r < 0 ? -r : r;               // cos is even
-  const bool flip = a > 0.25f;                 // cos(2 pi a) = -cos(2 pi (0.5 - a))
-  const Real t = flip ? 0.5f - a : a;          // in [0, 0.25]
-  const Real y = 6.28318530717958647f * t;     // in [0, pi/2]
+  constexpr Real kRound = 12582912.0f;            // 1.5 * 2^23: adding and subtracting rounds to nearest
+  const Real r = x - ((x + kRound) - kRound);     // in [-0.5, 0.5]
+  const Real a = std::fabs(r);                    // cos is even
+  const Real t = a < 0.5f - a ? a : 0.5f - a;     // in [0, 0.25]: cos(2 pi a) = -cos(2 pi (0.5 - a))
+  const Real sign = std::copysign(1.0f, 0.25f - a);
+  const Real y = 6.28318530717958647f * t;        // in [0, pi/2]
   const Real y2 = y * y;
   // Taylor series to y^12: truncation error below 7e-9 on [0, pi/2].
   const Real c =
       1.0f +
       y2 * (-0.5f + y2 * (1.0f / 24 + y2 * (-1.0f / 720 + y2 * (1.0f / 40320 + y2 * (-1.0f / 3628800 +
                                                                                      y2 * (1.0f / 479001600))))));
-  return flip ? -c : c;
+  return sign * c;
 }
 
 // Standard Rastrigin of every row of a row-major block, in float. `scratch` holds count x N.
