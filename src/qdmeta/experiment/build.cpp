@@ -66,6 +66,9 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>& measures, Index b
 
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides) {
   toml::table effective = config;
+  // A run's own config.toml carries a [provenance] table; it describes, it does not configure,
+  // so a resolved config can be run again as it is.
+  effective.erase("provenance");
   if (overrides.seed) effective.insert_or_assign("seed", static_cast<std::int64_t>(*overrides.seed));
   if (overrides.evaluations) {
     if (!effective.contains("budget")) effective.insert("budget", toml::table{});

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages qdmeta needs to build, test and plot. Idempotent: packages
+# already installed are skipped, and nothing is done when all are present. Uses sudo when not
+# root. Set QDMETA_DEPS=core to skip the optional components (DART robot task, MPI).
+set -euo pipefail
+
+core=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libtbb-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  python3 python3-matplotlib python3-numpy
+)
+# Optional components of later milestones (robot task in DART, MPI evaluator, AURORA's k-d tree).
+optional=(libnanoflann-dev)
+
+packages=("${core[@]}")
+if [ "${QDMETA_DEPS:-all}" != core ]; then packages+=("${optional[@]}"); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then missing+=("$p"); fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"
