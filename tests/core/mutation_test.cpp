@@ -258,7 +258,7 @@ TEST(Mutation, ValidateNamesFieldAndValue) {
 
 TEST(Mutation, ConstructorValidates) {
   EXPECT_THROW(Mutation{gaussian(1.5)}, InputError);
-  EXPECT_THROW(Mutation(grid(MutationKind::kDiscreteStep, 0.1, 0.3)), InputError);
+  EXPECT_THROW(Mutation{grid(MutationKind::kDiscreteStep, 0.1, 0.3)}, InputError);
 }
 
 TEST(Mutation, KindNamesRoundTrip) {

@@ -1,0 +1,28 @@
+#pragma once
+// A meta-objective scores a whole archive (QD-Meta's meta-fitness): e.g. its performance under
+// perturbed Rastrigin functions, or a robot's archive under damages. Higher is better.
+#include <cstdint>
+#include <string>
+
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/core/types.hpp"
+
+namespace qdmeta {
+
+class Evaluator;
+
+struct MetaFitnessResult {
+  double value = 0.0;            // the meta-fitness
+  std::int64_t evaluations = 0;  // solution x task evaluations spent computing it
+};
+
+class MetaObjective {
+ public:
+  virtual ~MetaObjective() = default;
+  virtual std::string name() const = 0;
+  // `elites`: the archive's genotypes, one per row (any order). `rng`: this evaluation's own
+  // stream (sampling, perturbations). `evaluator` runs any simulations the objective needs.
+  virtual MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const = 0;
+};
+
+}  // namespace qdmeta
