@@ -28,6 +28,16 @@ struct EliteTable {
   Index size() const { return static_cast<Index>(index.size()); }
 };
 
+// One meta-generation of QD-Meta, for meta.csv.
+struct MetaGenerationRecord {
+  std::int64_t meta_generation = 0;
+  double meta_fitness_best = 0.0;
+  double meta_fitness_mean = 0.0;
+  double meta_fitness_sd = 0.0;  // population SD over the meta-population
+  int generations = 0;           // MAP-Elites generations per map in this meta-generation
+  std::int64_t states = 1;       // the controller's state count
+};
+
 class Algorithm {
  public:
   virtual ~Algorithm() = default;
@@ -38,6 +48,8 @@ class Algorithm {
   virtual EvaluationCounters counters() const = 0;
   virtual ArchiveStats stats() const = 0;
   virtual EliteTable elites() const = 0;
+  // The latest meta-generation (QD-Meta only; null for single-archive algorithms).
+  virtual const MetaGenerationRecord* last_meta_record() const { return nullptr; }
 };
 
 }  // namespace qdmeta

@@ -1,6 +1,7 @@
 #pragma once
 // Evaluators run a batch of genotypes through a task, results in batch order. Tasks are
 // deterministic functions of the genotype, so any evaluator gives the same bits.
+#include <functional>
 #include <memory>
 
 #include "qdmeta/core/task.hpp"
@@ -12,6 +13,13 @@ class Evaluator {
   virtual ~Evaluator() = default;
   virtual void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) = 0;
   virtual int workers() const = 0;
+  // Runs body(0) ... body(n - 1), possibly in parallel on this evaluator's workers. Callers
+  // make the result independent of the order (each index owns its outputs and RNG stream).
+  virtual void parallel_for(Index n, const std::function<void(Index)>& body) {
+    for (Index i = 0; i < n; ++i) body(i);
+  }
+  // Runs `fn` so that any oneTBB parallelism inside it uses this evaluator's workers only.
+  virtual void within_workers(const std::function<void()>& fn) { fn(); }
 };
 
 class SerialEvaluator final : public Evaluator {

@@ -52,6 +52,18 @@ class ThreadEvaluator final : public Evaluator {
   }
   int workers() const override { return threads_; }
 
+  void parallel_for(Index n, const std::function<void(Index)>& body) override {
+    arena_.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<Index>(0, n, 1),
+          [&](const tbb::blocked_range<Index>& range) {
+            for (Index i = range.begin(); i < range.end(); ++i) body(i);
+          },
+          tbb::simple_partitioner());
+    });
+  }
+  void within_workers(const std::function<void()>& fn) override { arena_.execute(fn); }
+
  private:
   int threads_;
   Index chunk_rows_;

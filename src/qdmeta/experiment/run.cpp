@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
@@ -17,6 +18,13 @@ const std::vector<std::string>& metrics_columns() {
   return columns;
 }
 
+const std::vector<std::string>& meta_columns() {
+  static const std::vector<std::string> columns = {
+      "meta_generation",   "evals",           "evals_bottom", "evals_meta", "meta_fitness_best",
+      "meta_fitness_mean", "meta_fitness_sd", "generations",  "states"};
+  return columns;
+}
+
 namespace {
 
 std::vector<std::string> metrics_row(const Algorithm& algorithm, std::int64_t evals) {
@@ -26,6 +34,14 @@ std::vector<std::string> metrics_row(const Algorithm& algorithm, std::int64_t ev
           fmt::format("{}", algorithm.generation()), fmt::format("{}", s.num_elites), fmt::format("{}", s.coverage),
           fmt::format("{}", s.qd_score),   fmt::format("{}", s.norm_qd_score), fmt::format("{}", s.obj_max),
           fmt::format("{}", s.obj_mean)};
+}
+
+std::vector<std::string> meta_row(const MetaGenerationRecord& m, const EvaluationCounters& c, std::int64_t evals) {
+  return {fmt::format("{}", m.meta_generation),   fmt::format("{}", evals),
+          fmt::format("{}", c.bottom),            fmt::format("{}", c.meta),
+          fmt::format("{}", m.meta_fitness_best), fmt::format("{}", m.meta_fitness_mean),
+          fmt::format("{}", m.meta_fitness_sd),   fmt::format("{}", m.generations),
+          fmt::format("{}", m.states)};
 }
 
 void write_summary(const std::filesystem::path& path, const RunResult& r, const RunSettings& settings,
@@ -63,6 +79,7 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
   CsvAppender metrics(out_dir / "metrics.csv", metrics_columns());
+  std::optional<CsvAppender> meta;  // meta.csv, for algorithms with a meta level
   RunResult result;
   std::int64_t next_log = 0;
   std::int64_t evals = settings.evals(algorithm.counters());
@@ -74,6 +91,10 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
     }
     algorithm.step(evaluator);
     evals = settings.evals(algorithm.counters());
+    if (const MetaGenerationRecord* record = algorithm.last_meta_record()) {
+      if (!meta) meta.emplace(out_dir / "meta.csv", meta_columns());
+      meta->row(meta_row(*record, algorithm.counters(), evals));
+    }
     if (evals >= next_log || evals >= settings.budget) {
       metrics.row(metrics_row(algorithm, evals));
       last_logged_generation = algorithm.generation();

@@ -38,6 +38,8 @@ using ProgressCallback = std::function<void(const RunProgress&)>;
 
 // The metrics.csv header (DESIGN.md contract plus `generation`).
 const std::vector<std::string>& metrics_columns();
+// The meta.csv header (QD-Meta): one row per meta-generation.
+const std::vector<std::string>& meta_columns();
 
 // Runs to the budget, writing metrics.csv as it goes and archive.csv + summary.json at the
 // end (atomically) into `out_dir`, which must exist. Setting `*stop` ends the run at the next

@@ -1,0 +1,39 @@
+#pragma once
+// Dynamic parameter control of QD-Meta: how many MAP-Elites generations each meta-generation
+// runs (one G shared by all maps of the meta-generation). The static controller fixes G; the
+// SARSA(lambda) controller learns it (SPEC.md section 3).
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "qdmeta/core/rng.hpp"
+
+namespace qdmeta {
+
+class GenerationController {
+ public:
+  virtual ~GenerationController() = default;
+  virtual std::string name() const = 0;
+  // At the start of a meta-generation, after CMA-ES sampled it: `samples` holds the new
+  // meta-genotypes as columns. Returns G >= 1.
+  virtual int choose_generations(const Eigen::MatrixXd& samples, Rng& rng) = 0;
+  // After the meta-generation: each map's meta-fitness, and the evaluations it spent (counted
+  // as the budget counts them).
+  virtual void observe(std::span<const double> meta_fitness, std::int64_t evaluations) = 0;
+  // Number of discrete states (1 for the static controller), logged in meta.csv.
+  virtual std::int64_t states() const { return 1; }
+};
+
+class StaticControl final : public GenerationController {
+ public:
+  explicit StaticControl(int generations);  // throws InputError unless >= 1
+  std::string name() const override { return "static"; }
+  int choose_generations(const Eigen::MatrixXd&, Rng&) override { return generations_; }
+  void observe(std::span<const double>, std::int64_t) override {}
+
+ private:
+  int generations_;
+};
+
+}  // namespace qdmeta
