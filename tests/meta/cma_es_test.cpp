@@ -144,10 +144,8 @@ TEST(CmaEsParams, ValidateNamesFieldValueAndRule) {
   CmaEsParams good;
   good.dimension = 3;
   auto p = good;
-  p.population_size = 1;
-  EXPECT_INPUT_ERROR(p.validate(),
-                     "CmaEsParams.population_size = 1 is invalid: must be >= 2 (selection needs "
-                     "at least two candidates)");
+  p.population_size = 0;
+  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.population_size = 0 is invalid: must be >= 1");
   p = good;
   p.initial_sigma = -0.5;
   EXPECT_INPUT_ERROR(p.validate(),
@@ -412,4 +410,25 @@ TEST(CmaEsLazyDecomposition, DecompositionMatchesTheCovariance) {
 }
 
 }  // namespace
+
+// lambda = 1 (the paper's supplementary study): no selection, the single candidate becomes the
+// new mean; the state stays finite.
+TEST(CmaEs, PopulationOfOneFollowsItsOnlyCandidate) {
+  CmaEsParams p;
+  p.dimension = 5;
+  p.population_size = 1;
+  p.bounds = CmaBoundsHandling::kNone;
+  CmaEs cma(p);
+  EXPECT_EQ(cma.strategy().mu, 1);
+  EXPECT_DOUBLE_EQ(cma.strategy().weights(0), 1.0);
+  std::mt19937_64 rng(3);
+  for (int g = 0; g < 20; ++g) {
+    const Eigen::VectorXd x = cma.ask(rng).col(0);
+    cma.tell(Eigen::VectorXd::Constant(1, x.squaredNorm()), CmaObjective::kMinimise);
+    EXPECT_TRUE(cma.state().mean.isApprox(x, 1e-12));
+    EXPECT_TRUE(std::isfinite(cma.state().sigma));
+    EXPECT_TRUE(cma.state().C.allFinite());
+  }
+}
+
 }  // namespace qdmeta

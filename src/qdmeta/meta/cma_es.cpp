@@ -59,6 +59,9 @@ CmaEsStrategy make_strategy(int n, int lambda) {
   for (int i = 0; i < s.mu; ++i) {
     s.weights(i) = std::log((lambda + 1.0) / 2.0) - std::log(i + 1.0);
   }
+  // lambda = 1 (the paper's smallest meta-population): the one parent takes all the weight
+  // (the formula gives 0 / 0 there).
+  if (s.mu == 1) s.weights(0) = 1.0;
   s.weights /= s.weights.sum();
   s.mu_eff = 1.0 / s.weights.squaredNorm();
   const double mu_eff = s.mu_eff;
@@ -112,10 +115,7 @@ CmaObjective cma_objective_from_string(std::string_view text) {
 
 void CmaEsParams::validate() const {
   if (dimension < 1) invalid_param("dimension", std::to_string(dimension), "must be >= 1");
-  if (population_size < 2) {
-    invalid_param("population_size", std::to_string(population_size),
-                  "must be >= 2 (selection needs at least two candidates)");
-  }
+  if (population_size < 1) invalid_param("population_size", std::to_string(population_size), "must be >= 1");
   if (!std::isfinite(initial_sigma) || initial_sigma <= 0.0) {
     invalid_param("initial_sigma", format_double(initial_sigma), "must be finite and > 0");
   }
