@@ -187,14 +187,16 @@ TEST(GridArchive, NeverLosesItsBest) {
     ASSERT_EQ(a.stats().obj_max, running_max) << "after insertion " << t;
     // The status agrees with the cell's history, and a cell's objective never decreases.
     const double previous = best_in_cell[static_cast<std::size_t>(cell)];
-    if (!was_occupied) ASSERT_EQ(status, AddStatus::kNew);
-    else if (f > previous) ASSERT_EQ(status, AddStatus::kImproved);
-    else ASSERT_EQ(status, AddStatus::kNotAdded);
+    const AddStatus expected_status =
+        !was_occupied ? AddStatus::kNew : (f > previous ? AddStatus::kImproved : AddStatus::kNotAdded);
+    ASSERT_EQ(status, expected_status) << "insertion " << t;
     best_in_cell[static_cast<std::size_t>(cell)] = std::max(previous, static_cast<double>(f));
     for (Index c = 0; c < a.cells(); ++c) {
       const double expect = best_in_cell[static_cast<std::size_t>(c)];
       ASSERT_EQ(a.occupied(c), std::isfinite(expect)) << "cell " << c;
-      if (a.occupied(c)) ASSERT_EQ(static_cast<double>(a.objective(c)), expect) << "cell " << c;
+      if (a.occupied(c)) {
+        ASSERT_EQ(static_cast<double>(a.objective(c)), expect) << "cell " << c;
+      }
     }
   }
   EXPECT_EQ(a.size(), 100);  // 5000 uniform draws fill every cell

@@ -198,8 +198,8 @@ TEST(Mutation, DiscreteStepClampsAtTheEnds) {
   int stayed = 0;
   for (Index i = 0; i < kN; ++i) {
     const Real g = genes[static_cast<std::size_t>(i)];
-    if (i % 2 == 0) ASSERT_TRUE(g == 0.0f || g == on_grid(1)) << g;
-    else ASSERT_TRUE(g == 1.0f || g == on_grid(39)) << g;
+    const bool ok = (i % 2 == 0) ? (g == 0.0f || g == on_grid(1)) : (g == 1.0f || g == on_grid(39));
+    ASSERT_TRUE(ok) << "gene " << i << " -> " << g;
     stayed += g == ((i % 2 == 0) ? 0.0f : 1.0f);
   }
   EXPECT_NEAR(stayed, kN / 2, 6 * std::sqrt(kN * 0.25));

@@ -119,13 +119,13 @@ TEST(Rng, BelowStaysInRange) {
   Rng rng(3);
   for (int i = 0; i < 1000; ++i) ASSERT_EQ(rng.below(1), 0u);
   const std::uint64_t big = (std::uint64_t{1} << 63) + 12345;  // not a power of two
-  bool upper_half = false;
+  bool top_quarter = false;
   for (int i = 0; i < 1000; ++i) {
     const std::uint64_t x = rng.below(big);
     ASSERT_LT(x, big);
-    upper_half |= x >= (std::uint64_t{1} << 62) * 3;  // top quarter of the range is reached
+    top_quarter |= x >= (std::uint64_t{1} << 61) * 3;  // the top quarter of the range is reached
   }
-  EXPECT_TRUE(upper_half);
+  EXPECT_TRUE(top_quarter);
 }
 
 // Pearson's chi-square over n equiprobable classes.

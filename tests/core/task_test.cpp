@@ -174,7 +174,7 @@ TEST(Task, InvalidSizesThrowAtConstruction) {
     EXPECT_TRUE(contains(e.what(), "task 'sized'")) << e.what();
     EXPECT_TRUE(contains(e.what(), "got -1")) << e.what();
   }
-  EXPECT_NO_THROW(Task{SizedTask{1, 0}});
+  EXPECT_NO_THROW((Task{SizedTask{1, 0}}));
 }
 
 struct FaultCase {

@@ -51,7 +51,10 @@ Index GridArchive::index_of(const Real* measures) const {
   for (std::size_t d = 0; d < params_.bins.size(); ++d) {
     const double m = measures[d];
     if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
-    const double pos = std::floor((m - params_.lower) * scale * params_.bins[d] + params_.epsilon);
+    // Measures are floats, rounded by up to half a float ulp (6e-8 relative): scaled by the
+    // bin count that can exceed epsilon, so the margin grows with the bins.
+    const double margin = params_.epsilon + params_.bins[d] * static_cast<double>(std::numeric_limits<float>::epsilon());
+    const double pos = std::floor((m - params_.lower) * scale * params_.bins[d] + margin);
     const double clamped = std::clamp(pos, 0.0, static_cast<double>(params_.bins[d] - 1));
     cell += static_cast<Index>(clamped) * strides_[d];
   }

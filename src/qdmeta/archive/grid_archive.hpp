@@ -19,7 +19,8 @@ struct GridArchiveParams {
   Index base_feature_size = 0;         // base features kept per elite (0: none)
   double qd_offset = 0.0;              // QD-score counts objective - qd_offset
   // Added before flooring, as pyribs does, so a value on a bin edge lands in the upper bin
-  // despite float rounding (0.01f * 100 = 0.99999997).
+  // despite float rounding (0.01f * 100 = 0.99999997); bins x FLT_EPSILON is added to it,
+  // because float measures carry more rounding than pyribs's float64 (0.84f * 100 = 83.999997).
   double epsilon = 1e-6;
   void validate() const;
 };

@@ -5,9 +5,12 @@
 #include <limits>
 
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/algorithms/qd_meta.hpp"
+#include "qdmeta/control/controller.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
+#include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
 namespace qdmeta {
@@ -15,8 +18,20 @@ namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
 
-enum class AlgorithmKind { kMapElites };
-constexpr EnumNames<AlgorithmKind, 1> kAlgorithmNames{{{AlgorithmKind::kMapElites, "map-elites"}}};
+enum class AlgorithmKind { kMapElites, kQdMeta };
+constexpr EnumNames<AlgorithmKind, 2> kAlgorithmNames{
+    {{AlgorithmKind::kMapElites, "map-elites"}, {AlgorithmKind::kQdMeta, "qd-meta"}}};
+
+constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::kNone, "none"},
+                                                          {CmaBoundsHandling::kClamp, "clamp"},
+                                                          {CmaBoundsHandling::kResample, "resample"}}};
+
+enum class ControlKind { kStatic };
+constexpr EnumNames<ControlKind, 1> kControlNames{{{ControlKind::kStatic, "static"}}};
+
+enum class MetaFitnessKind { kDimension, kTranslation };
+constexpr EnumNames<MetaFitnessKind, 2> kMetaFitnessNames{
+    {{MetaFitnessKind::kDimension, "dimension"}, {MetaFitnessKind::kTranslation, "translation"}}};
 
 enum class TaskKind { kRastrigin };
 constexpr EnumNames<TaskKind, 1> kTaskNames{{{TaskKind::kRastrigin, "rastrigin"}}};
@@ -39,20 +54,28 @@ MutationParams read_mutation(ConfigReader& m) {
   p.rate = m.number("rate", p.rate, 0.0, 1.0);
   p.sigma = m.number("sigma", p.sigma, 1e-12, 1e6);
   p.step = m.number("step", p.step, 1e-6, 1.0);
-  p.validate();
+  try {
+    p.validate();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", m.source(), e.what()));
+  }
   return p;
 }
 
-GridArchiveParams read_grid(ConfigReader& a, std::vector<int>& measures, Index base_features) {
+// `measures` (which base features are the target features) is read when given a vector to
+// fill: plain MAP-Elites has one, QD-Meta's feature-maps make their own.
+GridArchiveParams read_grid(ConfigReader& a, std::vector<int>* measures, Index base_features) {
   GridArchiveParams p;
   const auto bins = a.integers("bins", {100, 100}, 1, 100'000'000, 1, 16);
   p.bins.assign(bins.begin(), bins.end());
   p.lower = a.number("lower", p.lower, -1e300, 1e300);
   p.upper = a.number("upper", p.upper, -1e300, 1e300);
-  std::vector<std::int64_t> fallback;
-  for (std::size_t i = 0; i < bins.size(); ++i) fallback.push_back(static_cast<std::int64_t>(i));
-  const auto m = a.integers("measures", fallback, 0, std::max<Index>(base_features - 1, 0), bins.size(), bins.size());
-  measures.assign(m.begin(), m.end());
+  if (measures) {
+    std::vector<std::int64_t> fallback;
+    for (std::size_t i = 0; i < bins.size(); ++i) fallback.push_back(static_cast<std::int64_t>(i));
+    const auto m = a.integers("measures", fallback, 0, std::max<Index>(base_features - 1, 0), bins.size(), bins.size());
+    measures->assign(m.begin(), m.end());
+  }
   p.solution_size = 1;  // completed by the algorithm from the task
   try {
     p.validate();
@@ -60,6 +83,55 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>& measures, Index b
     throw InputError(a.source() + ": " + e.what());
   }
   return p;
+}
+
+std::unique_ptr<GenerationController> read_control(ConfigReader& c) {
+  switch (c.choice("kind", ControlKind::kStatic, kControlNames)) {
+    case ControlKind::kStatic:
+      return std::make_unique<StaticControl>(static_cast<int>(c.integer("generations", 5, 1, 1'000'000)));
+  }
+  throw InputError("unreachable control kind");
+}
+
+// The meta-objective of the task. Random choices made once per replicate (the Dimension
+// meta-fitness's dimensions) come from the seed and are written to the resolved config, so
+// that the resolved file repeats the run.
+std::unique_ptr<MetaObjective> read_meta_fitness(ConfigReader& m, const Task& task, std::uint64_t seed) {
+  if (task.name() != "rastrigin")
+    throw InputError(fmt::format("{}: task '{}' has no meta-fitness yet", m.source(), task.name()));
+  RastriginMetaParams p;
+  const MetaFitnessKind kind = m.choice("kind", MetaFitnessKind::kTranslation, kMetaFitnessNames);
+  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 1e-9, 1.0);
+  p.score_m = task.qd_offset() < 0 ? -task.qd_offset() : p.score_m;
+  const auto n = task.genotype_size();
+  switch (kind) {
+    case MetaFitnessKind::kDimension: {
+      p.dimension_count = static_cast<int>(m.integer("dimension_count", p.dimension_count, 1, n));
+      std::vector<std::int64_t> drawn;
+      Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), 0xD1D1});
+      for (int d : rastrigin::sample_dimensions(rng, static_cast<int>(n), p.dimension_count)) drawn.push_back(d);
+      const auto given = m.integers("dimensions", drawn, 0, n - 1, static_cast<std::size_t>(p.dimension_count),
+                                    static_cast<std::size_t>(p.dimension_count));
+      std::vector<int> dims(given.begin(), given.end());
+      try {
+        p.validate();
+        return std::make_unique<RastriginDimensionMeta>(p, dims);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", m.source(), e.what()));
+      }
+    }
+    case MetaFitnessKind::kTranslation: {
+      p.transform_repetitions = static_cast<int>(m.integer("transform_repetitions", p.transform_repetitions, 1, 1000));
+      p.transform_per_solution = m.boolean("transform_per_solution", p.transform_per_solution);
+      try {
+        p.validate();
+        return std::make_unique<RastriginTranslationMeta>(p);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", m.source(), e.what()));
+      }
+    }
+  }
+  throw InputError("unreachable meta-fitness kind");
 }
 
 }  // namespace
@@ -102,12 +174,37 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       p.initial_population = me.integer("initial_population", p.initial_population, 1, 100'000'000);
       ConfigReader archive_table = root.table("archive");
       std::vector<int> measures;
-      GridArchiveParams grid = read_grid(archive_table, measures, task.base_feature_size());
+      GridArchiveParams grid = read_grid(archive_table, &measures, task.base_feature_size());
       auto feature_map = std::make_unique<SelectFeatureMap>(task.base_feature_size(), measures);
       me.finish();
       archive_table.finish();
       built.algorithm = std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid),
                                                     mutation, s.seed);
+      break;
+    }
+    case AlgorithmKind::kQdMeta: {
+      ConfigReader q = root.table("qd_meta");
+      QdMetaParams p;
+      p.meta_population = q.integer("meta_population", p.meta_population, 2, 10'000);
+      p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
+      p.initial_population = q.integer("initial_population", p.initial_population, 1, 100'000'000);
+      p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
+      p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
+      p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 1e-9, 1e9);
+      ConfigReader cma = root.table("cma_es");
+      p.cma_sigma = cma.number("sigma", p.cma_sigma, 1e-12, 1e6);
+      p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
+      p.frozen = cma.boolean("frozen", p.frozen);
+      p.count_meta_evaluations = s.counts == BudgetCount::kAll;
+      ConfigReader control = root.table("control");
+      auto controller = read_control(control);
+      ConfigReader meta_fitness = root.table("meta_fitness");
+      auto objective = read_meta_fitness(meta_fitness, task, s.seed);
+      ConfigReader archive_table = root.table("archive");
+      GridArchiveParams grid = read_grid(archive_table, nullptr, task.base_feature_size());
+      for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
+      built.algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
+                                                 std::move(controller), s.seed);
       break;
     }
   }

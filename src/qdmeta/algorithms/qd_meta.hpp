@@ -1,0 +1,84 @@
+#pragma once
+// QD-Meta (paper Algorithm 1, SPEC.md section 2). CMA-ES evolves feature-maps (meta-genotypes);
+// each meta-generation every sampled feature-map gets a fresh grid archive rebuilt from the
+// database of all solutions so far, evolves it for G MAP-Elites generations (G from the
+// controller), and is scored by the meta-objective; CMA-ES and the controller then update.
+// One step() is one meta-generation (the first also evaluates the initial population, which
+// only seeds the database).
+#include <memory>
+#include <vector>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/control/controller.hpp"
+#include "qdmeta/core/meta_objective.hpp"
+#include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/task.hpp"
+#include "qdmeta/featuremap/neural_feature_map.hpp"
+#include "qdmeta/meta/cma_es.hpp"
+#include "qdmeta/meta/database.hpp"
+
+namespace qdmeta {
+
+struct QdMetaParams {
+  Index meta_population = 10;          // lambda, feature-maps per meta-generation (>= 2: CMA-ES)
+  Index batch_size = 400;              // offspring per MAP-Elites generation
+  Index initial_population = 2000;     // random genotypes that seed the database
+  Index database_capacity = 500'000;   // newest solutions kept
+  Index hidden = 10;                   // N_h, hidden units of each feature-map
+  double sigmoid_scale = 30.0;         // alpha_s of the scaled sigmoid
+  double cma_sigma = 2.0 / 3.0;        // CMA-ES initial step size
+  CmaBoundsHandling cma_bounds = CmaBoundsHandling::kClamp;
+  bool frozen = false;                 // ablation: sample from the initial distribution forever
+  bool count_meta_evaluations = false; // does the controller's "evaluations spent" include them
+  void validate() const;
+};
+
+class QdMeta final : public Algorithm {
+ public:
+  // The archive params give the grid (one target feature per entry of bins); the solution and
+  // base-feature sizes and the QD-score offset come from the task.
+  QdMeta(QdMetaParams params, Task task, std::unique_ptr<MetaObjective> meta_objective, GridArchiveParams archive,
+         MutationParams mutation, std::unique_ptr<GenerationController> controller, std::uint64_t seed);
+
+  std::string name() const override { return "qd-meta"; }
+  void step(Evaluator& evaluator) override;
+  std::int64_t generation() const override { return meta_generation_; }
+  EvaluationCounters counters() const override { return counters_; }
+  // Statistics and elites of the map with the best meta-fitness of the latest meta-generation.
+  ArchiveStats stats() const override { return best_archive_.stats(); }
+  EliteTable elites() const override;
+  const MetaGenerationRecord* last_meta_record() const override { return meta_generation_ > 0 ? &record_ : nullptr; }
+
+  const Database& database() const { return database_; }
+  const CmaEs& cma_es() const { return cma_; }
+  const GridArchive& best_archive() const { return best_archive_; }
+  double best_meta_fitness() const { return record_.meta_fitness_best; }
+  const std::vector<double>& meta_fitness() const { return meta_fitness_; }
+
+ private:
+  void seed_database(Evaluator& evaluator);
+  void evolve_map(Index map, int generations, Evaluator& evaluator);
+
+  QdMetaParams params_;
+  Task task_;
+  std::unique_ptr<MetaObjective> meta_objective_;
+  Mutation mutation_;
+  std::unique_ptr<GenerationController> controller_;
+  std::uint64_t seed_;
+  NeuralFeatureMapShape shape_;
+  CmaEs cma_;
+  Database database_;
+  std::vector<GridArchive> archives_;              // one per feature-map of the meta-generation
+  std::vector<std::unique_ptr<NeuralFeatureMap>> maps_;
+  std::vector<RowMatrix> offspring_;               // per map: all its new genotypes this meta-generation
+  std::vector<EvaluationBatch> evaluations_;       // per map: their evaluations
+  std::vector<MetaFitnessResult> meta_results_;
+  std::vector<double> meta_fitness_;
+  GridArchive best_archive_;
+  MetaGenerationRecord record_;
+  std::int64_t meta_generation_ = 0;
+  EvaluationCounters counters_;
+};
+
+}  // namespace qdmeta

@@ -1,0 +1,113 @@
+#pragma once
+// QD-Meta's feature-map (SPEC.md section 2): a one-hidden-layer network whose weights are the
+// meta-genotype w itself, used directly (no transform):
+//   h = S_{N_b}(W1 b + B1),  beta = S_{N_h}(W2 h + B2),  S_N(x) = 1 / (1 + exp(-alpha x / (N + 1))).
+// Layout of w: W1 row-major (N_h x N_b), B1 (one scalar shared by the hidden layer), W2
+// row-major (N_t x N_h), B2 (one scalar). K = N_h N_b + 1 + N_t N_h + 1.
+//
+// Every row goes through the same fixed sequence of float operations (fused multiply-adds in
+// input order, then the sigmoid below), whatever the block it arrives in: mapping a block equals
+// mapping its rows one by one, bit for bit. Archive rebuilds rely on this (rebuild.hpp), and it
+// keeps results independent of block sizes and thread counts. The rows of a block are laid
+// across SIMD lanes (the block is transposed first), so the products vectorise without a
+// per-row loop; a general matrix-product kernel could not promise this, because its edge paths
+// accumulate differently from its main path.
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "qdmeta/featuremap/feature_map.hpp"
+
+namespace qdmeta {
+
+// a * b + c, fused where the CPU has FMA. Explicit, so the result never depends on whether the
+// compiler contracts a multiply and an add, and vector lanes equal the scalar tail.
+inline float madd(float a, float b, float c) {
+#if defined(__FMA__)
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
+// exp(x) in float, branch-free so loops over it vectorise: x = k ln2 + r with |r| <= ln2 / 2,
+// exp(r) by Cephes's degree-7 polynomial, 2^k put into the exponent bits. Relative error below
+// 2e-7 for x in [-87.3, 88.3]; x is clamped to that range (no infinities, no subnormals).
+inline float fast_exp(float x) {
+  constexpr float kLog2e = 1.44269504088896341f;
+  constexpr float kLn2Hi = 0.693359375f;        // ln 2 split in two so k * kLn2Hi is exact
+  constexpr float kLn2Lo = -2.12194440e-4f;
+  constexpr float kRound = 12582912.0f;         // 1.5 * 2^23: adding it rounds to an integer
+  x = x < -87.3f ? -87.3f : x;
+  x = x > 88.3f ? 88.3f : x;
+  const float shifted = madd(x, kLog2e, kRound);
+  const float k = shifted - kRound;
+  const std::int32_t ki = std::bit_cast<std::int32_t>(shifted) - std::bit_cast<std::int32_t>(kRound);
+  float r = madd(k, -kLn2Hi, x);
+  r = madd(k, -kLn2Lo, r);
+  float p = 1.9875691500e-4f;
+  p = madd(p, r, 1.3981999507e-3f);
+  p = madd(p, r, 8.3334519073e-3f);
+  p = madd(p, r, 4.1665795894e-2f);
+  p = madd(p, r, 1.6666665459e-1f);
+  p = madd(p, r, 5.0000001201e-1f);
+  p = madd(p * r, r, r + 1.0f);  // 1 + r + r^2 (1/2 + r/6 + ...)
+  const float scale = std::bit_cast<float>(static_cast<std::int32_t>((ki + 127) * (1 << 23)));
+  return p * scale;
+}
+
+// 1 / (1 + exp(-scale x)): the feature-map's sigmoid with scale = alpha / (N + 1). In [0, 1].
+inline float scaled_sigmoid(float x, float scale) { return 1.0f / (1.0f + fast_exp(-scale * x)); }
+
+// out (cols x count, row-major) = the transpose of rows (count x cols, row-major): the layout
+// map_transposed() reads. Written column by column so stores are contiguous (a store stride of
+// a power of two kilobytes would thrash the L1 cache).
+void transpose_rows(const Real* rows, Index count, Index cols, Real* out);
+
+// The network's size. N_b and N_t come from the task and the archive; N_h and alpha_s are
+// QD-Meta settings.
+struct NeuralFeatureMapShape {
+  Index inputs = 0;     // N_b: base features read, >= 1 (20 on Rastrigin)
+  Index hidden = 10;    // N_h: hidden units, >= 1
+  Index outputs = 0;    // N_t: target features written, >= 1 (the archive's dimensions)
+  double alpha = 30.0;  // alpha_s: sigmoid steepness, finite and > 0
+  // K = N_h N_b + 1 + N_t N_h + 1 (222 for 20, 10, 2).
+  Index weight_count() const { return hidden * inputs + 1 + outputs * hidden + 1; }
+  void validate() const;
+  bool operator==(const NeuralFeatureMapShape&) const = default;
+};
+
+class NeuralFeatureMap final : public FeatureMap {
+ public:
+  // Rows per block inside map(): the transposed block and the hidden layer stay in L1.
+  static constexpr Index kBlockRows = 256;
+
+  // Throws InputError when the shape is invalid, when `weights` does not hold exactly
+  // shape.weight_count() values (naming both sizes), or when a weight is not finite.
+  NeuralFeatureMap(NeuralFeatureMapShape shape, std::span<const double> weights);
+
+  const NeuralFeatureMapShape& shape() const { return shape_; }
+  Index input_size() const override { return shape_.inputs; }
+  Index output_size() const override { return shape_.outputs; }
+  void map(const Real* base, Index count, Real* target) const override;
+
+  // Building block for map() and for archive rebuilds that share one transposed block among
+  // several maps. base_t: N_b x count row-major (row k holds base feature k of every row);
+  // scratch: at least scratch_size(count) floats; target: count x N_t row-major. Each row's
+  // result equals what map() gives for it.
+  void map_transposed(const Real* base_t, Index count, Real* scratch, Real* target) const;
+  Index scratch_size(Index count) const { return (shape_.hidden + shape_.outputs) * count; }
+
+ private:
+  NeuralFeatureMapShape shape_;
+  std::vector<Real> w1_;  // N_h x N_b row-major
+  std::vector<Real> w2_;  // N_t x N_h row-major
+  Real b1_ = 0;
+  Real b2_ = 0;
+  Real scale1_ = 0;  // alpha / (N_b + 1)
+  Real scale2_ = 0;  // alpha / (N_h + 1)
+};
+
+}  // namespace qdmeta

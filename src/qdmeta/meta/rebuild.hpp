@@ -1,0 +1,33 @@
+#pragma once
+// Rebuilding QD-Meta's archives from the database (SPEC.md section 2, "Meta-generation"): each
+// of the lambda fresh maps is cleared, then every database row, oldest first, goes through the
+// map's feature-map into its archive (GridArchive::add with solution = genotype, objective =
+// fitness, measures = target features, and the base features when the archive keeps them).
+//
+// The result equals mapping and adding the rows one by one in age order, bit for bit, whatever
+// the thread count: each archive receives its rows sequentially in age order, and a
+// NeuralFeatureMap gives every row the same bits whatever block it is mapped in. The database
+// is read in blocks of kRebuildBlockRows rows; each block is transposed once and shared by all
+// the maps that one task handles. Maps are split into as many contiguous groups as the current
+// task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control).
+#include <span>
+
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/featuremap/neural_feature_map.hpp"
+#include "qdmeta/meta/database.hpp"
+
+namespace qdmeta {
+
+inline constexpr Index kRebuildBlockRows = 512;
+
+// Throws InputError when the spans differ in length, an entry is null, an archive appears
+// twice, or sizes disagree: map inputs vs. database base features, map outputs vs. archive
+// dimensions, archive solution size vs. database genotype size, archive base-feature size
+// (0 or the database's).
+void rebuild_archives(const Database& db, std::span<const NeuralFeatureMap* const> maps,
+                      std::span<GridArchive* const> archives);
+
+// One map, one archive, on the calling thread.
+void rebuild_archive(const Database& db, const NeuralFeatureMap& map, GridArchive& archive);
+
+}  // namespace qdmeta

@@ -1,0 +1,203 @@
+#include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+namespace {
+
+using ColMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
+using RowMatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+constexpr Index kGramBlockRows = 256;  // rows of the Gram matrix computed at a time
+
+// The sampled rows of `elites` as a column-major n x N block: gene i of all samples is
+// contiguous, so the per-solution sums below vectorise across solutions (one lane per
+// solution, genes added in order: no reassociation needed).
+ColMatrix gather(const RowMatrix& elites, const std::vector<Index>& rows) {
+  ColMatrix block(static_cast<Index>(rows.size()), elites.cols());
+  for (Index r = 0; r < block.rows(); ++r) block.row(r) = elites.row(rows[static_cast<std::size_t>(r)]);
+  return block;
+}
+
+// x^2 - 10 cos(2 pi x) of one gene column, added to `sums`. x is in double; the cosine is the
+// branch-free float one (about 2e-5 absolute per term; measured relative error of a 1,000-sample
+// meta-fitness under 1e-9), 17x faster here than a double std::cos, which does not vectorise.
+void add_terms(const Real* __restrict g, Index n, double* __restrict sums, double* __restrict terms) {
+  for (Index r = 0; r < n; ++r) {
+    const double x = rastrigin::to_x(static_cast<double>(g[r]));
+    const double t = x * x - 10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x)));
+    terms[r] = t;
+    sums[r] += t;
+  }
+}
+
+// Translated terms of one gene column with per-solution transforms, added to `sums`; x' is
+// computed in double exactly as rastrigin::translated does, so the range decisions agree. `reach`
+// keeps the largest |x'| of each solution for the out-of-range rule (computing every term and
+// deciding afterwards keeps the loop branch-free, so it vectorises).
+void add_translated_terms(const Real* __restrict g, Index n, const double* __restrict a, const double* __restrict b,
+                          double* __restrict sums, double* __restrict reach) {
+  for (Index r = 0; r < n; ++r) {
+    const double x = a[r] * rastrigin::to_x(static_cast<double>(g[r])) + b[r];
+    sums[r] += x * x - 10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x)));
+    const double ax = std::fabs(x);
+    reach[r] = reach[r] > ax ? reach[r] : ax;
+  }
+}
+
+void require_fraction(std::string_view field, double value) {
+  if (!(value > 0.0 && value <= 1.0))
+    throw InputError(fmt::format("{} = {} is out of range: must be in (0, 1]", field, value));
+}
+
+}  // namespace
+
+void RastriginMetaParams::validate() const {
+  require_fraction("sample_fraction", sample_fraction);
+  if (!(score_m > 0.0 && std::isfinite(score_m)))
+    throw InputError(fmt::format("score_m = {} is out of range: must be positive and finite", score_m));
+  require_at_least("dimension_count", dimension_count, 1);
+  require_at_least("transform_repetitions", transform_repetitions, 1);
+}
+
+Index meta_sample_size(double fraction, Index archive_size) {
+  if (archive_size <= 0) return 0;
+  const auto n = static_cast<Index>(std::llround(fraction * static_cast<double>(archive_size)));
+  return std::clamp<Index>(n, 1, archive_size);
+}
+
+std::vector<Index> sample_elites(Index archive_size, Index count, Rng& rng) {
+  if (count < 0 || count > archive_size)
+    throw InputError(fmt::format("cannot sample {} distinct elites out of an archive of {}", count, archive_size));
+  std::vector<Index> all(static_cast<std::size_t>(archive_size));
+  std::iota(all.begin(), all.end(), Index{0});
+  for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i)  // partial Fisher-Yates
+    std::swap(all[i], all[i + rng.below(all.size() - i)]);
+  all.resize(static_cast<std::size_t>(count));
+  return all;
+}
+
+double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
+  const Index n = points.rows();
+  if (n < 2) return 0.0;
+  const Eigen::MatrixXd x = points.cast<double>();
+  const Eigen::VectorXd sq = x.rowwise().squaredNorm();
+  RowMatrixD gram(std::min(n, kGramBlockRows), n);
+  double total = 0.0;
+  for (Index r0 = 0; r0 < n; r0 += kGramBlockRows) {
+    const Index rows = std::min(kGramBlockRows, n - r0);
+    const Index cols = r0 + rows;  // pairs (s, t) with t < s < cols
+    auto g = gram.topLeftCorner(rows, cols);
+    g.noalias() = x.middleRows(r0, rows) * x.topRows(cols).transpose();
+    for (Index i = 0; i < rows; ++i) {
+      const Index s = r0 + i;
+      auto d = g.row(i).head(s).array();
+      d = ((sq(s) + sq.head(s).transpose().array()) - 2.0 * d).max(0.0).sqrt();
+      total += d.sum();
+    }
+  }
+  return total;
+}
+
+RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions)
+    : params_(params), dimensions_(std::move(dimensions)) {
+  params_.validate();
+  if (dimensions_.size() != static_cast<std::size_t>(params_.dimension_count))
+    throw InputError(fmt::format("rastrigin-dimension meta-fitness: {} dimensions given, dimension_count = {}",
+                                 dimensions_.size(), params_.dimension_count));
+  for (std::size_t k = 0; k < dimensions_.size(); ++k) {
+    if (dimensions_[k] < 0)
+      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is negative", dimensions_[k]));
+    if (std::find(dimensions_.begin(), dimensions_.begin() + static_cast<std::ptrdiff_t>(k), dimensions_[k]) !=
+        dimensions_.begin() + static_cast<std::ptrdiff_t>(k))
+      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is repeated", dimensions_[k]));
+  }
+}
+
+MetaFitnessResult RastriginDimensionMeta::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& /*evaluator*/) const {
+  const Index dims = elites.cols();
+  for (int j : dimensions_)
+    if (j >= dims)
+      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is outside a genotype of size {}",
+                                   j, dims));
+  const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
+  if (n == 0) return {};
+  const ColMatrix block = gather(elites, sample_elites(elites.rows(), n, rng));
+
+  // Terms of every gene; f_j = -[10 (N - 1) + S - t_j] with S the sum over all genes.
+  const auto nn = static_cast<std::size_t>(n);
+  std::vector<double> sums(nn, 0.0), terms(nn);
+  std::vector<double> removed(dimensions_.size() * nn);
+  for (Index i = 0; i < dims; ++i) {
+    add_terms(block.col(i).data(), n, sums.data(), terms.data());
+    for (std::size_t k = 0; k < dimensions_.size(); ++k)
+      if (dimensions_[k] == i) std::copy(terms.begin(), terms.end(), removed.begin() + static_cast<std::ptrdiff_t>(k * nn));
+  }
+  const double m = params_.score_m;
+  const double base = 10.0 * static_cast<double>(dims - 1);
+  double quality = 0.0;
+  for (std::size_t k = 0; k < dimensions_.size(); ++k)
+    for (std::size_t r = 0; r < nn; ++r) quality += rastrigin::score(-(base + sums[r] - removed[k * nn + r]), m);
+
+  double diversity = 0.0;
+  if (n >= 2) {
+    const double alpha = std::sqrt(static_cast<double>(dims)) * m / static_cast<double>(n - 1);
+    diversity = alpha * pairwise_distance_sum(block);
+  }
+  const auto count = static_cast<double>(dimensions_.size());
+  return {(quality + diversity) / count, static_cast<std::int64_t>(n) * static_cast<std::int64_t>(dimensions_.size())};
+}
+
+RastriginTranslationMeta::RastriginTranslationMeta(RastriginMetaParams params) : params_(params) {
+  params_.validate();
+}
+
+MetaFitnessResult RastriginTranslationMeta::evaluate(const RowMatrix& elites, Rng& rng,
+                                                     Evaluator& /*evaluator*/) const {
+  const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
+  if (n == 0) return {};
+  const ColMatrix block = gather(elites, sample_elites(elites.rows(), n, rng));
+  const auto nn = static_cast<std::size_t>(n);
+  const auto tasks = static_cast<std::size_t>(transform_count());
+
+  // Coefficients per (transform, solution): one shared set, or one set per solution.
+  std::vector<double> a(tasks * nn), b(tasks * nn);
+  if (!params_.transform_per_solution) {
+    const auto set = rastrigin::sample_meta_transforms(rng, params_.transform_repetitions);
+    for (std::size_t k = 0; k < tasks; ++k) {
+      std::fill_n(a.begin() + static_cast<std::ptrdiff_t>(k * nn), nn, set[k].a);
+      std::fill_n(b.begin() + static_cast<std::ptrdiff_t>(k * nn), nn, set[k].b);
+    }
+  } else {
+    for (std::size_t r = 0; r < nn; ++r) {
+      const auto set = rastrigin::sample_meta_transforms(rng, params_.transform_repetitions);
+      for (std::size_t k = 0; k < tasks; ++k) {
+        a[k * nn + r] = set[k].a;
+        b[k * nn + r] = set[k].b;
+      }
+    }
+  }
+
+  const double m = params_.score_m;
+  const double base = 10.0 * static_cast<double>(elites.cols());
+  std::vector<double> sums(nn), reach(nn);
+  double total = 0.0;
+  for (std::size_t k = 0; k < tasks; ++k) {
+    std::fill(sums.begin(), sums.end(), 0.0);
+    std::fill(reach.begin(), reach.end(), 0.0);
+    for (Index i = 0; i < block.cols(); ++i)
+      add_translated_terms(block.col(i).data(), n, a.data() + k * nn, b.data() + k * nn, sums.data(), reach.data());
+    for (std::size_t r = 0; r < nn; ++r)  // out of range (any |x'| > 5.12): score 0
+      if (reach[r] <= rastrigin::kBound) total += rastrigin::score(-(base + sums[r]), m);
+  }
+  return {total / static_cast<double>(tasks), static_cast<std::int64_t>(n) * static_cast<std::int64_t>(tasks)};
+}
+
+}  // namespace qdmeta
