@@ -3,7 +3,7 @@
 JOBS ?= $(shell nproc)
 BUILD ?= build
 ASAN_BUILD ?= build-asan
-DEMO_OUT ?= results/demo-map-elites
+DEMO_OUT ?= results/demo
 CMAKE_FLAGS ?=
 
 .PHONY: all deps build run test test-sanitize bench clean
@@ -19,10 +19,13 @@ $(BUILD)/build.ninja:
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
-# The most complete demo so far: plain MAP-Elites on 20-D Rastrigin, 1,000,000 evaluations.
+# The most complete demo so far: plain MAP-Elites on 20-D Rastrigin (1,000,000 evaluations),
+# then a small QD-Meta Translation run (2,000,000 bottom-level evaluations, about 10 s on 2 cores).
 run: build
-	$(BUILD)/qdmeta run --config configs/rastrigin/map-elites.toml --out $(DEMO_OUT) --overwrite
-	@echo "Results in $(DEMO_OUT)/: metrics.csv (statistics over evaluations), archive.csv (final elites), summary.json"
+	$(BUILD)/qdmeta run --config configs/rastrigin/map-elites.toml --out $(DEMO_OUT)/map-elites --overwrite
+	$(BUILD)/qdmeta run --config configs/rastrigin/qdmeta-translation.toml --out $(DEMO_OUT)/qdmeta-translation --evals 2000000 --overwrite
+	@echo "Results in $(DEMO_OUT)/map-elites and $(DEMO_OUT)/qdmeta-translation: metrics.csv (statistics over evaluations),"
+	@echo "meta.csv (QD-Meta: meta-fitness per meta-generation), archive.csv (final elites), summary.json"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
