@@ -1,6 +1,7 @@
 // Tests of src/qdmeta/experiment/config.{hpp,cpp} (ConfigReader over toml++ tables, load_toml)
 // and of build_run in src/qdmeta/experiment/build.{hpp,cpp}: exact messages for bad input
 // (after fmt's EXPECT_THROW_MSG), defaults recorded in the resolved table, and the shipped config.
+#include "expect_input_error.hpp"
 #include "qdmeta/experiment/config.hpp"
 
 #include <gtest/gtest.h>
@@ -21,17 +22,6 @@ namespace qdmeta {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The message of the InputError that `statement` throws; fails the test if none is thrown.
-#define EXPECT_INPUT_ERROR(statement, expected_message)                      \
-  do {                                                                       \
-    try {                                                                    \
-      statement;                                                             \
-      ADD_FAILURE() << "no InputError from " #statement;                     \
-    } catch (const InputError& e) {                                          \
-      EXPECT_EQ(std::string(e.what()), std::string(expected_message));      \
-    }                                                                        \
-  } while (false)
 
 std::string input_error(auto&& f) {
   try {

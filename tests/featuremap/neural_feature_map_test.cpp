@@ -1,3 +1,4 @@
+#include "expect_input_error.hpp"
 #include "qdmeta/featuremap/neural_feature_map.hpp"
 
 #include <gtest/gtest.h>
@@ -12,17 +13,6 @@
 
 namespace qdmeta {
 namespace {
-
-// Expects `statement` to throw InputError with exactly `message`.
-#define EXPECT_INPUT_ERROR(statement, message)           \
-  do {                                                   \
-    try {                                                \
-      statement;                                         \
-      ADD_FAILURE() << "no InputError from " #statement; \
-    } catch (const InputError& error) {                  \
-      EXPECT_EQ(std::string(error.what()), (message));   \
-    }                                                    \
-  } while (false)
 
 NeuralFeatureMapShape shape_of(Index inputs, Index hidden, Index outputs) {
   NeuralFeatureMapShape s;

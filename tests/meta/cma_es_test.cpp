@@ -1,3 +1,4 @@
+#include "expect_input_error.hpp"
 #include "qdmeta/meta/cma_es.hpp"
 
 #include <gtest/gtest.h>
@@ -14,17 +15,6 @@
 
 namespace qdmeta {
 namespace {
-
-// Expects `statement` to throw InputError with exactly `message`.
-#define EXPECT_INPUT_ERROR(statement, message)                 \
-  do {                                                         \
-    try {                                                      \
-      statement;                                               \
-      ADD_FAILURE() << "no InputError from " #statement;       \
-    } catch (const InputError& error) {                        \
-      EXPECT_EQ(std::string(error.what()), (message));         \
-    }                                                          \
-  } while (false)
 
 CmaEsParams unbounded(int n, double x0, double sigma0) {
   CmaEsParams p;

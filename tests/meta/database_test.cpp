@@ -1,3 +1,4 @@
+#include "expect_input_error.hpp"
 #include "qdmeta/meta/database.hpp"
 
 #include <gtest/gtest.h>
@@ -9,16 +10,6 @@
 
 namespace qdmeta {
 namespace {
-
-#define EXPECT_DB_INPUT_ERROR(statement, message)        \
-  do {                                                   \
-    try {                                                \
-      statement;                                         \
-      ADD_FAILURE() << "no InputError from " #statement; \
-    } catch (const InputError& error) {                  \
-      EXPECT_EQ(std::string(error.what()), (message));   \
-    }                                                    \
-  } while (false)
 
 constexpr Index kGenes = 3;
 constexpr Index kBase = 2;
@@ -75,9 +66,9 @@ TEST(DatabaseParams, DefaultsAndValidation) {
   const DatabaseParams defaults;
   EXPECT_EQ(defaults.capacity, 500'000);
   EXPECT_NO_THROW((DatabaseParams{500'000, 20, 20}.validate()));
-  EXPECT_DB_INPUT_ERROR(Database(0, 3, 2), "database.capacity = 0 is out of range: must be at least 1");
-  EXPECT_DB_INPUT_ERROR(Database(10, 0, 2), "database genotype size = 0 is out of range: must be at least 1");
-  EXPECT_DB_INPUT_ERROR(Database(10, 3, -1), "database base-feature size = -1 is out of range: must be at least 0");
+  EXPECT_INPUT_ERROR(Database(0, 3, 2), "database.capacity = 0 is out of range: must be at least 1");
+  EXPECT_INPUT_ERROR(Database(10, 0, 2), "database genotype size = 0 is out of range: must be at least 1");
+  EXPECT_INPUT_ERROR(Database(10, 3, -1), "database base-feature size = -1 is out of range: must be at least 0");
 }
 
 TEST(Database, EmptyHasNoRowsAndNoSegments) {
@@ -174,13 +165,13 @@ TEST(Database, InsertValidChecksSizes) {
   genotypes.setZero();
   EvaluationBatch eval;
   eval.resize(3, kBase);
-  EXPECT_DB_INPUT_ERROR(db.insert_valid(genotypes, eval),
+  EXPECT_INPUT_ERROR(db.insert_valid(genotypes, eval),
                         "database: batch of 4 genotypes but 3 fitness values, 3 base-feature rows and 3 valid flags");
   RowMatrix wide(3, kGenes + 1);
-  EXPECT_DB_INPUT_ERROR(db.insert_valid(wide, eval), "database: genotypes have 4 genes but the database stores 3");
+  EXPECT_INPUT_ERROR(db.insert_valid(wide, eval), "database: genotypes have 4 genes but the database stores 3");
   EvaluationBatch narrow;
   narrow.resize(4, kBase - 1);
-  EXPECT_DB_INPUT_ERROR(db.insert_valid(genotypes, narrow),
+  EXPECT_INPUT_ERROR(db.insert_valid(genotypes, narrow),
                         "database: evaluations have 1 base features but the database stores 2");
   EXPECT_EQ(db.size(), 0);
 }
@@ -226,15 +217,15 @@ TEST(Database, StateOfPartialFillAndBadStates) {
 
   DatabaseState bad = state;
   bad.fitness.pop_back();
-  EXPECT_DB_INPUT_ERROR(Database{bad},
+  EXPECT_INPUT_ERROR(Database{bad},
                         "database state sizes disagree: genotypes 3x3, base features 3x2, fitness 2; expected N x 3, "
                         "N x 2, N");
   bad = state;
   bad.params.capacity = 2;
-  EXPECT_DB_INPUT_ERROR(Database{bad}, "database state holds 3 rows but its capacity is 2");
+  EXPECT_INPUT_ERROR(Database{bad}, "database state holds 3 rows but its capacity is 2");
   bad = state;
   bad.total_inserted = 1;
-  EXPECT_DB_INPUT_ERROR(Database{bad}, "database state holds 3 rows but says only 1 were ever inserted");
+  EXPECT_INPUT_ERROR(Database{bad}, "database state holds 3 rows but says only 1 were ever inserted");
 }
 
 TEST(Database, ClearForgetsRowsButCountsInserts) {
