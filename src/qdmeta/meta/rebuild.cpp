@@ -38,8 +38,25 @@ void check(const Database& db, std::span<const NeuralFeatureMap* const> maps, st
   }
 }
 
+// The winner of each cell while the database streams by: the first row with the highest
+// fitness, exactly the elite that inserting row by row would leave (replacement only when
+// strictly better). Rows are copied into the archive once per cell at the end, not at every
+// improvement: in a real run newer rows are usually better, so that saves most of the copying.
+struct CellWinners {
+  std::vector<Index> rank;         // database age rank of the winner, -1 while empty
+  std::vector<Real> fitness;
+  std::vector<Real> measures;      // cells x N_t
+  std::vector<Index> fill_order;   // cells in the order they were first reached
+  void reset(Index cells, Index nt) {
+    rank.assign(static_cast<std::size_t>(cells), -1);
+    fitness.resize(static_cast<std::size_t>(cells));
+    measures.resize(static_cast<std::size_t>(cells * nt));
+    fill_order.clear();
+  }
+};
+
 // Rebuilds a contiguous group of maps in one pass over the database: each block of rows is
-// transposed once, then mapped and inserted into every archive of the group in turn.
+// transposed once, then mapped and offered to every map's cell winners in turn.
 void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
                    std::span<GridArchive* const> archives) {
   const Index nb = db.base_feature_size();
@@ -53,21 +70,40 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
   std::vector<Real> base_t(static_cast<std::size_t>(nb * block));
   std::vector<Real> scratch(static_cast<std::size_t>(scratch_size));
   std::vector<Real> targets(static_cast<std::size_t>(max_outputs * block));
+  std::vector<CellWinners> winners(maps.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) winners[i].reset(archives[i]->cells(), maps[i]->output_size());
   for (const DatabaseSegment& seg : db.segments()) {
     for (Index first = 0; first < seg.count; first += block) {
       const Index n = std::min(block, seg.count - first);
-      const Real* rows = seg.base_row(first);
-      transpose_rows(rows, n, nb, base_t.data());
+      transpose_rows(seg.base_row(first), n, nb, base_t.data());
       for (std::size_t i = 0; i < maps.size(); ++i) {
         const NeuralFeatureMap& map = *maps[i];
-        GridArchive& archive = *archives[i];
+        const GridArchive& archive = *archives[i];
+        CellWinners& w = winners[i];
         map.map_transposed(base_t.data(), n, scratch.data(), targets.data());
         const Index nt = map.output_size();
-        const bool keep_base = archive.params().base_feature_size > 0;
-        for (Index r = 0; r < n; ++r)
-          archive.add(seg.genotype(first + r), seg.fitness[first + r], targets.data() + r * nt,
-                      keep_base ? seg.base_row(first + r) : nullptr);
+        for (Index r = 0; r < n; ++r) {
+          const Real* measures = targets.data() + r * nt;
+          const auto cell = static_cast<std::size_t>(archive.index_of(measures));
+          const Real f = seg.fitness[first + r];
+          if (w.rank[cell] < 0) w.fill_order.push_back(static_cast<Index>(cell));
+          else if (!(f > w.fitness[cell])) continue;
+          w.rank[cell] = seg.first_rank + first + r;
+          w.fitness[cell] = f;
+          std::copy_n(measures, nt, w.measures.begin() + static_cast<std::ptrdiff_t>(cell) * nt);
+        }
       }
+    }
+  }
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    GridArchive& archive = *archives[i];
+    const CellWinners& w = winners[i];
+    const Index nt = maps[i]->output_size();
+    const bool keep_base = archive.params().base_feature_size > 0;
+    for (Index cell : w.fill_order) {
+      const auto c = static_cast<std::size_t>(cell);
+      archive.add(db.genotype(w.rank[c]), w.fitness[c], w.measures.data() + cell * nt,
+                  keep_base ? db.base_features(w.rank[c]) : nullptr);
     }
   }
 }
