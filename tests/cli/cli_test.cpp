@@ -144,6 +144,29 @@ TEST(Cli, BadInputIsOneLineAndExitStatusTwo) {
   }
 }
 
+TEST(Cli, QdMetaRunWritesMetaCsvAndTheBestMapWithBaseFeatures) {
+  const fs::path a = fresh_dir("qdmeta1"), b = fresh_dir("qdmeta2");
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/qdmeta-translation.toml";
+  const Outcome o = qdmeta_cli("run --config " + config + " --out " + a.string() + " --evals 60000 --threads 1 --quiet");
+  ASSERT_EQ(o.status, 0) << o.output;
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + b.string() + " --evals 60000 --threads 2 --quiet").status, 0);
+  const std::string meta = slurp(a / "meta.csv");
+  EXPECT_TRUE(meta.starts_with("meta_generation,evals,evals_bottom,evals_meta,meta_fitness_best,meta_fitness_mean,"
+                               "meta_fitness_sd,generations,states\n"));
+  // 2,000 initial + 3 meta-generations x 10 maps x 5 generations x 400 = 62,000 >= 60,000.
+  EXPECT_EQ(count_lines(meta), 4);
+  EXPECT_NE(meta.find("\n3,62000,62000,"), std::string::npos) << meta;
+  EXPECT_EQ(meta, slurp(b / "meta.csv"));
+  EXPECT_EQ(slurp(a / "archive.csv"), slurp(b / "archive.csv"));
+  const EliteTable t = read_elites_csv(a / "archive.csv");
+  ASSERT_GT(t.size(), 100);
+  ASSERT_EQ(t.base_features.cols(), 20);
+  for (Index i = 0; i < t.size(); ++i) {
+    const double f = rastrigin::standard({t.solutions.row(i).data(), 20});
+    ASSERT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f)) << "row " << i;
+  }
+}
+
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {
   EXPECT_EQ(qdmeta_cli("").status, 2);
   EXPECT_EQ(qdmeta_cli("run --out /tmp/x").status, 2);
