@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace qdmeta {
 
@@ -146,6 +148,14 @@ class Rng {
   bool has_spare_float_ = false;
   float spare_float_ = 0.0f;
 };
+
+// Keeps `count` items of `items` chosen uniformly without replacement, in draw order (a partial
+// Fisher-Yates shuffle: exactly `count` calls of rng.below). count must be <= items.size().
+template <class T>
+void choose_without_replacement(std::vector<T>& items, std::size_t count, Rng& rng) {
+  for (std::size_t i = 0; i < count; ++i) std::swap(items[i], items[i + rng.below(items.size() - i)]);
+  items.resize(count);
+}
 
 // Purposes of derived streams, so that two components never share one by accident.
 enum class StreamKey : std::uint64_t {

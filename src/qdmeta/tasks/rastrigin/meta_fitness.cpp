@@ -78,9 +78,7 @@ std::vector<Index> sample_elites(Index archive_size, Index count, Rng& rng) {
     throw InputError(fmt::format("cannot sample {} distinct elites out of an archive of {}", count, archive_size));
   std::vector<Index> all(static_cast<std::size_t>(archive_size));
   std::iota(all.begin(), all.end(), Index{0});
-  for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i)  // partial Fisher-Yates
-    std::swap(all[i], all[i + rng.below(all.size() - i)]);
-  all.resize(static_cast<std::size_t>(count));
+  choose_without_replacement(all, static_cast<std::size_t>(count), rng);
   return all;
 }
 

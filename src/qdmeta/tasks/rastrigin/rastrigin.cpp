@@ -117,9 +117,7 @@ std::vector<std::array<int, 2>> sample_dimension_pairs(Rng& rng, int n, int coun
   if (count < 0 || static_cast<std::size_t>(count) > all.size())
     throw InputError(fmt::format("cannot draw {} distinct dimension pairs out of {} dimensions ({} pairs exist)",
                                  count, n, all.size()));
-  for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i)  // partial Fisher-Yates
-    std::swap(all[i], all[i + rng.below(all.size() - i)]);
-  all.resize(static_cast<std::size_t>(count));
+  choose_without_replacement(all, static_cast<std::size_t>(count), rng);
   return all;
 }
 
@@ -128,9 +126,7 @@ std::vector<int> sample_dimensions(Rng& rng, int n, int count) {
     throw InputError(fmt::format("cannot draw {} distinct dimensions out of {}", count, n));
   std::vector<int> all(static_cast<std::size_t>(n));
   std::iota(all.begin(), all.end(), 0);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i)
-    std::swap(all[i], all[i + rng.below(all.size() - i)]);
-  all.resize(static_cast<std::size_t>(count));
+  choose_without_replacement(all, static_cast<std::size_t>(count), rng);
   return all;
 }
 
