@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "qdmeta/io/csv.hpp"
@@ -146,7 +147,7 @@ TEST(Cli, BadInputIsOneLineAndExitStatusTwo) {
 
 TEST(Cli, QdMetaRunWritesMetaCsvAndTheBestMapWithBaseFeatures) {
   const fs::path a = fresh_dir("qdmeta1"), b = fresh_dir("qdmeta2");
-  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/qdmeta-translation.toml";
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/qdmeta-translation-static.toml";
   const Outcome o = qdmeta_cli("run --config " + config + " --out " + a.string() + " --evals 60000 --threads 1 --quiet");
   ASSERT_EQ(o.status, 0) << o.output;
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + b.string() + " --evals 60000 --threads 2 --quiet").status, 0);
@@ -165,6 +166,36 @@ TEST(Cli, QdMetaRunWritesMetaCsvAndTheBestMapWithBaseFeatures) {
     const double f = rastrigin::standard({t.solutions.row(i).data(), 20});
     ASSERT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f)) << "row " << i;
   }
+}
+
+TEST(Cli, SarsaControlChoosesAndLogsGenerationsPerMetaGeneration) {
+  const fs::path out = fresh_dir("sarsa");
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/qdmeta-translation.toml";
+  const Outcome o = qdmeta_cli("run --config " + config + " --out " + out.string() + " --evals 400000 --quiet");
+  ASSERT_EQ(o.status, 0) << o.output;
+  std::istringstream meta(slurp(out / "meta.csv"));
+  std::string line;
+  std::getline(meta, line);
+  std::int64_t previous = 2000;  // the initial population
+  std::set<int> chosen;
+  int rows = 0;
+  while (std::getline(meta, line)) {
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 9u) << line;
+    const int g = std::stoi(f[7]);
+    EXPECT_GE(g, 1);
+    EXPECT_LE(g, 10);
+    // The logged G is the one that ran: 10 maps x G generations x 400 offspring.
+    EXPECT_EQ(std::stoll(f[2]) - previous, 10 * g * 400) << line;
+    EXPECT_EQ(std::stoll(f[8]), 1) << "too few meta-generations for the state tree to split";
+    previous = std::stoll(f[2]);
+    chosen.insert(g);
+    ++rows;
+  }
+  EXPECT_GE(rows, 5);
+  EXPECT_GE(chosen.size(), 3u);  // the controller changes G over time
 }
 
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {

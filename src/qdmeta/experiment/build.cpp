@@ -7,6 +7,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/control/controller.hpp"
+#include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
@@ -26,8 +27,8 @@ constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::k
                                                           {CmaBoundsHandling::kClamp, "clamp"},
                                                           {CmaBoundsHandling::kResample, "resample"}}};
 
-enum class ControlKind { kStatic };
-constexpr EnumNames<ControlKind, 1> kControlNames{{{ControlKind::kStatic, "static"}}};
+enum class ControlKind { kStatic, kSarsa };
+constexpr EnumNames<ControlKind, 2> kControlNames{{{ControlKind::kStatic, "static"}, {ControlKind::kSarsa, "sarsa"}}};
 
 enum class MetaFitnessKind { kDimension, kTranslation };
 constexpr EnumNames<MetaFitnessKind, 2> kMetaFitnessNames{
@@ -85,10 +86,42 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>* measures, Index b
   return p;
 }
 
+SarsaParams read_sarsa(ConfigReader& c) {
+  SarsaParams p;
+  p.actions = static_cast<int>(c.integer("actions", p.actions, 1, 1000));
+  p.min_generations = static_cast<int>(c.integer("min_generations", p.min_generations, 1, 1'000'000));
+  p.max_generations = static_cast<int>(c.integer("max_generations", p.max_generations, 1, 1'000'000));
+  p.epsilon = c.number("epsilon", p.epsilon, 0.0, 1.0);
+  p.gamma = c.number("gamma", p.gamma, 0.0, 1.0);
+  p.alpha = c.number("alpha", p.alpha, 0.0, 1.0);
+  p.alpha_zero_reward = c.number("alpha_zero_reward", p.alpha_zero_reward, 0.0, 1.0);
+  p.trace_decay = c.number("trace_decay", p.trace_decay, 0.0, 1.0);
+  p.trace_min = c.number("trace_min", p.trace_min, 0.0, 1.0);
+  p.reward_scale = c.number("reward_scale", p.reward_scale, 1e-300, 1e300);
+  p.reward_max = c.number("reward_max", p.reward_max, 1e-300, 1e300);
+  StateTreeParams& t = p.tree;
+  t.split_min_transitions = static_cast<std::size_t>(
+      c.integer("split_min_transitions", static_cast<std::int64_t>(t.split_min_transitions), 2, 1'000'000'000));
+  t.split_probability = c.number("split_probability", t.split_probability, 0.0, 1.0);
+  t.split_min_fraction = c.number("split_min_fraction", t.split_min_fraction, 1e-9, 0.499999);
+  t.max_candidates =
+      static_cast<std::size_t>(c.integer("max_candidates", static_cast<std::int64_t>(t.max_candidates), 1, 1'000'000));
+  t.min_value_gap = c.number("min_value_gap", t.min_value_gap, 0.0, 1e300);
+  t.ks_alpha = c.number("ks_alpha", t.ks_alpha, 1e-12, 0.999999);
+  return p;
+}
+
 std::unique_ptr<GenerationController> read_control(ConfigReader& c) {
-  switch (c.choice("kind", ControlKind::kStatic, kControlNames)) {
+  switch (c.choice("kind", ControlKind::kSarsa, kControlNames)) {
     case ControlKind::kStatic:
       return std::make_unique<StaticControl>(static_cast<int>(c.integer("generations", 5, 1, 1'000'000)));
+    case ControlKind::kSarsa:
+      const SarsaParams p = read_sarsa(c);
+      try {
+        return std::make_unique<SarsaControl>(p);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", c.source(), e.what()));
+      }
   }
   throw InputError("unreachable control kind");
 }

@@ -1,0 +1,122 @@
+#include "qdmeta/control/state_tree.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "qdmeta/control/ks_test.hpp"
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+void StateTreeParams::validate() const {
+  require_range("control.attributes", attributes, 1, 1000);
+  require_range("control.actions", actions, 1, 1000);
+  require_range("control.split_min_transitions", split_min_transitions, std::size_t{2}, std::size_t{1'000'000'000});
+  require_range("control.split_probability", split_probability, 0.0, 1.0);
+  if (!(split_min_fraction > 0.0 && split_min_fraction < 0.5))
+    throw InputError(fmt::format("control.split_min_fraction = {} is out of range: must be in (0, 0.5)", split_min_fraction));
+  require_range("control.max_candidates", max_candidates, std::size_t{1}, std::size_t{1'000'000});
+  require_range("control.min_value_gap", min_value_gap, 0.0, 1e300);
+  if (!(ks_alpha > 0.0 && ks_alpha < 1.0))
+    throw InputError(fmt::format("control.ks_alpha = {} is out of range: must be in (0, 1)", ks_alpha));
+}
+
+StateTree::StateTree(StateTreeParams params) : params_((params.validate(), params)) {
+  Node root;
+  root.q.assign(static_cast<std::size_t>(params_.actions), 0.0);
+  root.trace.assign(static_cast<std::size_t>(params_.actions), 0.0);
+  nodes_.push_back(std::move(root));
+}
+
+int StateTree::leaf_of(const std::vector<double>& observation) const {
+  if (observation.size() != static_cast<std::size_t>(params_.attributes))
+    throw Error(fmt::format("state tree: observation has {} attributes, expected {}", observation.size(),
+                            params_.attributes));
+  int id = 0;
+  while (!nodes_[static_cast<std::size_t>(id)].leaf()) {
+    const Node& n = nodes_[static_cast<std::size_t>(id)];
+    id = observation[static_cast<std::size_t>(n.attribute)] < n.threshold ? n.left : n.right;
+  }
+  return id;
+}
+
+std::optional<StateSplit> StateTree::add_transition(int leaf, StateTransition transition, Rng& rng) {
+  Node& n = node(leaf);
+  if (!n.leaf()) throw Error(fmt::format("state tree: node {} is not a leaf", leaf));
+  if (transition.observation.size() != static_cast<std::size_t>(params_.attributes))
+    throw Error("state tree: transition observation has the wrong size");
+  n.transitions.push_back(std::move(transition));
+  if (n.transitions.size() <= params_.split_min_transitions) return std::nullopt;
+  if (rng.uniform() >= params_.split_probability) return std::nullopt;
+  return try_split(leaf);
+}
+
+std::optional<StateSplit> StateTree::try_split(int leaf) {
+  const Node& n = node(leaf);
+  const std::size_t count = n.transitions.size();
+  const auto min_side = std::max<std::size_t>(1, static_cast<std::size_t>(params_.split_min_fraction * static_cast<double>(count)));
+  if (count < 2 * min_side) return std::nullopt;
+  const std::size_t span = count - 2 * min_side;
+  const std::size_t stride =
+      span > 2 * params_.max_candidates
+          ? static_cast<std::size_t>(std::lround(static_cast<double>(span) / static_cast<double>(params_.max_candidates)))
+          : 1;
+
+  StateSplit best;
+  std::vector<std::size_t> order(count);
+  std::vector<double> left, right;
+  for (int a = 0; a < params_.attributes; ++a) {
+    const auto attr = [&](std::size_t t) { return n.transitions[t].observation[static_cast<std::size_t>(a)]; };
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return attr(x) < attr(y); });
+    for (std::size_t p = min_side; p <= count - min_side; p += stride) {
+      const double below = attr(order[p - 1]), above = attr(order[p]);
+      if (above - below < params_.min_value_gap) continue;
+      left.clear();
+      right.clear();
+      for (std::size_t k = 0; k < count; ++k) (k < p ? left : right).push_back(n.transitions[order[k]].value);
+      std::sort(left.begin(), left.end());
+      std::sort(right.begin(), right.end());
+      const double d = ks_statistic(left, right);
+      if (d > best.statistic) {
+        best.attribute = a;
+        best.threshold = 0.5 * (below + above);
+        best.statistic = d;
+        best.critical = ks_critical_value(left.size(), right.size(), params_.ks_alpha);
+      }
+    }
+  }
+  if (best.attribute < 0 || best.statistic <= best.critical) return std::nullopt;
+
+  Node left_node, right_node;
+  {
+    Node& parent = node(leaf);
+    left_node.q = right_node.q = parent.q;
+    left_node.trace = right_node.trace = parent.trace;
+    for (StateTransition& t : parent.transitions)
+      (t.observation[static_cast<std::size_t>(best.attribute)] < best.threshold ? left_node : right_node)
+          .transitions.push_back(std::move(t));
+  }
+  best.leaf = leaf;
+  best.left = static_cast<int>(nodes_.size());
+  best.right = best.left + 1;
+  nodes_.push_back(std::move(left_node));
+  nodes_.push_back(std::move(right_node));
+  Node& parent = node(leaf);  // re-fetched: push_back may have moved the nodes
+  parent.attribute = best.attribute;
+  parent.threshold = best.threshold;
+  parent.left = best.left;
+  parent.right = best.right;
+  parent.q.clear();
+  parent.trace.clear();
+  parent.transitions.clear();
+  parent.transitions.shrink_to_fit();
+  ++leaves_;
+  return best;
+}
+
+}  // namespace qdmeta
