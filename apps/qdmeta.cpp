@@ -15,9 +15,11 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/build.hpp"
+#include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
 
 namespace fs = std::filesystem;
 using namespace qdmeta;
@@ -121,6 +123,40 @@ int command_run(const RunArgs& a) {
   return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
 }
 
+struct AdaptArgs {
+  std::string run;
+  std::string test;
+  std::optional<std::int64_t> budget;
+  std::optional<std::uint64_t> seed;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// The test phase on a finished run: random search over its archive under unseen test functions.
+int command_adapt(const AdaptArgs& a) {
+  const fs::path dir(a.run);
+  if (!fs::exists(dir / "config.toml")) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  if (!fs::exists(dir / "summary.json"))
+    throw InputError(fmt::format("the run in {} has not finished (no summary.json): finish it before testing it", dir.string()));
+  const fs::path config_path = dir / "config.toml";
+  const toml::table config = load_toml(config_path);
+  // Same default seed as the run: every condition of a replicate then meets the same tests.
+  const std::uint64_t seed = a.seed ? *a.seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const auto tests = build_adaptation_tests(config, config_path.string(), a.test, seed);
+  const EliteTable elites = read_elites_csv(dir / "archive.csv");
+  const Index budget = a.budget ? static_cast<Index>(*a.budget) : tests->default_budget();
+  auto evaluator = make_evaluator(a.threads);
+  const AdaptationCurve curve = random_search_adaptation(elites.solutions, *tests, budget, seed, *evaluator);
+  const fs::path out = dir / fmt::format("adapt-{}.csv", a.test);
+  write_adaptation_csv(out, curve);
+  if (!a.quiet)
+    fmt::print("test '{}': {} functions x {} evaluations over {} archive solutions; best after 1: {:.6g} +- {:.3g}, "
+               "after {}: {:.6g} +- {:.3g} (mean +- SE over functions)\nresults: {}\n",
+               a.test, tests->count(), budget, elites.size(), curve.best_mean.front(), curve.best_se.front(), budget,
+               curve.best_mean.back(), curve.best_se.back(), out.string());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -139,6 +175,16 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--overwrite", run.overwrite, "Replace a run already in --out");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing but errors");
 
+  AdaptArgs adapt;
+  CLI::App* adapt_cmd = app.add_subcommand("adapt", "Test phase: random search over a finished run's archive on unseen test functions");
+  adapt_cmd->add_option("--run", adapt.run, "Directory of a finished run")->required();
+  adapt_cmd->add_option("--test", adapt.test, "Test family (Rastrigin: dimension, translation)")->required();
+  adapt_cmd->add_option("--budget", adapt.budget, "Evaluations per test function (default: the task's, 100 on Rastrigin)")
+      ->check(CLI::PositiveNumber);
+  adapt_cmd->add_option("--seed", adapt.seed, "Seed of the search orders and test draws (default: the run's seed)");
+  adapt_cmd->add_option("--threads", adapt.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  adapt_cmd->add_flag("--quiet", adapt.quiet, "Print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -154,6 +200,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run_cmd) return command_run(run);
+    if (*adapt_cmd) return command_adapt(adapt);
   } catch (const std::exception& e) {
     fmt::print(stderr, "qdmeta: error: {}\n", e.what());
     return kExitBadInput;

@@ -13,6 +13,7 @@
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+#include "qdmeta/tasks/rastrigin/test_functions.hpp"
 
 namespace qdmeta {
 namespace {
@@ -247,6 +248,23 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   mutation_table.finish();
   root.finish();
   return built;
+}
+
+std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& config, const std::string& source,
+                                                        std::string_view test, std::uint64_t seed) {
+  toml::table resolved;
+  ConfigReader root(config, source, resolved);
+  ConfigReader task_table = root.table("task");
+  const Task task = read_task(task_table);
+  const auto n = static_cast<int>(task.genotype_size());
+  const double m = -task.qd_offset();  // Rastrigin's offset is -M
+  if (test == "dimension") {
+    // One stream for drawing the pairs, apart from the per-function search streams.
+    Rng rng = Rng::stream(seed, {key(StreamKey::kTest), 0xD1D1'0000'0000'0000ULL});
+    return std::make_unique<RastriginDimensionTests>(n, 120, rng, m);
+  }
+  if (test == "translation") return std::make_unique<RastriginTranslationTests>(n, m);
+  throw InputError(fmt::format("unknown test '{}' for task '{}': valid tests are dimension, translation", test, task.name()));
 }
 
 }  // namespace qdmeta

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/core/adaptation_tests.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -39,5 +40,11 @@ struct BuiltRun {
 
 // Throws InputError naming the file and key for anything wrong in the config.
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides);
+
+// The unseen test functions named `test` for the task of a run's config (`qdmeta adapt`):
+// Rastrigin "dimension" (120 distinct pairs drawn from `seed`) or "translation" (the 120-point
+// grid). An unknown name lists the valid ones.
+std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& config, const std::string& source,
+                                                        std::string_view test, std::uint64_t seed);
 
 }  // namespace qdmeta

@@ -1,0 +1,71 @@
+#include "qdmeta/experiment/adaptation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/io/atomic_file.hpp"
+
+namespace qdmeta {
+
+AdaptationCurve random_search_adaptation(const RowMatrix& archive, const AdaptationTests& tests, Index budget,
+                                         std::uint64_t seed, Evaluator& evaluator) {
+  if (archive.rows() < 1) throw InputError(fmt::format("test '{}': the archive is empty", tests.name()));
+  if (budget < 1) throw InputError(fmt::format("test '{}': budget {} must be at least 1", tests.name(), budget));
+  const Index functions = tests.count();
+  if (functions < 1) throw InputError(fmt::format("test '{}' has no test functions", tests.name()));
+  const Index tried = std::min(budget, archive.rows());
+  const auto b = static_cast<std::size_t>(budget);
+
+  std::vector<std::vector<double>> best(static_cast<std::size_t>(functions), std::vector<double>(b));
+  std::vector<std::size_t> order;
+  RowMatrix chosen(tried, archive.cols());
+  std::vector<double> scores(static_cast<std::size_t>(tried));
+  for (Index t = 0; t < functions; ++t) {
+    Rng rng = Rng::stream(seed, {key(StreamKey::kTest), static_cast<std::uint64_t>(t)});
+    order.resize(static_cast<std::size_t>(archive.rows()));
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    choose_without_replacement(order, static_cast<std::size_t>(tried), rng);
+    for (Index k = 0; k < tried; ++k) chosen.row(k) = archive.row(static_cast<Index>(order[static_cast<std::size_t>(k)]));
+    tests.score(t, chosen, evaluator, scores);
+    auto& curve = best[static_cast<std::size_t>(t)];
+    double so_far = -INFINITY;
+    for (std::size_t e = 0; e < b; ++e) {
+      if (e < scores.size()) {
+        if (!std::isfinite(scores[e]))
+          throw Error(fmt::format("test '{}' function {} scored {} for an archive solution", tests.name(), t, scores[e]));
+        so_far = std::max(so_far, scores[e]);
+      }
+      curve[e] = so_far;  // past the archive's end the best stays
+    }
+  }
+
+  AdaptationCurve out;
+  out.best_mean.resize(b);
+  out.best_se.resize(b);
+  const auto n = static_cast<double>(functions);
+  for (std::size_t e = 0; e < b; ++e) {
+    double sum = 0.0;
+    for (const auto& curve : best) sum += curve[e];
+    const double mean = sum / n;
+    double sq = 0.0;
+    for (const auto& curve : best) sq += (curve[e] - mean) * (curve[e] - mean);
+    out.best_mean[e] = mean;
+    out.best_se[e] = functions > 1 ? std::sqrt(sq / (n - 1.0)) / std::sqrt(n) : 0.0;
+  }
+  for (const auto& curve : best) out.final_best.push_back(curve.back());
+  return out;
+}
+
+void write_adaptation_csv(const std::filesystem::path& path, const AdaptationCurve& curve) {
+  std::string text = "evaluations,best_mean,best_se\n";
+  for (std::size_t e = 0; e < curve.best_mean.size(); ++e)
+    text += fmt::format("{},{},{}\n", e + 1, curve.best_mean[e], curve.best_se[e]);
+  write_file_atomic(path, text);
+}
+
+}  // namespace qdmeta
