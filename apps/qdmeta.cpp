@@ -33,7 +33,7 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitInterrupted = 130;
 
 // Files whose presence means the directory already holds a run.
-const char* const kRunFiles[] = {"config.toml", "metrics.csv", "archive.csv", "summary.json", "meta.csv"};
+const char* const kRunFiles[] = {"config.toml", "metrics.csv", "archive.csv", "summary.json", "meta.csv", "checkpoint.bin"};
 
 void prepare_out_dir(const fs::path& out, bool overwrite) {
   bool holds_run = false;
@@ -78,6 +78,30 @@ ProgressCallback make_progress(bool quiet) {
   };
 }
 
+// Runs (or continues) a built run to its budget with progress and a closing summary.
+int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const RunCursor* resume) {
+  auto evaluator = make_evaluator(threads);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const bool tty = isatty(fileno(stdout)) != 0;
+  if (!quiet)
+    fmt::print("qdmeta {}: {} on {} threads, seed {}, budget {} evaluations -> {}\n", kVersion, built.settings.algorithm,
+               evaluator->workers(), built.settings.seed, built.settings.budget, out.string());
+  const RunResult r =
+      run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(quiet), &g_stop, resume);
+  if (!quiet) {
+    if (tty) fmt::print("\n");
+    fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, "
+               "QD-score {:.6g}\nresults: {}\n",
+               r.message, r.counters.total(), r.wall_seconds,
+               human(r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0),
+               r.stats.num_elites, r.stats.coverage, r.stats.obj_max, r.stats.obj_mean, r.stats.qd_score, out.string());
+    if (r.reason == StopReason::kInterrupted && built.algorithm->checkpointable())
+      fmt::print("continue it with: qdmeta resume --out {}\n", out.string());
+  }
+  return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
+}
+
 struct RunArgs {
   std::string config;
   std::string out;
@@ -104,23 +128,32 @@ int command_run(const RunArgs& a) {
   text << "# Resolved configuration of this run: every key in force, defaults included.\n" << written << "\n";
   write_file_atomic(out / "config.toml", text.str());
 
-  auto evaluator = make_evaluator(a.threads);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  const bool tty = isatty(fileno(stdout)) != 0;
+  return execute(built, out, a.threads, a.quiet, nullptr);
+}
+
+struct ResumeArgs {
+  std::string out;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// Continues a run from its checkpoint with the resolved config it wrote: to the same result
+// as if it had never stopped.
+int command_resume(const ResumeArgs& a) {
+  const fs::path out(a.out);
+  const fs::path config_path = out / "config.toml";
+  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", out.string()));
+  if (stop_reason_of(out) == StopReason::kBudget)
+    throw InputError(fmt::format("the run in {} has already finished: nothing to resume", out.string()));
+  BuiltRun built = build_run(load_toml(config_path), config_path.string(), {});
+  if (!built.algorithm->checkpointable())
+    throw InputError(fmt::format("algorithm '{}' cannot resume yet", built.settings.algorithm));
+  const RunCursor cursor = read_checkpoint(out, built.settings.fingerprint, *built.algorithm);
+  fs::remove(out / "summary.json");  // the run is unfinished again until it ends
   if (!a.quiet)
-    fmt::print("qdmeta {}: {} on {} threads, seed {}, budget {} evaluations -> {}\n", kVersion, built.settings.algorithm,
-               evaluator->workers(), built.settings.seed, built.settings.budget, out.string());
-  const RunResult r = run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(a.quiet), &g_stop);
-  if (!a.quiet) {
-    if (tty) fmt::print("\n");
-    fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, "
-               "QD-score {:.6g}\nresults: {}\n",
-               r.message, r.counters.total(), r.wall_seconds,
-               human(r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0),
-               r.stats.num_elites, r.stats.coverage, r.stats.obj_max, r.stats.obj_mean, r.stats.qd_score, out.string());
-  }
-  return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
+    fmt::print("resuming from checkpoint {} at {} evaluations, {:.1f} s into the run\n", cursor.checkpoints,
+               built.settings.evals(built.algorithm->counters()), cursor.wall_seconds);
+  return execute(built, out, a.threads, a.quiet, &cursor);
 }
 
 struct AdaptArgs {
@@ -136,8 +169,9 @@ struct AdaptArgs {
 int command_adapt(const AdaptArgs& a) {
   const fs::path dir(a.run);
   if (!fs::exists(dir / "config.toml")) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
-  if (!fs::exists(dir / "summary.json"))
-    throw InputError(fmt::format("the run in {} has not finished (no summary.json): finish it before testing it", dir.string()));
+  if (stop_reason_of(dir) != StopReason::kBudget)
+    throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
+                                 dir.string(), dir.string()));
   const fs::path config_path = dir / "config.toml";
   const toml::table config = load_toml(config_path);
   // Same default seed as the run: every condition of a replicate then meets the same tests.
@@ -175,6 +209,13 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--overwrite", run.overwrite, "Replace a run already in --out");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing but errors");
 
+  ResumeArgs resume;
+  CLI::App* resume_cmd = app.add_subcommand("resume", "Continue an interrupted or killed run from its checkpoint");
+  resume_cmd->add_option("--out", resume.out, "Directory of the run")->required();
+  resume_cmd->add_option("--threads", resume.threads, "Worker threads (0: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+  resume_cmd->add_flag("--quiet", resume.quiet, "Print nothing but errors");
+
   AdaptArgs adapt;
   CLI::App* adapt_cmd = app.add_subcommand("adapt", "Test phase: random search over a finished run's archive on unseen test functions");
   adapt_cmd->add_option("--run", adapt.run, "Directory of a finished run")->required();
@@ -200,6 +241,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run_cmd) return command_run(run);
+    if (*resume_cmd) return command_resume(resume);
     if (*adapt_cmd) return command_adapt(adapt);
   } catch (const std::exception& e) {
     fmt::print(stderr, "qdmeta: error: {}\n", e.what());

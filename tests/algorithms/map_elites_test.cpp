@@ -198,5 +198,42 @@ TEST(MapElites, RejectsAFeatureMapOfTheWrongSize) {
                InputError);
 }
 
+TEST(MapElites, ACheckpointedRunContinuesBitIdentically) {
+  SerialEvaluator evaluator;
+  MapElites straight = make_rastrigin(8);
+  for (int g = 0; g < 30; ++g) straight.step(evaluator);
+  MapElites first = make_rastrigin(8);
+  for (int g = 0; g < 12; ++g) first.step(evaluator);
+  BinaryWriter out;
+  first.save(out);
+  MapElites second = make_rastrigin(8);
+  BinaryReader in(out.bytes(), "memory");
+  second.load(in);
+  in.finish();
+  expect_same_elites(second.elites(), first.elites());
+  // The fill order matters too: parents are drawn by position in it.
+  EXPECT_EQ(second.archive().filled_cells(), first.archive().filled_cells());
+  for (int g = 12; g < 30; ++g) second.step(evaluator);
+  EXPECT_EQ(second.counters(), straight.counters());
+  EXPECT_EQ(second.generation(), straight.generation());
+  expect_same_elites(second.elites(), straight.elites());
+}
+
+TEST(MapElites, ACheckpointOfAnotherTaskSizeIsRefused) {
+  SerialEvaluator evaluator;
+  MapElites small = make_rastrigin(1, 5);
+  small.step(evaluator);
+  BinaryWriter out;
+  small.save(out);
+  MapElites big = make_rastrigin(1, 20);
+  BinaryReader in(out.bytes(), "memory");
+  try {
+    big.load(in);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not fit this run's archive"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace qdmeta

@@ -7,6 +7,7 @@
 
 #include <numeric>
 
+#include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
@@ -14,7 +15,7 @@
 namespace qdmeta {
 namespace {
 
-QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 2) {
+QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 2, bool sarsa = false) {
   RastriginParams rp;
   rp.dimensions = 6;
   QdMetaParams p;
@@ -28,7 +29,9 @@ QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 
   RastriginMetaParams mp;
   mp.sample_fraction = 0.5;
   return QdMeta(p, Task(RastriginTask(rp)), std::make_unique<RastriginTranslationMeta>(mp), grid, {},
-                std::make_unique<StaticControl>(generations), seed);
+                sarsa ? std::unique_ptr<GenerationController>(std::make_unique<SarsaControl>(SarsaParams{}))
+                      : std::make_unique<StaticControl>(generations),
+                seed);
 }
 
 TEST(QdMeta, SameSeedSameBitsAtAnyThreadCount) {
@@ -109,6 +112,41 @@ TEST(QdMeta, LearningBeatsTheFrozenAblationAtEqualBudget) {
   };
   const double learned = last_mean(false), frozen = last_mean(true);
   EXPECT_GT(learned, 2.0 * frozen) << "learned " << learned << ", frozen " << frozen;
+}
+
+TEST(QdMeta, ACheckpointedRunContinuesBitIdentically) {
+  // Run 8 meta-generations straight; and 4, checkpoint, load into a freshly built QD-Meta, 4
+  // more. SARSA control, so the controller's tree, Q-values and traces travel too.
+  SerialEvaluator evaluator;
+  QdMeta straight = small_qd_meta(21, false, 2, true);
+  for (int t = 0; t < 8; ++t) straight.step(evaluator);
+  QdMeta first = small_qd_meta(21, false, 2, true);
+  for (int t = 0; t < 4; ++t) first.step(evaluator);
+  BinaryWriter out;
+  first.save(out);
+  QdMeta second = small_qd_meta(21, false, 2, true);
+  BinaryReader in(out.bytes(), "memory");
+  second.load(in);
+  in.finish();
+  for (int t = 0; t < 4; ++t) second.step(evaluator);
+  EXPECT_EQ(second.counters(), straight.counters());
+  EXPECT_EQ(second.meta_fitness(), straight.meta_fitness());
+  EXPECT_TRUE(second.database() == straight.database());
+  EXPECT_TRUE(second.cma_es().state() == straight.cma_es().state());
+  EXPECT_EQ(second.elites().objective, straight.elites().objective);
+  EXPECT_TRUE(second.elites().solutions == straight.elites().solutions);
+  EXPECT_EQ(second.last_meta_record()->generations, straight.last_meta_record()->generations);
+}
+
+TEST(QdMeta, ACheckpointOfAnotherShapeIsRefused) {
+  SerialEvaluator evaluator;
+  QdMeta q = small_qd_meta(1);
+  q.step(evaluator);
+  BinaryWriter out;
+  q.save(out);
+  QdMeta sarsa = small_qd_meta(1, false, 2, true);  // a static controller's state will not load into SARSA
+  BinaryReader in(out.bytes(), "memory");
+  EXPECT_THROW(sarsa.load(in), InputError);
 }
 
 }  // namespace

@@ -22,8 +22,8 @@ struct Outcome {
   std::string output;  // stdout and stderr together
 };
 
-Outcome qdmeta_cli(const std::string& args) {
-  const std::string command = std::string(QDMETA_BINARY) + " " + args + " 2>&1";
+Outcome shell(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   Outcome o;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return o;
@@ -33,6 +33,8 @@ Outcome qdmeta_cli(const std::string& args) {
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return o;
 }
+
+Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BINARY) + " " + args); }
 
 std::string config_path() { return std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml"; }
 
@@ -232,6 +234,93 @@ TEST(Cli, AdaptWritesTheTestPhaseCurveOfAFinishedRun) {
   const Outcome unfinished = qdmeta_cli("adapt --run " + run.string() + " --test dimension --budget 5");
   EXPECT_EQ(unfinished.status, 2);
   EXPECT_NE(unfinished.output.find("has not finished"), std::string::npos) << unfinished.output;
+}
+
+// A small QD-Meta run (SARSA control) that checkpoints often and takes a few seconds.
+fs::path checkpointing_config() {
+  return write_config("resume", R"(algorithm = "qd-meta"
+[budget]
+evaluations = 1_200_000
+[checkpoint]
+every_seconds = 0.1
+[qd_meta]
+database_capacity = 100_000
+)");
+}
+
+void expect_same_run(const fs::path& a, const fs::path& b) {
+  for (const char* f : {"metrics.csv", "meta.csv", "archive.csv"}) EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
+  EXPECT_FALSE(fs::exists(b / "checkpoint.bin"));  // removed once the budget is reached
+}
+
+TEST(Cli, AKilledRunResumesToTheSameBits) {
+  const fs::path straight = fresh_dir("straight"), killed = fresh_dir("killed");
+  const std::string config = checkpointing_config().string();
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
+  // SIGKILL: no chance to clean up; the last periodic checkpoint must carry the run.
+  shell("timeout -s KILL 1.5 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " + killed.string() +
+        " --quiet --threads 1");
+  ASSERT_TRUE(fs::exists(killed / "checkpoint.bin")) << "killed before its first checkpoint";
+  ASSERT_FALSE(fs::exists(killed / "summary.json")) << "finished before it was killed: raise the budget";
+  const Outcome adapt = qdmeta_cli("adapt --run " + killed.string() + " --test dimension");
+  EXPECT_EQ(adapt.status, 2) << adapt.output;  // not finished: nothing to test yet
+  const Outcome r = qdmeta_cli("resume --out " + killed.string() + " --threads 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("resuming from checkpoint"), std::string::npos) << r.output;
+  expect_same_run(straight, killed);
+  const Outcome again = qdmeta_cli("resume --out " + killed.string());
+  EXPECT_EQ(again.status, 2);
+  EXPECT_NE(again.output.find("already finished"), std::string::npos) << again.output;
+}
+
+TEST(Cli, AnInterruptedRunSaysHowToResumeAndDoes) {
+  const fs::path straight = fresh_dir("straight2"), stopped = fresh_dir("interrupted");
+  const std::string config = checkpointing_config().string();
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
+  const Outcome o = shell("timeout -s INT 1.5 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " +
+                          stopped.string());
+  ASSERT_EQ(o.status, 124) << o.output;  // timeout's status when it had to send the signal
+  EXPECT_NE(o.output.find("continue it with: qdmeta resume --out"), std::string::npos) << o.output;
+  EXPECT_NE(slurp(stopped / "summary.json").find("\"interrupted\""), std::string::npos);
+  ASSERT_EQ(qdmeta_cli("resume --out " + stopped.string() + " --quiet").status, 0);
+  expect_same_run(straight, stopped);
+}
+
+TEST(Cli, ADamagedOrMismatchedCheckpointIsAClearError) {
+  const fs::path dir = fresh_dir("damaged");
+  const std::string config = checkpointing_config().string();
+  shell("timeout -s INT 1 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " + dir.string() +
+        " --quiet");
+  ASSERT_TRUE(fs::exists(dir / "checkpoint.bin"));
+  const std::string good = slurp(dir / "checkpoint.bin");
+  const auto expect_refused = [&](const std::string& why, const std::string& message) {
+    const Outcome o = qdmeta_cli("resume --out " + dir.string() + " --quiet");
+    EXPECT_EQ(o.status, 2) << why << "\n" << o.output;
+    EXPECT_NE(o.output.find(message), std::string::npos) << why << "\n" << o.output;
+    EXPECT_EQ(count_lines(o.output), 1) << o.output;
+  };
+  std::string flipped = good;
+  flipped[flipped.size() / 2] = static_cast<char>(flipped[flipped.size() / 2] ^ 0x10);
+  std::ofstream(dir / "checkpoint.bin", std::ios::binary) << flipped;
+  expect_refused("one flipped byte", "damaged: checksum mismatch");
+  std::ofstream(dir / "checkpoint.bin", std::ios::binary) << good.substr(0, good.size() - 100);
+  expect_refused("truncated", "damaged");
+  std::ofstream(dir / "checkpoint.bin", std::ios::binary) << "not a checkpoint at all";
+  expect_refused("garbage", "is not a qdmeta checkpoint");
+  std::ofstream(dir / "checkpoint.bin", std::ios::binary) << good;
+  const std::string resolved = slurp(dir / "config.toml");
+  std::ofstream(dir / "config.toml") << resolved << "\n[archive]\nbins = [50, 50]\n";
+  const Outcome changed = qdmeta_cli("resume --out " + dir.string() + " --quiet");
+  EXPECT_EQ(changed.status, 2) << changed.output;  // a duplicate table or a changed config: refused either way
+  std::string edited = resolved;
+  const auto at = edited.find("sigmoid_scale = 30");
+  ASSERT_NE(at, std::string::npos) << resolved;
+  edited.replace(at, 18, "sigmoid_scale = 31");
+  std::ofstream(dir / "config.toml") << edited;
+  expect_refused("config edited", "written for a different configuration");
+  fs::remove(dir / "checkpoint.bin");
+  std::ofstream(dir / "config.toml") << resolved;
+  expect_refused("no checkpoint", "no checkpoint in");
 }
 
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {

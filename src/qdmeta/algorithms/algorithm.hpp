@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/types.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 
@@ -50,6 +51,13 @@ class Algorithm {
   virtual EliteTable elites() const = 0;
   // The latest meta-generation (QD-Meta only; null for single-archive algorithms).
   virtual const MetaGenerationRecord* last_meta_record() const { return nullptr; }
+
+  // Checkpoints, between steps: everything that step() reads, so that an algorithm built from
+  // the same config and loaded continues bit-identically. Random streams are derived from
+  // (seed, purpose, generation), so no generator state needs saving.
+  virtual bool checkpointable() const { return false; }
+  virtual void save(BinaryWriter& out) const;
+  virtual void load(BinaryReader& in);
 };
 
 }  // namespace qdmeta

@@ -111,4 +111,36 @@ EliteTable grid_elites(const GridArchive& archive) {
 
 EliteTable MapElites::elites() const { return grid_elites(archive_); }
 
+void Algorithm::save(BinaryWriter&) const {
+  throw Error(fmt::format("algorithm '{}' cannot write checkpoints yet", name()));
+}
+void Algorithm::load(BinaryReader&) { throw Error(fmt::format("algorithm '{}' cannot read checkpoints yet", name())); }
+
+void save_counters(BinaryWriter& out, const EvaluationCounters& c) {
+  out.value(c.bottom);
+  out.value(c.meta);
+}
+
+EvaluationCounters load_counters(BinaryReader& in) {
+  EvaluationCounters c;
+  c.bottom = in.value<std::int64_t>("bottom-level evaluations");
+  c.meta = in.value<std::int64_t>("meta evaluations");
+  if (c.bottom < 0 || c.meta < 0) in.fail("negative evaluation counters");
+  return c;
+}
+
+void MapElites::save(BinaryWriter& out) const {
+  out.tag("map_elites");
+  out.value(generation_);
+  save_counters(out, counters_);
+  archive_.save(out);
+}
+
+void MapElites::load(BinaryReader& in) {
+  in.expect_tag("map_elites");
+  generation_ = in.value<std::int64_t>("generation");
+  counters_ = load_counters(in);
+  archive_.load(in);
+}
+
 }  // namespace qdmeta

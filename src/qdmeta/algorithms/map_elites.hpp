@@ -41,6 +41,9 @@ class MapElites final : public Algorithm {
   ArchiveStats stats() const override { return archive_.stats(); }
   EliteTable elites() const override;
   const GridArchive& archive() const { return archive_; }
+  bool checkpointable() const override { return true; }
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
 
  private:
   MapElitesParams params_;
@@ -55,6 +58,10 @@ class MapElites final : public Algorithm {
   EvaluationBatch evaluations_;
   RowMatrix targets_;
 };
+
+// Evaluation counters in checkpoints (shared by every algorithm).
+void save_counters(BinaryWriter& out, const EvaluationCounters& c);
+EvaluationCounters load_counters(BinaryReader& in);
 
 // The elites of a grid archive as a table (shared by every grid-based algorithm).
 EliteTable grid_elites(const GridArchive& archive);

@@ -201,4 +201,44 @@ void QdMeta::step(Evaluator& evaluator) {
 
 EliteTable QdMeta::elites() const { return grid_elites(best_archive_); }
 
+
+// The per-map archives and feature-maps are rebuilt at the start of every meta-generation, so
+// only what outlives a meta-generation is saved.
+void QdMeta::save(BinaryWriter& out) const {
+  out.tag("qd_meta");
+  out.value(meta_generation_);
+  save_counters(out, counters_);
+  cma_.save(out);
+  database_.save(out);
+  best_archive_.save(out);
+  out.values(meta_fitness_);
+  out.value(record_.meta_generation);
+  out.value(record_.meta_fitness_best);
+  out.value(record_.meta_fitness_mean);
+  out.value(record_.meta_fitness_sd);
+  out.value<std::int32_t>(record_.generations);
+  out.value(record_.states);
+  controller_->save(out);
+}
+
+void QdMeta::load(BinaryReader& in) {
+  in.expect_tag("qd_meta");
+  meta_generation_ = in.value<std::int64_t>("meta-generation");
+  counters_ = load_counters(in);
+  cma_.load(in);
+  database_.load(in);
+  best_archive_.load(in);
+  meta_fitness_ = in.values<double>("meta-fitness");
+  if (meta_fitness_.size() != static_cast<std::size_t>(params_.meta_population))
+    in.fail(fmt::format("{} meta-fitness values for a meta-population of {}", meta_fitness_.size(),
+                        params_.meta_population));
+  record_.meta_generation = in.value<std::int64_t>("record meta-generation");
+  record_.meta_fitness_best = in.value<double>("record best");
+  record_.meta_fitness_mean = in.value<double>("record mean");
+  record_.meta_fitness_sd = in.value<double>("record SD");
+  record_.generations = in.value<std::int32_t>("record generations");
+  record_.states = in.value<std::int64_t>("record states");
+  controller_->load(in);
+}
+
 }  // namespace qdmeta

@@ -49,6 +49,9 @@ class QdMeta final : public Algorithm {
   ArchiveStats stats() const override { return best_archive_.stats(); }
   EliteTable elites() const override;
   const MetaGenerationRecord* last_meta_record() const override { return meta_generation_ > 0 ? &record_ : nullptr; }
+  bool checkpointable() const override { return true; }
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
 
   const Database& database() const { return database_; }
   const CmaEs& cma_es() const { return cma_; }

@@ -106,4 +106,65 @@ ArchiveStats GridArchive::stats() const {
   return s;
 }
 
+void GridArchive::save(BinaryWriter& out) const {
+  out.tag("grid_archive");
+  out.value<std::int64_t>(cells_);
+  out.value<std::int64_t>(params_.solution_size);
+  out.value<std::int64_t>(params_.base_feature_size);
+  out.value<std::int64_t>(dimensions());
+  const auto n = static_cast<Index>(filled_.size());
+  std::vector<std::int64_t> cells(filled_.begin(), filled_.end());
+  std::vector<Real> objectives;
+  RowMatrix solutions(n, params_.solution_size), measures(n, dimensions()), base(n, params_.base_feature_size);
+  for (Index i = 0; i < n; ++i) {
+    const Index c = filled_[static_cast<std::size_t>(i)];
+    objectives.push_back(objectives_[static_cast<std::size_t>(c)]);
+    solutions.row(i) = solutions_.row(c);
+    measures.row(i) = measures_.row(c);
+    base.row(i) = base_.row(c);
+  }
+  out.values(cells);
+  out.values(objectives);
+  out.matrix(solutions);
+  out.matrix(measures);
+  out.matrix(base);
+}
+
+void GridArchive::load(BinaryReader& in) {
+  in.expect_tag("grid_archive");
+  const auto cells = in.value<std::int64_t>("archive cells");
+  const auto solution_size = in.value<std::int64_t>("archive solution size");
+  const auto base_size = in.value<std::int64_t>("archive base-feature size");
+  const auto dims = in.value<std::int64_t>("archive dimensions");
+  if (cells != cells_ || solution_size != params_.solution_size || base_size != params_.base_feature_size ||
+      dims != dimensions())
+    in.fail(fmt::format("archive of {} cells ({} genes, {} base features, {} dimensions) does not fit this run's "
+                        "archive of {} cells ({}, {}, {})",
+                        cells, solution_size, base_size, dims, cells_, params_.solution_size,
+                        params_.base_feature_size, dimensions()));
+  const auto filled = in.values<std::int64_t>("archive cells filled");
+  const auto objectives = in.values<Real>("archive objectives");
+  RowMatrix solutions, measures, base;
+  in.matrix(solutions, "archive solutions");
+  in.matrix(measures, "archive measures");
+  in.matrix(base, "archive base features");
+  const auto n = static_cast<Index>(filled.size());
+  if (static_cast<Index>(objectives.size()) != n || solutions.rows() != n || measures.rows() != n || base.rows() != n ||
+      solutions.cols() != params_.solution_size || measures.cols() != dimensions() ||
+      base.cols() != params_.base_feature_size)
+    in.fail("archive contents disagree in size");
+  clear();
+  for (Index i = 0; i < n; ++i) {
+    const auto c = static_cast<Index>(filled[static_cast<std::size_t>(i)]);
+    if (c < 0 || c >= cells_ || occupied_[static_cast<std::size_t>(c)])
+      in.fail(fmt::format("archive cell {} is out of range or repeated", c));
+    occupied_[static_cast<std::size_t>(c)] = 1;
+    objectives_[static_cast<std::size_t>(c)] = objectives[static_cast<std::size_t>(i)];
+    solutions_.row(c) = solutions.row(i);
+    measures_.row(c) = measures.row(i);
+    base_.row(c) = base.row(i);
+    filled_.push_back(c);
+  }
+}
+
 }  // namespace qdmeta

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -55,6 +56,11 @@ class GridArchive {
   Index sample_cell(Rng& rng) const { return filled_[rng.below(filled_.size())]; }
 
   ArchiveStats stats() const;
+
+  // Checkpoints: the filled cells in fill order with their contents. load() requires an
+  // archive built with the same params and throws InputError otherwise.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   GridArchiveParams params_;

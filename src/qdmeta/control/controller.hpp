@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
@@ -23,6 +24,9 @@ class GenerationController {
   virtual void observe(std::span<const double> meta_fitness, std::int64_t evaluations) = 0;
   // Number of discrete states (1 for the static controller), logged in meta.csv.
   virtual std::int64_t states() const { return 1; }
+  // Checkpoints: everything the controller has learnt, so a resumed run acts as it would have.
+  virtual void save(BinaryWriter& out) const = 0;
+  virtual void load(BinaryReader& in) = 0;
 };
 
 class StaticControl final : public GenerationController {
@@ -31,6 +35,8 @@ class StaticControl final : public GenerationController {
   std::string name() const override { return "static"; }
   int choose_generations(const Eigen::MatrixXd&, Rng&) override { return generations_; }
   void observe(std::span<const double>, std::int64_t) override {}
+  void save(BinaryWriter& out) const override { out.tag("static_control"); }
+  void load(BinaryReader& in) override { in.expect_tag("static_control"); }
 
  private:
   int generations_;

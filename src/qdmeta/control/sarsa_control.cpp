@@ -156,4 +156,41 @@ void SarsaControl::observe(std::span<const double> meta_fitness, std::int64_t ev
   has_statistics_ = true;
 }
 
+
+void SarsaControl::save(BinaryWriter& out) const {
+  out.tag("sarsa_control");
+  tree_.save(out);
+  out.value<std::int32_t>(leaf_);
+  out.boolean(observation_.has_value());
+  if (observation_) out.values(*observation_);
+  out.value<std::int32_t>(action_);
+  out.boolean(has_statistics_);
+  out.value(best_);
+  out.value(mean_);
+  out.value(sd_);
+  out.value(reward_);
+  out.value<std::int32_t>(stagnation_);
+}
+
+void SarsaControl::load(BinaryReader& in) {
+  in.expect_tag("sarsa_control");
+  tree_.load(in);
+  leaf_ = in.value<std::int32_t>("controller state");
+  if (leaf_ < 0 || static_cast<std::size_t>(leaf_) >= tree_.nodes().size() || !tree_.node(leaf_).leaf())
+    in.fail("controller state is not a leaf of its tree");
+  observation_.reset();
+  if (in.boolean("controller observation flag")) {
+    observation_ = in.values<double>("controller observation");
+    if (observation_->size() != kObservationSize) in.fail("controller observation of the wrong size");
+  }
+  action_ = in.value<std::int32_t>("controller action");
+  if (action_ < -1 || action_ >= params_.actions) in.fail("controller action out of range");
+  has_statistics_ = in.boolean("controller statistics flag");
+  best_ = in.value<double>("controller best");
+  mean_ = in.value<double>("controller mean");
+  sd_ = in.value<double>("controller SD");
+  reward_ = in.value<double>("controller reward");
+  stagnation_ = in.value<std::int32_t>("controller stagnation");
+}
+
 }  // namespace qdmeta

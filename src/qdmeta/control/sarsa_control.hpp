@@ -47,6 +47,8 @@ class SarsaControl final : public GenerationController {
   int choose_generations(const Eigen::MatrixXd& samples, Rng& rng) override;
   void observe(std::span<const double> meta_fitness, std::int64_t evaluations) override;
   std::int64_t states() const override { return static_cast<std::int64_t>(tree_.leaf_count()); }
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
 
   // Inspection (tests, logs).
   const StateTree& tree() const { return tree_; }

@@ -119,4 +119,65 @@ std::optional<StateSplit> StateTree::try_split(int leaf) {
   return best;
 }
 
+
+void StateTree::save(BinaryWriter& out) const {
+  out.tag("state_tree");
+  out.value<std::int32_t>(params_.attributes);
+  out.value<std::int32_t>(params_.actions);
+  out.value<std::uint64_t>(nodes_.size());
+  for (const Node& n : nodes_) {
+    out.value<std::int32_t>(n.attribute);
+    out.value(n.threshold);
+    out.value<std::int32_t>(n.left);
+    out.value<std::int32_t>(n.right);
+    out.values(n.q);
+    out.values(n.trace);
+    out.value<std::uint64_t>(n.transitions.size());
+    for (const StateTransition& t : n.transitions) {
+      out.values(t.observation);
+      out.value(t.value);
+    }
+  }
+}
+
+void StateTree::load(BinaryReader& in) {
+  in.expect_tag("state_tree");
+  const auto attributes = in.value<std::int32_t>("tree attributes");
+  const auto actions = in.value<std::int32_t>("tree actions");
+  if (attributes != params_.attributes || actions != params_.actions)
+    in.fail(fmt::format("state tree over {} attributes and {} actions does not fit this controller's {} and {}",
+                        attributes, actions, params_.attributes, params_.actions));
+  const auto count = in.value<std::uint64_t>("tree node count");
+  if (count < 1 || count > in.remaining()) in.fail(fmt::format("state tree claims {} nodes", count));
+  std::vector<Node> nodes(static_cast<std::size_t>(count));
+  std::size_t leaves = 0;
+  for (Node& n : nodes) {
+    n.attribute = in.value<std::int32_t>("tree node attribute");
+    n.threshold = in.value<double>("tree node threshold");
+    n.left = in.value<std::int32_t>("tree node left");
+    n.right = in.value<std::int32_t>("tree node right");
+    n.q = in.values<double>("tree Q-values");
+    n.trace = in.values<double>("tree traces");
+    const auto transitions = in.value<std::uint64_t>("tree transition count");
+    if (transitions > in.remaining()) in.fail("state tree claims more transitions than the file holds");
+    for (std::uint64_t k = 0; k < transitions; ++k) {
+      StateTransition t;
+      t.observation = in.values<double>("transition observation");
+      t.value = in.value<double>("transition value");
+      if (t.observation.size() != static_cast<std::size_t>(attributes)) in.fail("transition of the wrong size");
+      n.transitions.push_back(std::move(t));
+    }
+    const auto inside = [&](int id) { return id > 0 && static_cast<std::uint64_t>(id) < count; };
+    if (n.leaf()) {
+      ++leaves;
+      if (n.q.size() != static_cast<std::size_t>(actions) || n.trace.size() != static_cast<std::size_t>(actions))
+        in.fail("state tree leaf without one Q-value and trace per action");
+    } else if (n.attribute >= attributes || !inside(n.left) || !inside(n.right)) {
+      in.fail("state tree node points outside the tree");
+    }
+  }
+  nodes_ = std::move(nodes);
+  leaves_ = leaves;
+}
+
 }  // namespace qdmeta

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
@@ -67,6 +68,11 @@ class StateTree {
   std::optional<StateSplit> add_transition(int leaf, StateTransition transition, Rng& rng);
   // Tries to split `leaf` now, whatever its size and the split probability.
   std::optional<StateSplit> try_split(int leaf);
+
+  // Checkpoints: every node with its Q-values, traces and transitions. load() requires the
+  // same attribute and action counts.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   StateTreeParams params_;

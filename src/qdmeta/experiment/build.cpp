@@ -9,6 +9,7 @@
 #include "qdmeta/control/controller.hpp"
 #include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/checkpoint.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
@@ -194,6 +195,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   ConfigReader log = root.table("log");
   s.log_every = log.integer("every", 0, 0, kMaxInt);
   if (s.log_every == 0) s.log_every = std::max<std::int64_t>(1, s.budget / 200);
+  ConfigReader checkpoint = root.table("checkpoint");
+  s.checkpoint_every = checkpoint.number("every_seconds", s.checkpoint_every, 0.0, 1e9);
 
   ConfigReader task_table = root.table("task");
   Task task = read_task(task_table);
@@ -244,9 +247,11 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   }
   budget.finish();
   log.finish();
+  checkpoint.finish();
   task_table.finish();
   mutation_table.finish();
   root.finish();
+  s.fingerprint = config_fingerprint(built.resolved);
   return built;
 }
 

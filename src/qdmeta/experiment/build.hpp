@@ -24,6 +24,8 @@ struct RunSettings {
   std::int64_t budget = 0;  // evaluations; the run stops at the first generation at or past it
   BudgetCount counts = BudgetCount::kBottom;
   std::int64_t log_every = 0;  // evaluations between metrics rows
+  double checkpoint_every = 600.0;  // seconds between checkpoints (0: after every generation)
+  std::uint64_t fingerprint = 0;    // of the resolved config, stamped on checkpoints
   std::int64_t evals(const EvaluationCounters& c) const { return counts == BudgetCount::kAll ? c.total() : c.bottom; }
 };
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -71,19 +72,42 @@ void write_summary(const std::filesystem::path& path, const RunResult& r, const 
 
 }  // namespace
 
+std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir) {
+  const auto path = dir / "summary.json";
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  try {
+    const auto j = nlohmann::json::parse(in);
+    return enum_from_string(kStopReasonNames, "stop_reason", j.at("stop_reason").get<std::string>());
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{} is unreadable: {}", path.string(), e.what()));
+  }
+}
+
 RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
                         const std::filesystem::path& out_dir, const ProgressCallback& progress,
-                        const std::atomic<bool>* stop) {
+                        const std::atomic<bool>* stop, const RunCursor* resume) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const double before = resume ? resume->wall_seconds : 0.0;
+  const auto elapsed = [&] { return before + std::chrono::duration<double>(Clock::now() - start).count(); };
 
-  CsvAppender metrics(out_dir / "metrics.csv", metrics_columns());
+  RunCursor cursor = resume ? *resume : RunCursor{};
+  CsvAppender metrics = resume ? CsvAppender(out_dir / "metrics.csv", metrics_columns(), resume->metrics_bytes)
+                               : CsvAppender(out_dir / "metrics.csv", metrics_columns());
   std::optional<CsvAppender> meta;  // meta.csv, for algorithms with a meta level
+  if (resume && resume->meta_bytes > 0) meta.emplace(out_dir / "meta.csv", meta_columns(), resume->meta_bytes);
+  const auto checkpoint = [&] {
+    cursor.metrics_bytes = metrics.bytes();
+    cursor.meta_bytes = meta ? meta->bytes() : 0;
+    cursor.wall_seconds = elapsed();
+    ++cursor.checkpoints;
+    write_checkpoint(out_dir, settings.fingerprint, cursor, algorithm);
+  };
+  double last_checkpoint = elapsed();
+
   RunResult result;
-  std::int64_t next_log = 0;
   std::int64_t evals = settings.evals(algorithm.counters());
-  std::int64_t last_logged_generation = -1;
   while (evals < settings.budget) {
     if (stop && stop->load()) {
       result.reason = StopReason::kInterrupted;
@@ -95,14 +119,21 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
       if (!meta) meta.emplace(out_dir / "meta.csv", meta_columns());
       meta->row(meta_row(*record, algorithm.counters(), evals));
     }
-    if (evals >= next_log || evals >= settings.budget) {
+    if (evals >= cursor.next_log || evals >= settings.budget) {
       metrics.row(metrics_row(algorithm, evals));
-      last_logged_generation = algorithm.generation();
-      while (next_log <= evals) next_log += settings.log_every;
+      cursor.last_logged_generation = algorithm.generation();
+      while (cursor.next_log <= evals) cursor.next_log += settings.log_every;
+    }
+    if (algorithm.checkpointable() && evals < settings.budget && elapsed() - last_checkpoint >= settings.checkpoint_every) {
+      checkpoint();
+      last_checkpoint = elapsed();
     }
     if (progress) progress({evals, settings.budget, algorithm.generation(), elapsed(), &algorithm});
   }
-  if (last_logged_generation != algorithm.generation() && algorithm.generation() > 0)
+  // An interrupted run keeps a checkpoint taken before its closing metrics row, so that a
+  // resumed run's logs continue exactly as an uninterrupted run's would.
+  if (result.reason == StopReason::kInterrupted && algorithm.checkpointable()) checkpoint();
+  if (cursor.last_logged_generation != algorithm.generation() && algorithm.generation() > 0)
     metrics.row(metrics_row(algorithm, evals));
 
   result.counters = algorithm.counters();
@@ -115,6 +146,7 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
                        ? fmt::format("reached the budget of {} evaluations ({} spent)", settings.budget, evals)
                        : fmt::format("interrupted after {} of {} evaluations", evals, settings.budget);
   write_summary(out_dir / "summary.json", result, settings, algorithm, evaluator.workers());
+  if (result.reason == StopReason::kBudget) std::filesystem::remove(out_dir / kCheckpointFile);
   return result;
 }
 

@@ -5,10 +5,12 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/experiment/build.hpp"
+#include "qdmeta/experiment/checkpoint.hpp"
 
 namespace qdmeta {
 
@@ -41,11 +43,18 @@ const std::vector<std::string>& metrics_columns();
 // The meta.csv header (QD-Meta): one row per meta-generation.
 const std::vector<std::string>& meta_columns();
 
+// Why the run in `dir` stopped, from its summary.json; nullopt when there is none (a run still
+// going, or killed). Throws InputError on an unreadable summary.
+std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir);
+
 // Runs to the budget, writing metrics.csv as it goes and archive.csv + summary.json at the
 // end (atomically) into `out_dir`, which must exist. Setting `*stop` ends the run at the next
 // generation boundary with reason kInterrupted; its files are written all the same.
+// A checkpointable algorithm also gets checkpoint.bin every `settings.checkpoint_every` seconds
+// and when interrupted; the file is removed when the budget is reached. `resume` continues a
+// run from its checkpoint: `algorithm` already loaded, the cursor from read_checkpoint().
 RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
                         const std::filesystem::path& out_dir, const ProgressCallback& progress = {},
-                        const std::atomic<bool>* stop = nullptr);
+                        const std::atomic<bool>* stop = nullptr, const RunCursor* resume = nullptr);
 
 }  // namespace qdmeta

@@ -97,6 +97,29 @@ CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<st
   row(header);
 }
 
+CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header,
+                         std::uint64_t keep_bytes)
+    : path_(path), columns_(header.size()) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || size < keep_bytes)
+    throw InputError(fmt::format("{} holds {} bytes but the checkpoint expects at least {}: it was changed or lost",
+                                 path, ec ? 0 : size, keep_bytes));
+  std::string expected;
+  for (std::size_t i = 0; i < header.size(); ++i) expected += (i ? "," : "") + header[i];
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  if (first != expected || keep_bytes < expected.size() + 1)
+    throw InputError(fmt::format("{} does not start with the expected header: it was changed", path));
+  in.close();
+  std::filesystem::resize_file(path, keep_bytes, ec);
+  if (ec) throw Error(fmt::format("cannot cut {} to {} bytes: {}", path, keep_bytes, ec.message()));
+  out_.open(path, std::ios::app);
+  if (!out_) throw Error(fmt::format("cannot write {}", path));
+  bytes_ = keep_bytes;
+}
+
 void CsvAppender::row(const std::vector<std::string>& cells) {
   if (cells.size() != columns_)
     throw Error(fmt::format("{}: row of {} cells, the header has {}", path_, cells.size(), columns_));
@@ -108,6 +131,7 @@ void CsvAppender::row(const std::vector<std::string>& cells) {
   line += '\n';
   out_ << line;
   out_.flush();
+  bytes_ += line.size();
   if (!out_) throw Error(fmt::format("writing {} failed", path_));
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // CSV output. Floats are printed in their shortest form that reads back to the same bits.
 #include <filesystem>
+#include <cstdint>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -20,13 +21,20 @@ EliteTable read_elites_csv(const std::filesystem::path& path);
 // row being written.
 class CsvAppender {
  public:
+  // Starts the file anew with `header`.
   CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header);
+  // Continues a file (a resumed run): cut to its first `keep_bytes` bytes, which must hold at
+  // least the header, then appended to.
+  CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header, std::uint64_t keep_bytes);
   void row(const std::vector<std::string>& cells);
+  // Bytes in the file so far, header included.
+  std::uint64_t bytes() const { return bytes_; }
 
  private:
   std::filesystem::path path_;
   std::ofstream out_;
   std::size_t columns_;
+  std::uint64_t bytes_ = 0;
 };
 
 }  // namespace qdmeta

@@ -353,4 +353,46 @@ void CmaEs::set_state(const CmaEsState& state) {
   state_ = state;
 }
 
+
+void CmaEs::save(BinaryWriter& out) const {
+  const CmaEsState& s = state_;
+  out.tag("cma_es");
+  out.matrix(s.mean);
+  out.value(s.sigma);
+  out.matrix(s.C);
+  out.matrix(s.B);
+  out.matrix(s.D);
+  out.matrix(s.p_sigma);
+  out.matrix(s.p_c);
+  out.value(s.generation);
+  out.value(s.evaluations);
+  out.value(s.eigen_evaluations);
+  out.value(s.decompositions);
+  out.boolean(s.awaiting_tell);
+  out.matrix(s.samples);
+}
+
+void CmaEs::load(BinaryReader& in) {
+  in.expect_tag("cma_es");
+  CmaEsState s;
+  in.matrix(s.mean, "CMA-ES mean");
+  s.sigma = in.value<double>("CMA-ES sigma");
+  in.matrix(s.C, "CMA-ES covariance");
+  in.matrix(s.B, "CMA-ES eigenvectors");
+  in.matrix(s.D, "CMA-ES eigenvalues");
+  in.matrix(s.p_sigma, "CMA-ES sigma path");
+  in.matrix(s.p_c, "CMA-ES covariance path");
+  s.generation = in.value<std::int64_t>("CMA-ES generation");
+  s.evaluations = in.value<std::int64_t>("CMA-ES evaluations");
+  s.eigen_evaluations = in.value<std::int64_t>("CMA-ES decomposition time");
+  s.decompositions = in.value<std::int64_t>("CMA-ES decompositions");
+  s.awaiting_tell = in.boolean("CMA-ES pending flag");
+  in.matrix(s.samples, "CMA-ES samples");
+  try {
+    set_state(s);
+  } catch (const InputError& e) {
+    in.fail(e.what());
+  }
+}
+
 }  // namespace qdmeta

@@ -21,6 +21,8 @@
 
 #include <Eigen/Dense>
 
+#include "qdmeta/core/binary_io.hpp"
+
 namespace qdmeta {
 
 // What ask() does with a candidate that falls outside [lower_bound, upper_bound].
@@ -116,6 +118,10 @@ class CmaEs {
   // Replaces the state (e.g. from a checkpoint); throws InputError if its sizes do not match
   // the params or it is not a valid state (non-positive sigma, pending flag without samples).
   void set_state(const CmaEsState& state);
+
+  // Checkpoints: the whole state. load() checks it as set_state() does.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
   // The state of a freshly constructed optimiser for these params.
   static CmaEsState initial_state(const CmaEsParams& params);

@@ -140,4 +140,38 @@ bool Database::operator==(const Database& other) const {
   return true;
 }
 
+
+void Database::save(BinaryWriter& out) const {
+  const DatabaseState s = state();
+  out.tag("database");
+  out.value<std::int64_t>(params_.capacity);
+  out.value<std::int64_t>(params_.genotype_size);
+  out.value<std::int64_t>(params_.base_feature_size);
+  out.value<std::int64_t>(s.total_inserted);
+  out.matrix(s.genotypes);
+  out.matrix(s.base_features);
+  out.values(s.fitness);
+}
+
+void Database::load(BinaryReader& in) {
+  in.expect_tag("database");
+  DatabaseState s;
+  s.params.capacity = in.value<std::int64_t>("database capacity");
+  s.params.genotype_size = in.value<std::int64_t>("database genotype size");
+  s.params.base_feature_size = in.value<std::int64_t>("database base-feature size");
+  if (s.params != params_)
+    in.fail(fmt::format("database of capacity {} ({} genes, {} base features) does not fit this run's ({}, {}, {})",
+                        s.params.capacity, s.params.genotype_size, s.params.base_feature_size, params_.capacity,
+                        params_.genotype_size, params_.base_feature_size));
+  s.total_inserted = in.value<std::int64_t>("database total inserted");
+  in.matrix(s.genotypes, "database genotypes");
+  in.matrix(s.base_features, "database base features");
+  s.fitness = in.values<Real>("database fitness");
+  try {
+    *this = Database(s);
+  } catch (const InputError& e) {
+    in.fail(e.what());
+  }
+}
+
 }  // namespace qdmeta

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -87,6 +88,9 @@ class Database {
   DatabaseSegments segments() const;
 
   DatabaseState state() const;
+  // Checkpoints: the rows oldest first. load() requires the same params (InputError otherwise).
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
   // Same parameters, same total_inserted and the same rows in the same age order.
   bool operator==(const Database& other) const;
 

@@ -1,0 +1,41 @@
+#pragma once
+// A run's checkpoint: everything needed to continue it bit-identically (the algorithm's state
+// and the run driver's place in its logs), in one versioned binary file written atomically.
+// Reading checks the magic, the format version, the config fingerprint and a checksum, so a
+// corrupt or mismatched file stops with a clear InputError, never a silent restart.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+
+namespace qdmeta {
+
+inline constexpr std::uint32_t kCheckpointFormat = 1;
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+
+// The run driver's own state between two generations.
+struct RunCursor {
+  std::int64_t next_log = 0;                // evaluation count of the next metrics row
+  std::int64_t last_logged_generation = -1;
+  std::uint64_t metrics_bytes = 0;          // metrics.csv's length at the checkpoint
+  std::uint64_t meta_bytes = 0;             // meta.csv's length (0: not started)
+  double wall_seconds = 0.0;                // run time before the checkpoint
+  std::int64_t checkpoints = 0;             // checkpoints written so far, this one included
+  bool operator==(const RunCursor&) const = default;
+};
+
+// Fingerprint of a resolved config (without its [provenance] table): a checkpoint only
+// continues the run it was written for.
+std::uint64_t config_fingerprint(const toml::table& resolved);
+
+// Writes <dir>/checkpoint.bin atomically. The algorithm must be checkpointable.
+void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunCursor& cursor,
+                      const Algorithm& algorithm);
+
+// Restores `algorithm` (freshly built from the same config) and returns the cursor.
+RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, Algorithm& algorithm);
+
+}  // namespace qdmeta
