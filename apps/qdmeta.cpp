@@ -18,6 +18,7 @@
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 
@@ -31,21 +32,6 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitInterrupted = 130;
-
-// Files whose presence means the directory already holds a run.
-const char* const kRunFiles[] = {"config.toml", "metrics.csv", "archive.csv", "summary.json", "meta.csv", "checkpoint.bin"};
-
-void prepare_out_dir(const fs::path& out, bool overwrite) {
-  bool holds_run = false;
-  for (const char* f : kRunFiles) holds_run = holds_run || fs::exists(out / f);
-  if (holds_run && !overwrite)
-    throw InputError(fmt::format("{} already holds a run: pass --overwrite to replace it", out.string()));
-  if (holds_run)
-    for (const char* f : kRunFiles) fs::remove(out / f);
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
-}
 
 std::string human(double x) {
   if (x >= 1e9) return fmt::format("{:.2f}G", x / 1e9);
@@ -113,22 +99,9 @@ struct RunArgs {
 };
 
 int command_run(const RunArgs& a) {
-  const toml::table config = load_toml(a.config);
-  BuiltRun built = build_run(config, a.config, {a.seed, a.evals});
-  const fs::path out(a.out);
-  prepare_out_dir(out, a.overwrite);
-
-  toml::table written = built.resolved;
-  toml::table provenance;
-  provenance.insert("qdmeta_version", std::string(kVersion));
-  provenance.insert("config_file", a.config);
-  provenance.insert("threads", a.threads);
-  written.insert_or_assign("provenance", std::move(provenance));
-  std::ostringstream text;
-  text << "# Resolved configuration of this run: every key in force, defaults included.\n" << written << "\n";
-  write_file_atomic(out / "config.toml", text.str());
-
-  return execute(built, out, a.threads, a.quiet, nullptr);
+  BuiltRun built = build_run(load_toml(a.config), a.config, {a.seed, a.evals});
+  start_run_directory(a.out, built, a.config, a.threads, a.overwrite);
+  return execute(built, a.out, a.threads, a.quiet, nullptr);
 }
 
 struct ResumeArgs {
@@ -140,20 +113,11 @@ struct ResumeArgs {
 // Continues a run from its checkpoint with the resolved config it wrote: to the same result
 // as if it had never stopped.
 int command_resume(const ResumeArgs& a) {
-  const fs::path out(a.out);
-  const fs::path config_path = out / "config.toml";
-  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", out.string()));
-  if (stop_reason_of(out) == StopReason::kBudget)
-    throw InputError(fmt::format("the run in {} has already finished: nothing to resume", out.string()));
-  BuiltRun built = build_run(load_toml(config_path), config_path.string(), {});
-  if (!built.algorithm->checkpointable())
-    throw InputError(fmt::format("algorithm '{}' cannot resume yet", built.settings.algorithm));
-  const RunCursor cursor = read_checkpoint(out, built.settings.fingerprint, *built.algorithm);
-  fs::remove(out / "summary.json");  // the run is unfinished again until it ends
+  ResumableRun r = open_for_resume(a.out);
   if (!a.quiet)
-    fmt::print("resuming from checkpoint {} at {} evaluations, {:.1f} s into the run\n", cursor.checkpoints,
-               built.settings.evals(built.algorithm->counters()), cursor.wall_seconds);
-  return execute(built, out, a.threads, a.quiet, &cursor);
+    fmt::print("resuming from checkpoint {} at {} evaluations, {:.1f} s into the run\n", r.cursor.checkpoints,
+               r.built.settings.evals(r.built.algorithm->counters()), r.cursor.wall_seconds);
+  return execute(r.built, a.out, a.threads, a.quiet, &r.cursor);
 }
 
 struct AdaptArgs {

@@ -1,0 +1,64 @@
+#include "qdmeta/experiment/run_directory.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/version.hpp"
+#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/io/atomic_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace qdmeta {
+
+const std::vector<std::string>& run_files() {
+  static const std::vector<std::string> files = {"config.toml", "metrics.csv", "archive.csv",
+                                                 "summary.json", "meta.csv",   kCheckpointFile};
+  return files;
+}
+
+void start_run_directory(const fs::path& out, const BuiltRun& built, const std::string& config_file, int threads,
+                         bool overwrite) {
+  bool holds_run = false;
+  for (const auto& f : run_files()) holds_run = holds_run || fs::exists(out / f);
+  if (holds_run && !overwrite)
+    throw InputError(fmt::format("{} already holds a run: pass --overwrite to replace it, or continue it with "
+                                 "qdmeta resume --out {}",
+                                 out.string(), out.string()));
+  if (holds_run) {
+    for (const auto& f : run_files()) fs::remove(out / f);
+    for (const auto& entry : fs::directory_iterator(out))  // the old run's test-phase curves
+      if (entry.path().filename().string().starts_with("adapt-")) fs::remove(entry.path());
+  }
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
+
+  toml::table written = built.resolved;
+  toml::table provenance;
+  provenance.insert("qdmeta_version", std::string(kVersion));
+  provenance.insert("config_file", config_file);
+  provenance.insert("threads", threads);
+  written.insert_or_assign("provenance", std::move(provenance));
+  std::ostringstream text;
+  text << "# Resolved configuration of this run: every key in force, defaults included.\n" << written << "\n";
+  write_file_atomic(out / "config.toml", text.str());
+}
+
+ResumableRun open_for_resume(const fs::path& dir) {
+  const fs::path config_path = dir / "config.toml";
+  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  if (stop_reason_of(dir) == StopReason::kBudget)
+    throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
+  ResumableRun r{build_run(load_toml(config_path), config_path.string(), {}), {}};
+  if (!r.built.algorithm->checkpointable())
+    throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
+  r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
+  fs::remove(dir / "summary.json");  // the run is unfinished again until it ends
+  return r;
+}
+
+}  // namespace qdmeta
