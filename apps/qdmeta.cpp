@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "qdmeta/experiment/build.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/experiment.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
@@ -131,27 +133,87 @@ struct AdaptArgs {
 
 // The test phase on a finished run: random search over its archive under unseen test functions.
 int command_adapt(const AdaptArgs& a) {
-  const fs::path dir(a.run);
-  if (!fs::exists(dir / "config.toml")) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
-  if (stop_reason_of(dir) != StopReason::kBudget)
-    throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
-                                 dir.string(), dir.string()));
-  const fs::path config_path = dir / "config.toml";
-  const toml::table config = load_toml(config_path);
-  // Same default seed as the run: every condition of a replicate then meets the same tests.
-  const std::uint64_t seed = a.seed ? *a.seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
-  const auto tests = build_adaptation_tests(config, config_path.string(), a.test, seed);
-  const EliteTable elites = read_elites_csv(dir / "archive.csv");
-  const Index budget = a.budget ? static_cast<Index>(*a.budget) : tests->default_budget();
   auto evaluator = make_evaluator(a.threads);
-  const AdaptationCurve curve = random_search_adaptation(elites.solutions, *tests, budget, seed, *evaluator);
-  const fs::path out = dir / fmt::format("adapt-{}.csv", a.test);
-  write_adaptation_csv(out, curve);
+  const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
+                                       *evaluator);
   if (!a.quiet)
     fmt::print("test '{}': {} functions x {} evaluations over {} archive solutions; best after 1: {:.6g} +- {:.3g}, "
                "after {}: {:.6g} +- {:.3g} (mean +- SE over functions)\nresults: {}\n",
-               a.test, tests->count(), budget, elites.size(), curve.best_mean.front(), curve.best_se.front(), budget,
-               curve.best_mean.back(), curve.best_se.back(), out.string());
+               a.test, r.functions, r.budget, r.archive_size, r.curve.best_mean.front(), r.curve.best_se.front(),
+               r.budget, r.curve.best_mean.back(), r.curve.best_se.back(), r.file.string());
+  return 0;
+}
+
+struct ExperimentArgs {
+  std::string config;
+  std::string out;
+  std::optional<int> replicates;
+  std::optional<std::int64_t> evals;
+  int threads = 0;
+  bool quiet = false;
+  bool no_report = false;
+};
+
+// The tools folder (report.py): $QDMETA_TOOLS_DIR, else the source tree the binary was built from.
+fs::path tools_dir() {
+  if (const char* env = std::getenv("QDMETA_TOOLS_DIR")) return env;
+  return QDMETA_TOOLS_DIR;
+}
+
+// Figures and report.md from the runs under `dir`, by tools/report.py with Debian's Python
+// (matplotlib); $QDMETA_PYTHON overrides the interpreter.
+int command_report(const std::string& dir, bool quiet) {
+  if (!fs::exists(fs::path(dir) / "experiment.toml"))
+    throw InputError(fmt::format("{} holds no experiment (no experiment.toml): run qdmeta experiment first", dir));
+  const char* env = std::getenv("QDMETA_PYTHON");
+  const std::string python = env ? env : "/usr/bin/python3";
+  const fs::path script = tools_dir() / "report.py";
+  if (!fs::exists(script)) throw InputError(fmt::format("report script {} not found (set QDMETA_TOOLS_DIR)", script.string()));
+  const std::string command = fmt::format("'{}' '{}' '{}'{}", python, script.string(), dir, quiet ? " --quiet" : "");
+  const int status = std::system(command.c_str());
+  if (status != 0) throw Error(fmt::format("the report script failed (exit status {}): {}", status, command));
+  return 0;
+}
+
+int command_experiment(const ExperimentArgs& a) {
+  const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const bool tty = isatty(fileno(stdout)) != 0;
+  if (!a.quiet)
+    fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{} -> {}\n", kVersion, spec.name,
+               spec.conditions.size(), spec.replicates,
+               spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
+  auto last = std::make_shared<double>(-1.0);
+  auto last_line = std::make_shared<std::string>();
+  const ExperimentCallback progress = [&a, tty, last, last_line](const ExperimentProgress& p) {
+    if (a.quiet) return;
+    const double overall = (p.run - 1 + p.run_fraction) / p.runs;
+    const std::string head = fmt::format("[{}/{}] {} seed {}: {}", p.run, p.runs, p.condition, p.replicate, p.phase);
+    const bool due = tty ? p.wall_seconds - *last >= 0.25 : head != *last_line;  // a line per phase off a terminal
+    if (!due) return;
+    *last = p.wall_seconds;
+    *last_line = head;
+    const double eta = overall > 0 ? p.wall_seconds * (1 - overall) / overall : 0;
+    const std::string line = fmt::format("{} {:5.1f}%  overall {:5.1f}%  {:.0f} s elapsed, ETA {:.0f} s", head,
+                                         100 * p.run_fraction, 100 * overall, p.wall_seconds, eta);
+    if (tty) fmt::print("\r\033[K{}", line);
+    else fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  const ExperimentResult r = run_experiment(spec, a.out, a.threads, progress, &g_stop);
+  if (!a.quiet) {
+    if (tty) fmt::print("\n");
+    fmt::print("{} runs finished now, {} resumed, {} already finished; {} test phases\n", r.runs_done, r.runs_resumed,
+               r.runs_skipped, r.tests_done);
+  }
+  if (r.interrupted) {
+    if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
+    return kExitInterrupted;
+  }
+  if (a.no_report) return 0;
+  command_report(a.out, a.quiet);
+  if (!a.quiet) fmt::print("report: {}\n", (fs::path(a.out) / "report.md").string());
   return 0;
 }
 
@@ -180,6 +242,27 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   resume_cmd->add_flag("--quiet", resume.quiet, "Print nothing but errors");
 
+  ExperimentArgs experiment;
+  CLI::App* experiment_cmd =
+      app.add_subcommand("experiment", "Every condition x replicate, the test phase on each archive, then the report");
+  experiment_cmd->add_option("--config", experiment.config, "Experiment file (e.g. configs/rastrigin/experiment.toml)")
+      ->required();
+  experiment_cmd->add_option("--out", experiment.out, "Output directory: one folder per condition, one per seed")
+      ->required();
+  experiment_cmd->add_option("--replicates", experiment.replicates, "Replicates (seeds 1..R; overrides the file)")
+      ->check(CLI::PositiveNumber);
+  experiment_cmd->add_option("--evals", experiment.evals, "Evaluation budget of every run (overrides the configs)")
+      ->check(CLI::PositiveNumber);
+  experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  experiment_cmd->add_flag("--quiet", experiment.quiet, "Print nothing but errors");
+  experiment_cmd->add_flag("--no-report", experiment.no_report, "Skip the report at the end");
+
+  std::string report_dir;
+  bool report_quiet = false;
+  CLI::App* report_cmd = app.add_subcommand("report", "Figures (PNG) and report.md from an experiment's runs");
+  report_cmd->add_option("dir", report_dir, "Directory written by qdmeta experiment")->required();
+  report_cmd->add_flag("--quiet", report_quiet, "Print nothing but errors");
+
   AdaptArgs adapt;
   CLI::App* adapt_cmd = app.add_subcommand("adapt", "Test phase: random search over a finished run's archive on unseen test functions");
   adapt_cmd->add_option("--run", adapt.run, "Directory of a finished run")->required();
@@ -207,6 +290,8 @@ int main(int argc, char** argv) {
     if (*run_cmd) return command_run(run);
     if (*resume_cmd) return command_resume(resume);
     if (*adapt_cmd) return command_adapt(adapt);
+    if (*experiment_cmd) return command_experiment(experiment);
+    if (*report_cmd) return command_report(report_dir, report_quiet);
   } catch (const std::exception& e) {
     fmt::print(stderr, "qdmeta: error: {}\n", e.what());
     return kExitBadInput;

@@ -14,7 +14,7 @@
 namespace qdmeta {
 
 void QdMetaParams::validate() const {
-  require_range("qd_meta.meta_population", meta_population, Index{2}, Index{10'000});
+  require_range("qd_meta.meta_population", meta_population, Index{1}, Index{10'000});
   require_range("qd_meta.batch_size", batch_size, Index{1}, Index{10'000'000});
   require_range("qd_meta.initial_population", initial_population, Index{1}, Index{100'000'000});
   require_range("qd_meta.database_capacity", database_capacity, Index{1}, Index{1'000'000'000});

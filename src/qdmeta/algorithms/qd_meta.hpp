@@ -21,7 +21,7 @@
 namespace qdmeta {
 
 struct QdMetaParams {
-  Index meta_population = 10;          // lambda, feature-maps per meta-generation (>= 2: CMA-ES)
+  Index meta_population = 10;          // lambda, feature-maps per meta-generation (1 is a (1,1)-ES)
   Index batch_size = 400;              // offspring per MAP-Elites generation
   Index initial_population = 2000;     // random genotypes that seed the database
   Index database_capacity = 500'000;   // newest solutions kept

@@ -222,7 +222,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
     case AlgorithmKind::kQdMeta: {
       ConfigReader q = root.table("qd_meta");
       QdMetaParams p;
-      p.meta_population = q.integer("meta_population", p.meta_population, 2, 10'000);
+      p.meta_population = q.integer("meta_population", p.meta_population, 1, 10'000);
       p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
       p.initial_population = q.integer("initial_population", p.initial_population, 1, 100'000'000);
       p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);

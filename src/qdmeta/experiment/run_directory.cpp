@@ -9,6 +9,7 @@
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
 
 namespace fs = std::filesystem;
 
@@ -58,6 +59,28 @@ ResumableRun open_for_resume(const fs::path& dir) {
     throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
   r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
   fs::remove(dir / "summary.json");  // the run is unfinished again until it ends
+  return r;
+}
+
+AdaptationReport adapt_run(const fs::path& dir, std::string_view test, std::optional<Index> budget,
+                           std::optional<std::uint64_t> seed, Evaluator& evaluator) {
+  const fs::path config_path = dir / "config.toml";
+  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  if (stop_reason_of(dir) != StopReason::kBudget)
+    throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
+                                 dir.string(), dir.string()));
+  const toml::table config = load_toml(config_path);
+  // Same default seed as the run: every condition of a replicate then meets the same tests.
+  const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const auto tests = build_adaptation_tests(config, config_path.string(), test, s);
+  const EliteTable elites = read_elites_csv(dir / "archive.csv");
+  AdaptationReport r;
+  r.functions = tests->count();
+  r.budget = budget ? *budget : tests->default_budget();
+  r.archive_size = elites.size();
+  r.curve = random_search_adaptation(elites.solutions, *tests, r.budget, s, evaluator);
+  r.file = dir / fmt::format("adapt-{}.csv", test);
+  write_adaptation_csv(r.file, r.curve);
   return r;
 }
 

@@ -2,9 +2,12 @@
 // A run directory's life: started (config.toml with provenance), resumed from its checkpoint,
 // or recognised as finished. Shared by `qdmeta run`, `qdmeta resume` and `qdmeta experiment`.
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "qdmeta/experiment/build.hpp"
+#include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
 
 namespace qdmeta {
@@ -26,5 +29,18 @@ struct ResumableRun {
 // Rebuilds the run in `dir` from its config.toml and loads its checkpoint. InputError when the
 // run has finished, cannot checkpoint, or its checkpoint is missing, damaged or mismatched.
 ResumableRun open_for_resume(const std::filesystem::path& dir);
+
+struct AdaptationReport {
+  AdaptationCurve curve;
+  Index functions = 0;
+  Index budget = 0;
+  Index archive_size = 0;
+  std::filesystem::path file;  // the adapt-NAME.csv written
+};
+
+// The test phase on the finished run in `dir` (`qdmeta adapt`): its archive.csv under the
+// task's test family `test`; the budget defaults to the task's, the seed to the run's.
+AdaptationReport adapt_run(const std::filesystem::path& dir, std::string_view test, std::optional<Index> budget,
+                           std::optional<std::uint64_t> seed, Evaluator& evaluator);
 
 }  // namespace qdmeta

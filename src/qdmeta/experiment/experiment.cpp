@@ -1,0 +1,214 @@
+#include "qdmeta/experiment/experiment.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <set>
+#include <sstream>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/io/atomic_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace qdmeta {
+
+namespace {
+
+std::string slug_of(std::string_view name) {
+  std::string s;
+  for (char c : name) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
+    const bool upper = c >= 'A' && c <= 'Z';
+    if (keep || upper) s += upper ? static_cast<char>(c - 'A' + 'a') : c;
+    else if (!s.empty() && s.back() != '-') s += '-';
+  }
+  while (!s.empty() && s.back() == '-') s.pop_back();
+  return s;
+}
+
+void only_keys(const toml::table& t, std::initializer_list<std::string_view> keys, const std::string& where) {
+  for (const auto& [k, v] : t) {
+    bool known = false;
+    for (auto key : keys) known = known || k.str() == key;
+    if (!known) {
+      std::string valid;
+      for (auto key : keys) valid += (valid.empty() ? "" : ", ") + std::string(key);
+      throw InputError(fmt::format("{}: unknown key '{}' (valid keys: {})", where, k.str(), valid));
+    }
+  }
+}
+
+}  // namespace
+
+namespace {
+void merge_into(toml::table& target, const toml::table& changes) {
+  for (const auto& [k, v] : changes) {
+    auto* sub = target[k].as_table();
+    if (sub && v.is_table()) merge_into(*sub, *v.as_table());
+    else target.insert_or_assign(k, v);
+  }
+}
+}  // namespace
+
+toml::table ExperimentCondition::effective_config() const {
+  toml::table t = load_toml(config);
+  if (set) merge_into(t, *set);
+  return t;
+}
+
+fs::path replicate_dir(const fs::path& out, const ExperimentCondition& c, int replicate) {
+  return out / c.slug / fmt::format("seed-{}", replicate);
+}
+
+ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicates,
+                               std::optional<std::int64_t> evaluations) {
+  const toml::table t = load_toml(file);
+  const std::string where = file.string();
+  only_keys(t, {"name", "replicates", "evaluations", "tests", "condition"}, where);
+  ExperimentSpec spec;
+  spec.name = t["name"].value_or<std::string>(file.stem().string());
+  spec.replicates = replicates ? *replicates : static_cast<int>(t["replicates"].value_or<std::int64_t>(1));
+  if (spec.replicates < 1 || spec.replicates > 100'000)
+    throw InputError(fmt::format("{}: replicates = {} is out of range: must be in [1, 100000]", where, spec.replicates));
+  if (evaluations) spec.evaluations = *evaluations;
+  else if (auto e = t["evaluations"].value<std::int64_t>()) spec.evaluations = *e;
+  if (spec.evaluations && *spec.evaluations < 1)
+    throw InputError(fmt::format("{}: evaluations = {} must be at least 1", where, *spec.evaluations));
+  if (const auto* tests = t["tests"].as_array()) {
+    for (const auto& v : *tests) {
+      if (!v.is_string()) throw InputError(fmt::format("{}: tests must be a list of strings", where));
+      spec.tests.push_back(*v.value<std::string>());
+    }
+  } else if (t.contains("tests")) {
+    throw InputError(fmt::format("{}: tests must be a list of strings", where));
+  }
+  const auto* conditions = t["condition"].as_array();
+  if (!conditions || conditions->empty())
+    throw InputError(fmt::format("{}: no [[condition]] tables: an experiment needs at least one", where));
+  std::set<std::string> slugs;
+  for (const auto& node : *conditions) {
+    const auto* c = node.as_table();
+    if (!c) throw InputError(fmt::format("{}: every condition must be a [[condition]] table", where));
+    only_keys(*c, {"name", "config", "set"}, where + " [[condition]]");
+    ExperimentCondition cond;
+    if (c->contains("set")) {
+      if (!(*c)["set"].is_table())
+        throw InputError(fmt::format("{}: a condition's set must be a table of config keys", where));
+      cond.set = *(*c)["set"].as_table();
+    }
+    cond.name = (*c)["name"].value_or<std::string>("");
+    const std::string config = (*c)["config"].value_or<std::string>("");
+    if (cond.name.empty() || config.empty())
+      throw InputError(fmt::format("{}: every [[condition]] needs a name and a config", where));
+    cond.slug = slug_of(cond.name);
+    if (cond.slug.empty() || !slugs.insert(cond.slug).second)
+      throw InputError(fmt::format("{}: condition '{}' repeats another's name", where, cond.name));
+    cond.config = fs::absolute(file.parent_path() / config);
+    if (!fs::exists(cond.config))
+      throw InputError(fmt::format("{}: condition '{}' names a config that does not exist: {}", where, cond.name,
+                                   cond.config.string()));
+    spec.conditions.push_back(std::move(cond));
+  }
+  return spec;
+}
+
+namespace {
+
+void write_spec(const ExperimentSpec& spec, const fs::path& out) {
+  toml::table t;
+  t.insert("name", spec.name);
+  t.insert("replicates", spec.replicates);
+  if (spec.evaluations) t.insert("evaluations", *spec.evaluations);
+  toml::array tests;
+  for (const auto& s : spec.tests) tests.push_back(s);
+  t.insert("tests", std::move(tests));
+  toml::array conditions;
+  for (const auto& c : spec.conditions) {
+    toml::table entry{{"name", c.name}, {"slug", c.slug}, {"config", c.config.string()}};
+    if (c.set) entry.insert("set", *c.set);
+    conditions.push_back(std::move(entry));
+  }
+  t.insert("condition", std::move(conditions));
+  std::ostringstream text;
+  text << "# The experiment in force for the runs below (written by qdmeta experiment; read by qdmeta report).\n"
+       << t << "\n";
+  write_file_atomic(out / "experiment.toml", text.str());
+}
+
+std::int64_t finished_budget(const fs::path& dir) {
+  const toml::table config = load_toml(dir / "config.toml");
+  return config["budget"]["evaluations"].value_or<std::int64_t>(-1);
+}
+
+}  // namespace
+
+ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,
+                                const ExperimentCallback& progress, const std::atomic<bool>* stop) {
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
+  write_spec(spec, out);
+  const auto start = std::chrono::steady_clock::now();
+  const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  auto evaluator = make_evaluator(threads);
+  ExperimentResult result;
+  const int runs = static_cast<int>(spec.conditions.size()) * spec.replicates;
+  int run = 0;
+  for (int r = 1; r <= spec.replicates; ++r) {  // replicate-major: a partial experiment has every condition
+    for (const auto& c : spec.conditions) {
+      ++run;
+      const fs::path dir = replicate_dir(out, c, r);
+      ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
+      const auto report = [&](const RunProgress& rp) {
+        p.run_fraction = std::min(1.0, static_cast<double>(rp.evals) / static_cast<double>(rp.budget));
+        p.wall_seconds = wall();
+        if (progress) progress(p);
+      };
+      BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
+                                 {static_cast<std::uint64_t>(r), spec.evaluations});
+      if (stop_reason_of(dir) == StopReason::kBudget) {
+        const std::int64_t had = finished_budget(dir);
+        if (had != fresh.settings.budget)
+          throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
+                                       "use another --out or the same --evals",
+                                       dir.string(), had, fresh.settings.budget));
+        p.phase = "skip";
+        p.run_fraction = 1.0;
+        if (progress) progress(p);
+        ++result.runs_skipped;
+      } else {
+        RunResult rr;
+        if (fs::exists(dir / kCheckpointFile)) {
+          p.phase = "resume";
+          ResumableRun resumable = open_for_resume(dir);
+          rr = run_to_budget(*resumable.built.algorithm, *evaluator, resumable.built.settings, dir, report, stop,
+                             &resumable.cursor);
+          ++result.runs_resumed;
+        } else {
+          start_run_directory(dir, fresh, c.config.string(), threads, /*overwrite=*/true);
+          rr = run_to_budget(*fresh.algorithm, *evaluator, fresh.settings, dir, report, stop);
+        }
+        if (rr.reason == StopReason::kInterrupted) {
+          result.interrupted = true;
+          return result;
+        }
+        ++result.runs_done;
+      }
+      for (const auto& test : spec.tests) {
+        if (fs::exists(dir / fmt::format("adapt-{}.csv", test))) continue;
+        p.phase = "test " + test;
+        p.wall_seconds = wall();
+        if (progress) progress(p);
+        adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
+        ++result.tests_done;
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace qdmeta

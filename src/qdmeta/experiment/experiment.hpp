@@ -1,0 +1,67 @@
+#pragma once
+// An experiment: conditions x replicates (seeds 1..R), each a run directory
+// OUT/<condition>/seed-<r>, then the test phase on every archive. Re-running the same command
+// skips finished runs, resumes those with a checkpoint and restarts the others, so a killed
+// experiment continues where it was.
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "qdmeta/eval/evaluator.hpp"
+
+namespace qdmeta {
+
+struct ExperimentCondition {
+  std::string name;               // as shown in the report, e.g. "QD-Meta Translation"
+  std::string slug;               // its directory, e.g. "qd-meta-translation"
+  std::filesystem::path config;   // the run config (absolute)
+  std::optional<toml::table> set; // keys replaced in that config (e.g. qd_meta.meta_population)
+  // The config in force: the file with `set` merged in, table by table.
+  toml::table effective_config() const;
+};
+
+struct ExperimentSpec {
+  std::string name;
+  int replicates = 1;
+  std::optional<std::int64_t> evaluations;  // overrides every condition's budget
+  std::vector<std::string> tests;           // test families run on every archive
+  std::vector<ExperimentCondition> conditions;
+};
+
+// Reads an experiment file (see configs/rastrigin/experiment.toml); condition configs are
+// relative to it. The overrides replace the file's replicates and evaluations. InputError on
+// an unknown key, a missing config, a duplicate condition.
+ExperimentSpec load_experiment(const std::filesystem::path& file, std::optional<int> replicates,
+                               std::optional<std::int64_t> evaluations);
+
+struct ExperimentProgress {
+  int run = 0;             // 1-based index of the current run
+  int runs = 0;            // conditions x replicates
+  std::string condition;
+  int replicate = 0;
+  std::string phase;       // "run", "resume", "skip", "test"
+  double run_fraction = 0; // of the current run's budget
+  double wall_seconds = 0; // since the command started
+};
+using ExperimentCallback = std::function<void(const ExperimentProgress&)>;
+
+struct ExperimentResult {
+  bool interrupted = false;
+  int runs_done = 0, runs_skipped = 0, runs_resumed = 0, tests_done = 0;
+};
+
+// Runs everything, writes OUT/experiment.toml (the spec in force, read by the report) first.
+// A spec whose evaluations differ from the finished runs already in OUT is refused.
+ExperimentResult run_experiment(const ExperimentSpec& spec, const std::filesystem::path& out, int threads,
+                                const ExperimentCallback& progress, const std::atomic<bool>* stop);
+
+// The run directory of one condition and replicate.
+std::filesystem::path replicate_dir(const std::filesystem::path& out, const ExperimentCondition& c, int replicate);
+
+}  // namespace qdmeta
