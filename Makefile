@@ -19,13 +19,14 @@ $(BUILD)/build.ninja:
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
-# The most complete demo so far: plain MAP-Elites on 20-D Rastrigin (1,000,000 evaluations),
-# then a small QD-Meta Translation run (2,000,000 bottom-level evaluations, about 10 s on 2 cores).
+# The most complete demo so far: a small version of the paper's Rastrigin study (every condition
+# of configs/rastrigin/experiment.toml, 2 replicates of 1,000,000 evaluations, both tests), then
+# its report (figures and report.md). Run it again to reuse the finished runs.
+DEMO_REPLICATES ?= 2
+DEMO_EVALS ?= 1000000
 run: build
-	$(BUILD)/qdmeta run --config configs/rastrigin/map-elites.toml --out $(DEMO_OUT)/map-elites --overwrite
-	$(BUILD)/qdmeta run --config configs/rastrigin/qdmeta-translation.toml --out $(DEMO_OUT)/qdmeta-translation --evals 2000000 --overwrite
-	@echo "Results in $(DEMO_OUT)/map-elites and $(DEMO_OUT)/qdmeta-translation: metrics.csv (statistics over evaluations),"
-	@echo "meta.csv (QD-Meta: meta-fitness per meta-generation), archive.csv (final elites), summary.json"
+	$(BUILD)/qdmeta experiment --config configs/rastrigin/experiment.toml --out $(DEMO_OUT) --replicates $(DEMO_REPLICATES) --evals $(DEMO_EVALS)
+	@echo "Report: $(DEMO_OUT)/report.md (figures in $(DEMO_OUT)/figures); runs in $(DEMO_OUT)/<condition>/seed-<r>/"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

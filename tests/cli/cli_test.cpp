@@ -323,6 +323,62 @@ TEST(Cli, ADamagedOrMismatchedCheckpointIsAClearError) {
   expect_refused("no checkpoint", "no checkpoint in");
 }
 
+// Two conditions (a QD-Meta run of a few seconds that checkpoints often, plain MAP-Elites) x 2
+// replicates, both tests.
+fs::path small_experiment() {
+  const std::string me = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml";
+  return write_config("experiment", "name = \"small\"\nreplicates = 2\ntests = [\"dimension\", \"translation\"]\n"
+                                    "[[condition]]\nname = \"QD-Meta (SARSA)\"\nconfig = \"" + checkpointing_config().string() +
+                                    "\"\n[[condition]]\nname = \"MAP-Elites\"\nconfig = \"" + me + "\"\n"
+                                    "set = { budget = { evaluations = 100_000 } }\n");
+}
+
+TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
+  const fs::path clean = fresh_dir("experiment_clean"), killed = fresh_dir("experiment_killed");
+  const std::string config = small_experiment().string();
+  const Outcome first = qdmeta_cli("experiment --config " + config + " --out " + clean.string() + " --no-report");
+  ASSERT_EQ(first.status, 0) << first.output;
+  EXPECT_NE(first.output.find("4 runs finished now, 0 resumed, 0 already finished; 8 test phases"), std::string::npos)
+      << first.output;
+  shell("timeout -s KILL 1.5 " + std::string(QDMETA_BINARY) + " experiment --config " + config + " --out " +
+        killed.string() + " --no-report --quiet");
+  ASSERT_TRUE(fs::exists(killed / "qd-meta-sarsa/seed-1/checkpoint.bin")) << "killed before the first checkpoint";
+  const Outcome again = qdmeta_cli("experiment --config " + config + " --out " + killed.string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("1 resumed"), std::string::npos) << again.output;
+  for (const char* cond : {"qd-meta-sarsa", "map-elites"})
+    for (const char* seed : {"seed-1", "seed-2"}) {
+      const fs::path a = clean / cond / seed, b = killed / cond / seed;
+      for (const char* f : {"metrics.csv", "archive.csv", "adapt-dimension.csv", "adapt-translation.csv"})
+        EXPECT_EQ(slurp(a / f), slurp(b / f)) << cond << "/" << seed << "/" << f;
+    }
+  EXPECT_EQ(slurp(clean / "qd-meta-sarsa/seed-2/meta.csv"), slurp(killed / "qd-meta-sarsa/seed-2/meta.csv"));
+  // Seeds differ between replicates.
+  EXPECT_NE(slurp(clean / "map-elites/seed-1/archive.csv"), slurp(clean / "map-elites/seed-2/archive.csv"));
+  // The report: every figure and the tables.
+  const std::string report = slurp(killed / "report.md");
+  for (const char* figure : {"qd-statistics.png", "meta-fitness.png", "adaptation-dimension.png",
+                             "adaptation-translation.png", "archives.png"}) {
+    EXPECT_NE(report.find(std::string("figures/") + figure), std::string::npos) << figure;
+    EXPECT_GT(fs::file_size(killed / "figures" / figure), 10'000u) << figure;
+  }
+  EXPECT_NE(report.find("| QD-Meta (SARSA) | 2 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| MAP-Elites | 2 |"), std::string::npos) << report;
+  // Everything finished: a third call runs nothing and only reports.
+  const Outcome third = qdmeta_cli("experiment --config " + config + " --out " + killed.string() + " --no-report");
+  EXPECT_NE(third.output.find("0 runs finished now, 0 resumed, 4 already finished; 0 test phases"), std::string::npos)
+      << third.output;
+  const Outcome other_budget =
+      qdmeta_cli("experiment --config " + config + " --out " + killed.string() + " --evals 5000 --no-report");
+  EXPECT_EQ(other_budget.status, 2) << other_budget.output;
+}
+
+TEST(Cli, ReportNeedsAnExperiment) {
+  const Outcome o = qdmeta_cli("report " + fresh_dir("no_experiment").string());
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.output.find("no experiment.toml"), std::string::npos) << o.output;
+}
+
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {
   EXPECT_EQ(qdmeta_cli("").status, 2);
   EXPECT_EQ(qdmeta_cli("run --out /tmp/x").status, 2);

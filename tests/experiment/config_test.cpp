@@ -259,7 +259,7 @@ TEST(BuildRun, ShippedConfigBuilds) {
   EXPECT_EQ(run.settings.seed, 1u);
   EXPECT_EQ(run.settings.budget, 1'000'000);
   EXPECT_EQ(run.settings.counts, BudgetCount::kBottom);
-  EXPECT_EQ(run.settings.log_every, 10'000);
+  EXPECT_EQ(run.settings.log_every, 5'000);  // auto: budget / 200
 
   const toml::table& r = run.resolved;
   EXPECT_EQ(r["algorithm"].value<std::string>(), "map-elites");

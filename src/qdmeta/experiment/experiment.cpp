@@ -151,6 +151,17 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
+  // Refuse before touching anything when finished runs here had another budget.
+  for (const auto& c : spec.conditions) {
+    const std::int64_t budget = build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}).settings.budget;
+    for (int r = 1; r <= spec.replicates; ++r) {
+      const fs::path dir = replicate_dir(out, c, r);
+      if (stop_reason_of(dir) == StopReason::kBudget && finished_budget(dir) != budget)
+        throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
+                                     "use another --out or the same --evals",
+                                     dir.string(), finished_budget(dir), budget));
+    }
+  }
   write_spec(spec, out);
   const auto start = std::chrono::steady_clock::now();
   const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -171,11 +182,6 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
       BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
                                  {static_cast<std::uint64_t>(r), spec.evaluations});
       if (stop_reason_of(dir) == StopReason::kBudget) {
-        const std::int64_t had = finished_budget(dir);
-        if (had != fresh.settings.budget)
-          throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
-                                       "use another --out or the same --evals",
-                                       dir.string(), had, fresh.settings.budget));
         p.phase = "skip";
         p.run_fraction = 1.0;
         if (progress) progress(p);

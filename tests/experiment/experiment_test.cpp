@@ -1,0 +1,73 @@
+// Experiment files: conditions, overrides, and one-line errors for what is wrong in them.
+#include "qdmeta/experiment/experiment.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "../expect_input_error.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path write(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "qdmeta_experiment_test";
+  fs::create_directories(dir);
+  std::ofstream(dir / "run.toml") << "algorithm = \"map-elites\"\n";
+  const fs::path path = dir / (name + ".toml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Experiment, ReadsConditionsRelativeToTheFileWithOverrides) {
+  const fs::path f = write("good", R"(name = "demo"
+replicates = 3
+tests = ["dimension"]
+[[condition]]
+name = "Plain MAP-Elites"
+config = "run.toml"
+[[condition]]
+name = "Small budget"
+config = "run.toml"
+set = { budget = { evaluations = 1234 } }
+)");
+  const ExperimentSpec s = load_experiment(f, std::nullopt, std::nullopt);
+  EXPECT_EQ(s.name, "demo");
+  EXPECT_EQ(s.replicates, 3);
+  EXPECT_EQ(s.tests, std::vector<std::string>{"dimension"});
+  ASSERT_EQ(s.conditions.size(), 2u);
+  EXPECT_EQ(s.conditions[0].slug, "plain-map-elites");
+  EXPECT_EQ(s.conditions[0].config, f.parent_path() / "run.toml");
+  EXPECT_EQ(s.conditions[1].effective_config()["budget"]["evaluations"].value<std::int64_t>(), 1234);
+  EXPECT_EQ(s.conditions[1].effective_config()["algorithm"].value<std::string>(), "map-elites");
+  EXPECT_EQ(replicate_dir("/out", s.conditions[1], 2), fs::path("/out/small-budget/seed-2"));
+  const ExperimentSpec o = load_experiment(f, 5, 777);
+  EXPECT_EQ(o.replicates, 5);
+  EXPECT_EQ(o.evaluations, 777);
+}
+
+TEST(Experiment, BadFilesAreOneLineErrors) {
+  const auto error_of = [](const fs::path& f) {
+    try {
+      load_experiment(f, std::nullopt, std::nullopt);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  fs::path f = write("typo", "replicate = 2\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, condition)");
+  f = write("none", "replicates = 2\n");
+  EXPECT_EQ(error_of(f), f.string() + ": no [[condition]] tables: an experiment needs at least one");
+  f = write("missing", "[[condition]]\nname = \"a\"\nconfig = \"nowhere.toml\"\n");
+  EXPECT_NE(error_of(f).find("condition 'a' names a config that does not exist"), std::string::npos) << error_of(f);
+  f = write("twice", "[[condition]]\nname = \"A b\"\nconfig = \"run.toml\"\n[[condition]]\nname = \"a-B\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": condition 'a-B' repeats another's name");
+  f = write("zero", "replicates = 0\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": replicates = 0 is out of range: must be in [1, 100000]");
+}
+
+}  // namespace
+}  // namespace qdmeta

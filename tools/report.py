@@ -1,0 +1,310 @@
+#!/usr/bin/python3
+"""Figures and report.md for an experiment written by `qdmeta experiment`.
+
+Usage: /usr/bin/python3 tools/report.py DIR [--quiet]
+
+Reads DIR/experiment.toml and every finished run DIR/<condition>/seed-<r>/ (metrics.csv,
+meta.csv, archive.csv, adapt-*.csv, summary.json); writes DIR/figures/*.png and DIR/report.md.
+Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
+point), since meta-generation boundaries fall at different evaluation counts. Values are
+mean +- standard error over replicates. Needs only Debian's python3-matplotlib and numpy.
+"""
+import csv
+import json
+import warnings
+import math
+import os
+import sys
+import tomllib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+GRID_POINTS = 101
+warnings.filterwarnings("ignore", message="Mean of empty slice")
+warnings.filterwarnings("ignore", message="Degrees of freedom <= 0")
+
+
+def read_csv(path):
+    """Columns of a CSV file as float arrays (empty dict if the file is missing)."""
+    if not os.path.exists(path):
+        return {}
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if len(rows) < 2:
+        return {}
+    header, body = rows[0], rows[1:]
+    return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
+
+
+def mean_se(samples):
+    """Mean and standard error along axis 0 (SE 0 for one replicate); NaNs ignored."""
+    a = np.asarray(samples, dtype=float)
+    n = np.sum(~np.isnan(a), axis=0)
+    mean = np.nanmean(a, axis=0)
+    sd = np.nanstd(a, axis=0, ddof=1) if a.shape[0] > 1 else np.zeros_like(mean)
+    se = np.where(n > 1, sd / np.sqrt(np.maximum(n, 1)), 0.0)
+    return mean, se
+
+
+def stat(values):
+    """Mean and standard error of one number per replicate."""
+    v = np.asarray(values, dtype=float)
+    if v.size == 0:
+        return float("nan"), 0.0
+    se = float(np.std(v, ddof=1) / math.sqrt(v.size)) if v.size > 1 else 0.0
+    return float(np.mean(v)), se
+
+
+def on_grid(evals, values, grid):
+    """The last logged value at or before each grid point (NaN before the first row)."""
+    idx = np.searchsorted(evals, grid, side="right") - 1
+    out = np.where(idx >= 0, values[np.clip(idx, 0, None)], np.nan)
+    return out
+
+
+def fmt(mean, se, digits=4):
+    if mean is None or (isinstance(mean, float) and math.isnan(mean)):
+        return "n/a"
+    return f"{mean:.{digits}g} ± {se:.2g}"
+
+
+class Run:
+    def __init__(self, path):
+        self.path = path
+        self.metrics = read_csv(os.path.join(path, "metrics.csv"))
+        self.meta = read_csv(os.path.join(path, "meta.csv"))
+        with open(os.path.join(path, "summary.json")) as f:
+            self.summary = json.load(f)
+        self.adapt = {}
+        for name in sorted(os.listdir(path)):
+            if name.startswith("adapt-") and name.endswith(".csv"):
+                self.adapt[name[len("adapt-"):-len(".csv")]] = read_csv(os.path.join(path, name))
+
+    def archive(self):
+        return read_csv(os.path.join(self.path, "archive.csv"))
+
+
+def load(directory):
+    with open(os.path.join(directory, "experiment.toml"), "rb") as f:
+        spec = tomllib.load(f)
+    conditions = []
+    for c in spec.get("condition", []):
+        slug = c.get("slug") or c["name"].lower().replace(" ", "-")
+        runs, unfinished = [], []
+        for r in range(1, int(spec.get("replicates", 1)) + 1):
+            path = os.path.join(directory, slug, f"seed-{r}")
+            summary = os.path.join(path, "summary.json")
+            finished = False
+            if os.path.exists(summary):
+                with open(summary) as f:
+                    finished = json.load(f).get("stop_reason") == "budget"
+            (runs if finished else unfinished).append(Run(path) if finished else path)
+        conditions.append({"name": c["name"], "slug": slug, "runs": runs, "unfinished": unfinished})
+    return spec, conditions
+
+
+def figure_qd_statistics(conditions, out):
+    panels = [("num_elites", "archive size"), ("obj_mean", "average fitness"), ("obj_max", "global fitness")]
+    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
+    if budget <= 0:
+        return None
+    grid = np.linspace(0, budget, GRID_POINTS)
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    for c in conditions:
+        runs = [r for r in c["runs"] if r.metrics]
+        if not runs:
+            continue
+        for ax, (column, label) in zip(axes, panels):
+            mean, se = mean_se([on_grid(r.metrics["evals"], r.metrics[column], grid) for r in runs])
+            ax.plot(grid, mean, label=f'{c["name"]} (n={len(runs)})')
+            ax.fill_between(grid, mean - se, mean + se, alpha=0.25)
+            ax.set_xlabel("evaluations")
+            ax.set_ylabel(label)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("QD statistics over evaluations (mean ± SE over replicates)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def figure_meta(conditions, out):
+    meta = [c for c in conditions if any(r.meta for r in c["runs"])]
+    if not meta:
+        return None
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    panels = [("meta_fitness_mean", "meta-fitness (mean over the meta-population)"),
+              ("meta_fitness_best", "meta-fitness (best of the meta-population)"),
+              ("generations", "generations per meta-generation (G)")]
+    for c in meta:
+        runs = [r for r in c["runs"] if r.meta]
+        length = max(len(r.meta["meta_generation"]) for r in runs)
+        for ax, (column, label) in zip(axes, panels):
+            padded = np.full((len(runs), length), np.nan)
+            for i, r in enumerate(runs):
+                padded[i, : len(r.meta[column])] = r.meta[column]
+            mean, se = mean_se(padded)
+            x = np.arange(1, length + 1)
+            ax.plot(x, mean, label=f'{c["name"]} (n={len(runs)})', linewidth=0.8)
+            ax.fill_between(x, mean - se, mean + se, alpha=0.25)
+            ax.set_xlabel("meta-generation")
+            ax.set_ylabel(label, fontsize=9)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Meta-evolution (mean ± SE over replicates)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def figure_adaptation(conditions, test, out):
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    drawn = False
+    for c in conditions:
+        runs = [r for r in c["runs"] if r.adapt.get(test)]
+        if not runs:
+            continue
+        length = min(len(r.adapt[test]["best_mean"]) for r in runs)
+        mean, se = mean_se([r.adapt[test]["best_mean"][:length] for r in runs])
+        x = np.arange(1, length + 1)
+        ax.plot(x, mean, label=f'{c["name"]} (n={len(runs)})')
+        ax.fill_between(x, mean - se, mean + se, alpha=0.25)
+        drawn = True
+    if not drawn:
+        plt.close(fig)
+        return None
+    ax.set_xlabel("evaluations (random search over the archive)")
+    ax.set_ylabel("best score so far, mean over test functions")
+    ax.set_title(f"Test phase: {test} (mean ± SE over replicates)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def figure_archives(conditions, out):
+    shown = [c for c in conditions if c["runs"]]
+    if not shown:
+        return None
+    fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 4), squeeze=False)
+    for ax, c in zip(axes[0], shown):
+        run = c["runs"][0]
+        a = run.archive()
+        if "measures_0" not in a or "measures_1" not in a:
+            ax.set_title(f'{c["name"]}: fewer than 2 measures')
+            continue
+        points = ax.scatter(a["measures_0"], a["measures_1"], c=a["objective"], s=2, cmap="viridis", linewidths=0)
+        fig.colorbar(points, ax=ax, label="fitness")
+        ax.set_title(f'{c["name"]} (seed {os.path.basename(run.path).split("-")[-1]}, {len(a["objective"])} elites)',
+                     fontsize=9)
+        ax.set_xlabel("measure 0")
+        ax.set_ylabel("measure 1")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def summary_table(conditions):
+    columns = [("num_elites", "archive size", 5), ("coverage", "coverage", 3), ("obj_mean", "average fitness", 4),
+               ("obj_max", "global fitness", 4), ("qd_score", "QD-score", 4), ("evals", "evaluations", 9),
+               ("wall_seconds", "wall time (s)", 3)]
+    lines = ["| condition | n | " + " | ".join(label for _, label, _ in columns) + " |",
+             "|---|---|" + "---|" * len(columns)]
+    for c in conditions:
+        runs = c["runs"]
+        cells = []
+        for key, _, digits in columns:
+            values = [float(r.summary[key]) for r in runs if key in r.summary]
+            cells.append(fmt(*stat(values), digits) if values else "n/a")
+        lines.append(f'| {c["name"]} | {len(runs)} | ' + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def meta_table(conditions):
+    rows = []
+    for c in conditions:
+        runs = [r for r in c["runs"] if r.meta]
+        if not runs:
+            continue
+        best = [r.meta["meta_fitness_best"][-1] for r in runs]
+        mean = [r.meta["meta_fitness_mean"][-1] for r in runs]
+        gens = [len(r.meta["meta_generation"]) for r in runs]
+        g = [float(np.mean(r.meta["generations"])) for r in runs]
+        states = [r.meta["states"][-1] for r in runs]
+        rows.append(f'| {c["name"]} | {len(runs)} | {fmt(*stat(best))} | {fmt(*stat(mean))} | '
+                    f'{fmt(*stat(gens), 5)} | {fmt(*stat(g), 3)} | {fmt(*stat(states), 3)} |')
+    if not rows:
+        return ""
+    return "\n".join(["| condition | n | final best meta-fitness | final mean meta-fitness | meta-generations | "
+                      "mean G | final states |", "|---|---|---|---|---|---|---|"] + rows)
+
+
+def test_table(conditions, tests):
+    lines = []
+    for test in tests:
+        lines += [f"**{test}** (best score so far, mean over test functions; mean ± SE over replicates)", "",
+                  "| condition | n | after 1 | after 10 | at the end |", "|---|---|---|---|---|"]
+        for c in conditions:
+            runs = [r for r in c["runs"] if r.adapt.get(test)]
+            if not runs:
+                continue
+            cells = []
+            for at in (0, 9, -1):
+                values = [r.adapt[test]["best_mean"][at] for r in runs if len(r.adapt[test]["best_mean"]) > max(at, 0)]
+                cells.append(fmt(*stat(values)))
+            end = int(min(len(r.adapt[test]["best_mean"]) for r in runs))
+            lines.append(f'| {c["name"]} | {len(runs)} | ' + " | ".join(cells[:2]) + f" | {cells[2]} ({end} evaluations) |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def main(argv):
+    if len(argv) < 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    directory = argv[1]
+    quiet = "--quiet" in argv[2:]
+    spec, conditions = load(directory)
+    figures_dir = os.path.join(directory, "figures")
+    os.makedirs(figures_dir, exist_ok=True)
+    tests = list(spec.get("tests", []))
+    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, os.path.join(figures_dir, "qd-statistics.png"))),
+               ("Meta-fitness and generations per meta-generation", figure_meta(conditions, os.path.join(figures_dir, "meta-fitness.png")))]
+    for test in tests:
+        figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, os.path.join(figures_dir, f"adaptation-{test}.png"))))
+    figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, os.path.join(figures_dir, "archives.png"))))
+
+    md = [f'# {spec.get("name", "Experiment")}', ""]
+    evals = spec.get("evaluations")
+    md.append(f'{len(conditions)} conditions x {spec.get("replicates", 1)} replicates (seeds 1..{spec.get("replicates", 1)})'
+              + (f", {evals:,} evaluations each" if evals else "") + ". Values: mean ± standard error over finished replicates.")
+    unfinished = [p for c in conditions for p in c["unfinished"]]
+    if unfinished:
+        md.append(f"\n{len(unfinished)} runs are not finished and are left out: " + ", ".join(os.path.relpath(p, directory) for p in unfinished[:10])
+                  + (" ..." if len(unfinished) > 10 else ""))
+    md += ["", "## Final archives", "", summary_table(conditions), ""]
+    meta = meta_table(conditions)
+    if meta:
+        md += ["## Meta-evolution", "", meta, ""]
+    if tests:
+        md += ["## Test phase", "", test_table(conditions, tests)]
+    md += ["## Figures", ""]
+    for title, path in figures:
+        if path:
+            md += [f"### {title}", "", f"![{title}](figures/{os.path.basename(path)})", ""]
+    with open(os.path.join(directory, "report.md.tmp"), "w") as f:
+        f.write("\n".join(md) + "\n")
+    os.replace(os.path.join(directory, "report.md.tmp"), os.path.join(directory, "report.md"))
+    if not quiet:
+        print(f"report: {os.path.join(directory, 'report.md')} with {sum(1 for _, p in figures if p)} figures in {figures_dir}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
