@@ -66,6 +66,12 @@ def on_grid(evals, values, grid):
     return out
 
 
+def plot_band(ax, x, mean, se, label, linewidth=1.5):
+    """A mean curve with its +- SE band."""
+    ax.plot(x, mean, label=label, linewidth=linewidth)
+    ax.fill_between(x, mean - se, mean + se, alpha=0.25)
+
+
 def fmt(mean, se, digits=4):
     if mean is None or (isinstance(mean, float) and math.isnan(mean)):
         return "n/a"
@@ -120,8 +126,7 @@ def figure_qd_statistics(conditions, out):
             continue
         for ax, (column, label) in zip(axes, panels):
             mean, se = mean_se([on_grid(r.metrics["evals"], r.metrics[column], grid) for r in runs])
-            ax.plot(grid, mean, label=f'{c["name"]} (n={len(runs)})')
-            ax.fill_between(grid, mean - se, mean + se, alpha=0.25)
+            plot_band(ax, grid, mean, se, f'{c["name"]} (n={len(runs)})')
             ax.set_xlabel("evaluations")
             ax.set_ylabel(label)
     axes[0].legend(fontsize=8)
@@ -149,8 +154,7 @@ def figure_meta(conditions, out):
                 padded[i, : len(r.meta[column])] = r.meta[column]
             mean, se = mean_se(padded)
             x = np.arange(1, length + 1)
-            ax.plot(x, mean, label=f'{c["name"]} (n={len(runs)})', linewidth=0.8)
-            ax.fill_between(x, mean - se, mean + se, alpha=0.25)
+            plot_band(ax, x, mean, se, f'{c["name"]} (n={len(runs)})', linewidth=0.8)
             ax.set_xlabel("meta-generation")
             ax.set_ylabel(label, fontsize=9)
     axes[0].legend(fontsize=8)
@@ -171,8 +175,7 @@ def figure_adaptation(conditions, test, out):
         length = min(len(r.adapt[test]["best_mean"]) for r in runs)
         mean, se = mean_se([r.adapt[test]["best_mean"][:length] for r in runs])
         x = np.arange(1, length + 1)
-        ax.plot(x, mean, label=f'{c["name"]} (n={len(runs)})')
-        ax.fill_between(x, mean - se, mean + se, alpha=0.25)
+        plot_band(ax, x, mean, se, f'{c["name"]} (n={len(runs)})')
         drawn = True
     if not drawn:
         plt.close(fig)
