@@ -2,6 +2,7 @@
 // one-line message on bad input, refusal to overwrite, and the same bits at any thread count.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -36,10 +37,30 @@ Outcome shell(const std::string& command_line) {
 
 Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BINARY) + " " + args); }
 
+// This process's own scratch folder: ctest runs tests as parallel processes (and a Release
+// and a sanitizer suite may run at once), so no two of them may share a path.
+fs::path scratch() {
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("qdmeta_cli_test_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+// Starts `command` in the background, waits until `file` exists (at most a minute), lets it
+// run `extra_seconds` more, then sends `signal`. Returns the command's exit status.
+Outcome signal_after(const std::string& command, const fs::path& file, double extra_seconds, const char* signal) {
+  // `exec`, so that $! is the program itself, not a shell around it.
+  return shell("exec " + command + " & pid=$!; for i in $(seq 1200); do [ -e '" + file.string() +
+               "' ] && break; sleep 0.05; done; sleep " + std::to_string(extra_seconds) + "; kill -" + signal +
+               " $pid; wait $pid");
+}
+
 std::string config_path() { return std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml"; }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("qdmeta_cli_test_" + name);
+  const fs::path dir = scratch() / name;
   fs::remove_all(dir);
   return dir;
 }
@@ -52,7 +73,7 @@ std::string slurp(const fs::path& path) {
 }
 
 fs::path write_config(const std::string& name, const std::string& text) {
-  const fs::path path = fs::temp_directory_path() / ("qdmeta_cli_test_" + name + ".toml");
+  const fs::path path = scratch() / (name + ".toml");
   std::ofstream(path) << text;
   return path;
 }
@@ -240,7 +261,7 @@ TEST(Cli, AdaptWritesTheTestPhaseCurveOfAFinishedRun) {
 fs::path checkpointing_config() {
   return write_config("resume", R"(algorithm = "qd-meta"
 [budget]
-evaluations = 1_200_000
+evaluations = 500_000
 [checkpoint]
 every_seconds = 0.1
 [qd_meta]
@@ -258,8 +279,8 @@ TEST(Cli, AKilledRunResumesToTheSameBits) {
   const std::string config = checkpointing_config().string();
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
   // SIGKILL: no chance to clean up; the last periodic checkpoint must carry the run.
-  shell("timeout -s KILL 1.5 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " + killed.string() +
-        " --quiet --threads 1");
+  signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + killed.string() + " --quiet --threads 1",
+               killed / "checkpoint.bin", 0.3, "KILL");
   ASSERT_TRUE(fs::exists(killed / "checkpoint.bin")) << "killed before its first checkpoint";
   ASSERT_FALSE(fs::exists(killed / "summary.json")) << "finished before it was killed: raise the budget";
   const Outcome adapt = qdmeta_cli("adapt --run " + killed.string() + " --test dimension");
@@ -277,9 +298,9 @@ TEST(Cli, AnInterruptedRunSaysHowToResumeAndDoes) {
   const fs::path straight = fresh_dir("straight2"), stopped = fresh_dir("interrupted");
   const std::string config = checkpointing_config().string();
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
-  const Outcome o = shell("timeout -s INT 1.5 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " +
-                          stopped.string());
-  ASSERT_EQ(o.status, 124) << o.output;  // timeout's status when it had to send the signal
+  const Outcome o = signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + stopped.string(),
+                                 stopped / "metrics.csv", 0.3, "INT");
+  ASSERT_EQ(o.status, 130) << o.output;  // interrupted
   EXPECT_NE(o.output.find("continue it with: qdmeta resume --out"), std::string::npos) << o.output;
   EXPECT_NE(slurp(stopped / "summary.json").find("\"interrupted\""), std::string::npos);
   ASSERT_EQ(qdmeta_cli("resume --out " + stopped.string() + " --quiet").status, 0);
@@ -289,8 +310,8 @@ TEST(Cli, AnInterruptedRunSaysHowToResumeAndDoes) {
 TEST(Cli, ADamagedOrMismatchedCheckpointIsAClearError) {
   const fs::path dir = fresh_dir("damaged");
   const std::string config = checkpointing_config().string();
-  shell("timeout -s INT 1 " + std::string(QDMETA_BINARY) + " run --config " + config + " --out " + dir.string() +
-        " --quiet");
+  signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + dir.string() + " --quiet",
+               dir / "metrics.csv", 0.2, "INT");
   ASSERT_TRUE(fs::exists(dir / "checkpoint.bin"));
   const std::string good = slurp(dir / "checkpoint.bin");
   const auto expect_refused = [&](const std::string& why, const std::string& message) {
@@ -340,8 +361,9 @@ TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
   ASSERT_EQ(first.status, 0) << first.output;
   EXPECT_NE(first.output.find("4 runs finished now, 0 resumed, 0 already finished; 8 test phases"), std::string::npos)
       << first.output;
-  shell("timeout -s KILL 1.5 " + std::string(QDMETA_BINARY) + " experiment --config " + config + " --out " +
-        killed.string() + " --no-report --quiet");
+  signal_after(std::string(QDMETA_BINARY) + " experiment --config " + config + " --out " + killed.string() +
+                   " --no-report --quiet",
+               killed / "qd-meta-sarsa/seed-1/checkpoint.bin", 0.2, "KILL");
   ASSERT_TRUE(fs::exists(killed / "qd-meta-sarsa/seed-1/checkpoint.bin")) << "killed before the first checkpoint";
   const Outcome again = qdmeta_cli("experiment --config " + config + " --out " + killed.string());
   ASSERT_EQ(again.status, 0) << again.output;
