@@ -3,6 +3,7 @@
 // and its elites as a flat table that io/ can write.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
@@ -50,6 +51,8 @@ class Algorithm {
   virtual EliteTable elites() const = 0;
   // The latest meta-generation (QD-Meta only; null for single-archive algorithms).
   virtual const MetaGenerationRecord* last_meta_record() const { return nullptr; }
+  // Algorithm-specific figures for summary.json, as (key, value) (e.g. AURORA's trainings).
+  virtual std::vector<std::pair<std::string, double>> summary_extras() const { return {}; }
 };
 
 }  // namespace qdmeta
