@@ -124,6 +124,81 @@ TEST(UnstructuredArchive, MemberNoveltyIsTheMeanDistanceToItsKNearest) {
   }
 }
 
+// The insertion rule written the plain way: every distance computed, sorted by (distance, slot).
+struct ReferenceArchive {
+  Index d = 2;
+  int k = 15;
+  double eps = 0.1;
+  std::vector<std::vector<float>> points;
+  std::vector<float> fitness;
+  std::vector<std::pair<float, Index>> sorted_from(const std::vector<float>& q, Index excluded) const {
+    std::vector<std::pair<float, Index>> all;
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      if (static_cast<Index>(s) == excluded) continue;
+      float d2 = 0;
+      for (Index j = 0; j < d; ++j) d2 += (points[s][j] - q[j]) * (points[s][j] - q[j]);
+      all.push_back({d2, static_cast<Index>(s)});
+    }
+    std::sort(all.begin(), all.end());
+    return all;
+  }
+  static double mean_sqrt(const std::vector<std::pair<float, Index>>& v, std::size_t from, std::size_t to) {
+    double sum = 0;
+    for (std::size_t i = from; i < to; ++i) sum += std::sqrt(double(v[i].first));
+    return to > from ? sum / double(to - from) : 0.0;
+  }
+  AddStatus add(const std::vector<float>& q, float f, double l) {
+    if (points.empty()) return points.push_back(q), fitness.push_back(f), AddStatus::kNew;
+    const auto all = sorted_from(q, -1);
+    if (std::sqrt(double(all[0].first)) > l) return points.push_back(q), fitness.push_back(f), AddStatus::kNew;
+    if (all.size() == 1 || std::sqrt(double(all[1].first)) < (1 - eps) * l) return AddStatus::kNotAdded;
+    const double nov_c = mean_sqrt(all, 1, std::min<std::size_t>(all.size(), k + 1));
+    const Index s = all[0].second;
+    const auto around = sorted_from(points[s], s);
+    const double nov_m = mean_sqrt(around, 0, std::min<std::size_t>(around.size(), k));
+    if (!eps_dominates(f, nov_c, fitness[s], nov_m, eps)) return AddStatus::kNotAdded;
+    points[s] = q;
+    fitness[s] = f;
+    return AddStatus::kImproved;
+  }
+};
+
+TEST(UnstructuredArchive, TheSweepIndexDecidesExactlyAsABruteForceReference) {
+  for (Index d : {1, 2, 4}) {
+    UnstructuredArchiveParams p = params2d();
+    p.descriptor_size = d;
+    UnstructuredArchive a(p);
+    ReferenceArchive ref;
+    ref.d = d;
+    Rng rng(static_cast<std::uint64_t>(d));
+    int counts[3] = {0, 0, 0};
+    for (int i = 0; i < 3000; ++i) {
+      // Clustered points on a coarse lattice (exact ties in the first coordinate and in
+      // distance happen), with a threshold that shrinks as the archive fills.
+      std::vector<float> q(static_cast<std::size_t>(d));
+      const double spread = d == 1 ? 2.5 : (d == 2 ? 1.0 : 0.4);
+      for (auto& x : q) x = static_cast<float>(std::round(rng.normal() * spread * 16.0) / 16.0);
+      const auto f = static_cast<float>(-std::abs(rng.normal()) * 10.0);
+      const double l = 0.6 / (1.0 + i / 1000.0);
+      const float id = static_cast<float>(i);
+      const AddStatus expected = ref.add(q, f, l);
+      ASSERT_EQ(a.add(&id, f, q.data(), &id, l), expected) << "d = " << d << ", candidate " << i;
+      ++counts[static_cast<int>(expected)];
+    }
+    ASSERT_EQ(a.size(), static_cast<Index>(ref.points.size()));
+    for (Index s = 0; s < a.size(); ++s) {
+      ASSERT_EQ(a.objective(s), ref.fitness[static_cast<std::size_t>(s)]);
+      for (Index j = 0; j < d; ++j) ASSERT_EQ(a.descriptor(s, j), ref.points[static_cast<std::size_t>(s)][j]);
+    }
+    // Every branch of the rule was taken.
+    EXPECT_GT(counts[0], 30) << d;
+    EXPECT_GT(counts[1], 30) << d;
+    EXPECT_GT(counts[2], 30) << d;
+    RecordProperty("counts_d" + std::to_string(d),
+                   std::to_string(counts[0]) + "/" + std::to_string(counts[1]) + "/" + std::to_string(counts[2]));
+  }
+}
+
 TEST(UnstructuredArchive, StatsUseTheTargetSizeAndTheOffset) {
   UnstructuredArchive a(params2d());  // target 4, offset -100
   EXPECT_EQ(a.stats(), ArchiveStats{});

@@ -38,38 +38,90 @@ UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params) : par
   coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
 }
 
-void UnstructuredArchive::scan(const Real* point) const {
-  const std::size_t n = objectives_.size();
-  distances_.assign(n, 0.0f);
-  Real* d = distances_.data();
-  for (std::size_t j = 0; j < coordinates_.size(); ++j) {
-    const Real* c = coordinates_[j].data();
-    const Real q = point[j];
-    for (std::size_t i = 0; i < n; ++i) {
-      const Real diff = c[i] - q;
-      d[i] += diff * diff;
-    }
+std::size_t UnstructuredArchive::sorted_position(Real key, Index slot) const {
+  const auto d = static_cast<std::size_t>(params_.descriptor_size);
+  std::size_t lo = 0, hi = sorted_slots_.size();
+  while (lo < hi) {  // first entry not before (key, slot)
+    const std::size_t mid = (lo + hi) / 2;
+    const Real k = sorted_points_[mid * d];
+    if (k < key || (k == key && sorted_slots_[mid] < slot)) lo = mid + 1;
+    else hi = mid;
   }
+  return lo;
 }
 
-double UnstructuredArchive::mean_nearest(Index excluded) const {
-  selection_.clear();
-  for (std::size_t i = 0; i < distances_.size(); ++i)
-    if (static_cast<Index>(i) != excluded) selection_.push_back(distances_[i]);
-  const std::size_t k = std::min(selection_.size(), static_cast<std::size_t>(params_.novelty_neighbours));
-  if (k == 0) return 0.0;
-  std::nth_element(selection_.begin(), selection_.begin() + static_cast<std::ptrdiff_t>(k - 1), selection_.end());
-  double sum = 0.0;  // the k smallest are now in front, in some order: summed in sorted order
-  std::sort(selection_.begin(), selection_.begin() + static_cast<std::ptrdiff_t>(k));
-  for (std::size_t i = 0; i < k; ++i) sum += std::sqrt(static_cast<double>(selection_[i]));
-  return sum / static_cast<double>(k);
+void UnstructuredArchive::index_insert(Index slot) {
+  const auto d = static_cast<std::size_t>(params_.descriptor_size);
+  const std::size_t pos = sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot);
+  sorted_slots_.insert(sorted_slots_.begin() + static_cast<std::ptrdiff_t>(pos), slot);
+  const auto at = sorted_points_.begin() + static_cast<std::ptrdiff_t>(pos * d);
+  sorted_points_.insert(at, d, 0.0f);
+  for (std::size_t j = 0; j < d; ++j) sorted_points_[pos * d + j] = coordinates_[j][static_cast<std::size_t>(slot)];
+}
+
+void UnstructuredArchive::index_erase(Index slot) {
+  const auto d = static_cast<std::size_t>(params_.descriptor_size);
+  const std::size_t pos = sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot);
+  sorted_slots_.erase(sorted_slots_.begin() + static_cast<std::ptrdiff_t>(pos));
+  const auto at = sorted_points_.begin() + static_cast<std::ptrdiff_t>(pos * d);
+  sorted_points_.erase(at, at + static_cast<std::ptrdiff_t>(d));
+}
+
+std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
+                                                                         Index excluded) const {
+  std::vector<Neighbour> best;
+  if (count <= 0 || empty()) return best;
+  const auto m = static_cast<std::size_t>(count);
+  best.reserve(m + 1);
+  const auto d = static_cast<std::size_t>(params_.descriptor_size);
+  const std::size_t n = sorted_slots_.size();
+  const Real* pts = sorted_points_.data();
+  const std::size_t start = sorted_position(point[0], -1);
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  Real worst = kInf;  // the m-th best squared distance so far
+  const auto visit = [&](std::size_t pos) {
+    const Real* p = pts + pos * d;
+    // The first coordinate's term comes first: a sum is never below that term alone.
+    Real d2 = 0.0f;
+    for (std::size_t j = 0; j < d; ++j) {
+      const Real diff = p[j] - point[j];
+      d2 += diff * diff;
+    }
+    if (d2 > worst) return;  // the common case once `best` is full
+    const Index slot = sorted_slots_[pos];
+    if (slot == excluded) return;
+    const Neighbour candidate{d2, slot};
+    if (best.size() == m && !(candidate < best.back())) return;
+    best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
+    if (best.size() > m) best.pop_back();
+    if (best.size() == m) worst = best.back().squared_distance;
+  };
+  // Seed with the m + 1 entries on each side of the query's position, then sweep right and
+  // left until the gap along the first coordinate alone exceeds the worst kept distance.
+  const std::size_t seed_lo = start > m + 1 ? start - (m + 1) : 0;
+  const std::size_t seed_hi = std::min(n, start + m + 1);
+  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) visit(pos);
+  for (std::size_t pos = seed_hi; pos < n; ++pos) {
+    const Real gap = pts[pos * d] - point[0];
+    if (gap * gap > worst) break;
+    visit(pos);
+  }
+  for (std::size_t pos = seed_lo; pos-- > 0;) {
+    const Real gap = point[0] - pts[pos * d];
+    if (gap * gap > worst) break;
+    visit(pos);
+  }
+  return best;
 }
 
 double UnstructuredArchive::member_novelty(Index slot) const {
   std::vector<Real> point(coordinates_.size());
   for (std::size_t j = 0; j < coordinates_.size(); ++j) point[j] = coordinates_[j][static_cast<std::size_t>(slot)];
-  scan(point.data());
-  return mean_nearest(slot);
+  const std::vector<Neighbour> nn = nearest(point.data(), params_.novelty_neighbours, slot);
+  if (nn.empty()) return 0.0;
+  double sum = 0.0;
+  for (const Neighbour& x : nn) sum += std::sqrt(static_cast<double>(x.squared_distance));
+  return sum / static_cast<double>(nn.size());
 }
 
 AddStatus UnstructuredArchive::add(const Real* solution, Real objective, const Real* descriptor,
@@ -80,40 +132,29 @@ AddStatus UnstructuredArchive::add(const Real* solution, Real objective, const R
     append(solution, objective, descriptor, base_features);
     return AddStatus::kNew;
   }
-  scan(descriptor);
-  // Nearest and second nearest; ties go to the lower slot.
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  Real d1 = kInf, d2 = kInf;
-  Index nearest = 0;
-  for (std::size_t i = 0; i < distances_.size(); ++i) {
-    const Real d = distances_[i];
-    if (d < d2) {
-      if (d < d1) {
-        d2 = d1;
-        d1 = d;
-        nearest = static_cast<Index>(i);
-      } else {
-        d2 = d;
-      }
-    }
-  }
-  if (std::sqrt(static_cast<double>(d1)) > threshold) {
+  // The k + 1 nearest: the nearest, then the k that give the candidate's novelty without it.
+  const std::vector<Neighbour> nn = nearest(descriptor, params_.novelty_neighbours + 1);
+  if (std::sqrt(static_cast<double>(nn[0].squared_distance)) > threshold) {
     append(solution, objective, descriptor, base_features);
     return AddStatus::kNew;
   }
-  if (size() == 1) return AddStatus::kNotAdded;
-  if (std::sqrt(static_cast<double>(d2)) < (1.0 - params_.eps) * threshold) return AddStatus::kNotAdded;
-  const double candidate_novelty = mean_nearest(nearest);
-  const double member_novelty_value = member_novelty(nearest);
-  if (!eps_dominates(objective, candidate_novelty, objectives_[static_cast<std::size_t>(nearest)],
-                     member_novelty_value, params_.eps))
+  if (nn.size() == 1) return AddStatus::kNotAdded;
+  if (std::sqrt(static_cast<double>(nn[1].squared_distance)) < (1.0 - params_.eps) * threshold)
     return AddStatus::kNotAdded;
-  overwrite(nearest, solution, objective, descriptor, base_features);
+  double candidate_novelty = 0.0;
+  for (std::size_t i = 1; i < nn.size(); ++i) candidate_novelty += std::sqrt(static_cast<double>(nn[i].squared_distance));
+  candidate_novelty /= static_cast<double>(nn.size() - 1);
+  const Index slot = nn[0].slot;
+  if (!eps_dominates(objective, candidate_novelty, objectives_[static_cast<std::size_t>(slot)], member_novelty(slot),
+                     params_.eps))
+    return AddStatus::kNotAdded;
+  overwrite(slot, solution, objective, descriptor, base_features);
   return AddStatus::kImproved;
 }
 
 void UnstructuredArchive::append(const Real* solution, Real objective, const Real* descriptor,
                                  const Real* base_features) {
+  const Index slot = size();
   objectives_.push_back(objective);
   solutions_.insert(solutions_.end(), solution, solution + params_.solution_size);
   if (params_.base_feature_size > 0) {
@@ -121,15 +162,18 @@ void UnstructuredArchive::append(const Real* solution, Real objective, const Rea
     else base_.resize(base_.size() + static_cast<std::size_t>(params_.base_feature_size), 0.0f);
   }
   for (std::size_t j = 0; j < coordinates_.size(); ++j) coordinates_[j].push_back(descriptor[j]);
+  index_insert(slot);
 }
 
 void UnstructuredArchive::overwrite(Index slot, const Real* solution, Real objective, const Real* descriptor,
                                     const Real* base_features) {
+  index_erase(slot);
   objectives_[static_cast<std::size_t>(slot)] = objective;
   std::copy_n(solution, params_.solution_size, solutions_.begin() + slot * params_.solution_size);
   if (params_.base_feature_size > 0 && base_features)
     std::copy_n(base_features, params_.base_feature_size, base_.begin() + slot * params_.base_feature_size);
   for (std::size_t j = 0; j < coordinates_.size(); ++j) coordinates_[j][static_cast<std::size_t>(slot)] = descriptor[j];
+  index_insert(slot);
 }
 
 void UnstructuredArchive::clear() {
@@ -137,6 +181,8 @@ void UnstructuredArchive::clear() {
   solutions_.clear();
   base_.clear();
   for (auto& c : coordinates_) c.clear();
+  sorted_points_.clear();
+  sorted_slots_.clear();
 }
 
 ArchiveStats UnstructuredArchive::stats() const {
