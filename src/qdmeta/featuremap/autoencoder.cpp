@@ -191,8 +191,12 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
     report.epochs = epoch + 1;
     validation_losses.push_back(validation_loss);
     if (validation_losses.size() >= window) {
-      const double mean_change = (validation_losses.back() - validation_losses[validation_losses.size() - window]) /
-                                 static_cast<double>(window - 1);
+      // Mean change over the window relative to its oldest loss, as the authors' code computes
+      // it: positive when the recent losses sit above the oldest on average.
+      const double oldest = validation_losses[validation_losses.size() - window];
+      double mean_change = 0.0;
+      for (std::size_t i = validation_losses.size() - window; i < validation_losses.size(); ++i)
+        mean_change += (validation_losses[i] - oldest) / static_cast<double>(window);
       if (mean_change > 0.0 && training_loss < report.initial_training_loss) {
         report.stopped_early = true;
         break;

@@ -61,8 +61,9 @@ class Autoencoder {
   // Sets the input z-scoring from `inputs` (subsampled to max_training_rows with `rng`), resets
   // Adam, and trains: one full-batch step per epoch; above split_min_rows rows a fresh random
   // validation_fraction is held out each epoch. Stops after max_epochs, or early once the mean
-  // change of the last stopping_window validation losses is positive while the training loss
-  // is below its initial value. Without a split the validation loss is the loss on all rows.
+  // change of the last stopping_window validation losses (each minus the oldest of them) is
+  // positive while the training loss is below its initial value. Without a split the
+  // validation loss is the loss on all rows.
   TrainingReport train(const RowMatrix& inputs, Rng& rng);
 
   // Raw rows (count x input_size, row-major) -> z-scored inputs.
