@@ -36,14 +36,15 @@ bool eps_dominates(double candidate_fitness, double candidate_novelty, double me
 UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params) : params_(params) {
   params_.validate();
   coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
+  sorted_coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
 }
 
 std::size_t UnstructuredArchive::sorted_position(Real key, Index slot) const {
-  const auto d = static_cast<std::size_t>(params_.descriptor_size);
+  const std::vector<Real>& keys = sorted_coordinates_[0];
   std::size_t lo = 0, hi = sorted_slots_.size();
   while (lo < hi) {  // first entry not before (key, slot)
     const std::size_t mid = (lo + hi) / 2;
-    const Real k = sorted_points_[mid * d];
+    const Real k = keys[mid];
     if (k < key || (k == key && sorted_slots_[mid] < slot)) lo = mid + 1;
     else hi = mid;
   }
@@ -51,44 +52,44 @@ std::size_t UnstructuredArchive::sorted_position(Real key, Index slot) const {
 }
 
 void UnstructuredArchive::index_insert(Index slot) {
-  const auto d = static_cast<std::size_t>(params_.descriptor_size);
-  const std::size_t pos = sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot);
-  sorted_slots_.insert(sorted_slots_.begin() + static_cast<std::ptrdiff_t>(pos), slot);
-  const auto at = sorted_points_.begin() + static_cast<std::ptrdiff_t>(pos * d);
-  sorted_points_.insert(at, d, 0.0f);
-  for (std::size_t j = 0; j < d; ++j) sorted_points_[pos * d + j] = coordinates_[j][static_cast<std::size_t>(slot)];
+  const auto s = static_cast<std::size_t>(slot);
+  const auto pos = static_cast<std::ptrdiff_t>(sorted_position(coordinates_[0][s], slot));
+  sorted_slots_.insert(sorted_slots_.begin() + pos, slot);
+  for (std::size_t j = 0; j < coordinates_.size(); ++j)
+    sorted_coordinates_[j].insert(sorted_coordinates_[j].begin() + pos, coordinates_[j][s]);
 }
 
 void UnstructuredArchive::index_erase(Index slot) {
-  const auto d = static_cast<std::size_t>(params_.descriptor_size);
-  const std::size_t pos = sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot);
-  sorted_slots_.erase(sorted_slots_.begin() + static_cast<std::ptrdiff_t>(pos));
-  const auto at = sorted_points_.begin() + static_cast<std::ptrdiff_t>(pos * d);
-  sorted_points_.erase(at, at + static_cast<std::ptrdiff_t>(d));
+  const auto pos =
+      static_cast<std::ptrdiff_t>(sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot));
+  sorted_slots_.erase(sorted_slots_.begin() + pos);
+  for (auto& c : sorted_coordinates_) c.erase(c.begin() + pos);
 }
 
-std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
-                                                                         Index excluded) const {
-  std::vector<Neighbour> best;
-  if (count <= 0 || empty()) return best;
-  const auto m = static_cast<std::size_t>(count);
-  best.reserve(m + 1);
-  const auto d = static_cast<std::size_t>(params_.descriptor_size);
-  const std::size_t n = sorted_slots_.size();
-  const Real* pts = sorted_points_.data();
-  const std::size_t start = sorted_position(point[0], -1);
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  Real worst = kInf;  // the m-th best squared distance so far
-  const auto visit = [&](std::size_t pos) {
-    const Real* p = pts + pos * d;
-    // The first coordinate's term comes first: a sum is never below that term alone.
-    Real d2 = 0.0f;
-    for (std::size_t j = 0; j < d; ++j) {
-      const Real diff = p[j] - point[j];
+namespace {
+
+using Neighbour = UnstructuredArchive::Neighbour;
+
+// The sweep of UnstructuredArchive::nearest over `n` members sorted by their first coordinate
+// (coords[j][pos]). kDims > 0 fixes the dimension at compile time for the common latent sizes;
+// 0 reads `dims`. Squared distances are summed from the first coordinate on, exactly as a
+// plain loop would, so a gap term alone is never above the full distance.
+template <int kDims>
+void sweep(const Real* const* coords, Index dims, const Index* slots, std::size_t n, const Real* point,
+           std::size_t m, Index excluded, std::vector<Neighbour>& best) {
+  const Index d = kDims > 0 ? kDims : dims;
+  const Real* keys = coords[0];
+  const Real q0 = point[0];
+  const std::size_t start = static_cast<std::size_t>(std::lower_bound(keys, keys + n, q0) - keys);
+  Real worst = std::numeric_limits<Real>::infinity();  // the m-th best squared distance so far
+  const auto visit = [&](std::size_t pos, Real gap) {
+    Real d2 = gap * gap;
+    for (Index j = 1; j < d; ++j) {
+      const Real diff = coords[j][pos] - point[j];
       d2 += diff * diff;
     }
     if (d2 > worst) return;  // the common case once `best` is full
-    const Index slot = sorted_slots_[pos];
+    const Index slot = slots[pos];
     if (slot == excluded) return;
     const Neighbour candidate{d2, slot};
     if (best.size() == m && !(candidate < best.back())) return;
@@ -100,16 +101,37 @@ std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const R
   // left until the gap along the first coordinate alone exceeds the worst kept distance.
   const std::size_t seed_lo = start > m + 1 ? start - (m + 1) : 0;
   const std::size_t seed_hi = std::min(n, start + m + 1);
-  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) visit(pos);
+  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) visit(pos, keys[pos] - q0);
   for (std::size_t pos = seed_hi; pos < n; ++pos) {
-    const Real gap = pts[pos * d] - point[0];
+    const Real gap = keys[pos] - q0;
     if (gap * gap > worst) break;
-    visit(pos);
+    visit(pos, gap);
   }
   for (std::size_t pos = seed_lo; pos-- > 0;) {
-    const Real gap = point[0] - pts[pos * d];
+    const Real gap = keys[pos] - q0;
     if (gap * gap > worst) break;
-    visit(pos);
+    visit(pos, gap);
+  }
+}
+
+}  // namespace
+
+std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
+                                                                         Index excluded) const {
+  std::vector<Neighbour> best;
+  if (count <= 0 || empty()) return best;
+  const auto m = static_cast<std::size_t>(count);
+  best.reserve(m + 1);
+  std::vector<const Real*> coords;
+  for (const auto& c : sorted_coordinates_) coords.push_back(c.data());
+  const Index d = params_.descriptor_size;
+  const std::size_t n = sorted_slots_.size();
+  switch (d) {
+    case 1: sweep<1>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
+    case 2: sweep<2>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
+    case 3: sweep<3>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
+    case 4: sweep<4>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
+    default: sweep<0>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
   }
   return best;
 }
@@ -181,7 +203,7 @@ void UnstructuredArchive::clear() {
   solutions_.clear();
   base_.clear();
   for (auto& c : coordinates_) c.clear();
-  sorted_points_.clear();
+  for (auto& c : sorted_coordinates_) c.clear();
   sorted_slots_.clear();
 }
 

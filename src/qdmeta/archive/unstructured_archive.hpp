@@ -91,9 +91,9 @@ class UnstructuredArchive {
   std::vector<Real> solutions_;                  // size x solution_size
   std::vector<Real> base_;                       // size x base_feature_size
   std::vector<std::vector<Real>> coordinates_;   // descriptor_size arrays of size entries, by slot
-  // The sweep index: members sorted by (first coordinate, slot); each entry's whole descriptor
-  // is copied here (row-major) so a sweep reads memory in order.
-  std::vector<Real> sorted_points_;
+  // The sweep index: members sorted by (first coordinate, slot), their descriptors copied here
+  // one array per dimension, so a sweep reads memory in order.
+  std::vector<std::vector<Real>> sorted_coordinates_;
   std::vector<Index> sorted_slots_;
   void index_insert(Index slot);
   void index_erase(Index slot);
