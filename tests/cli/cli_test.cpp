@@ -189,6 +189,15 @@ TEST(Cli, AuroraRunStoresRastriginOfEachGenotypeWithLatentMeasuresAndBaseFeature
   EXPECT_NE(summary.find("\"trainings\""), std::string::npos) << summary;
 }
 
+TEST(Cli, AuroraSameSeedSameBitsWithOneOrTwoThreads) {
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/aurora.toml";
+  const fs::path a = fresh_dir("aurora_threads1"), b = fresh_dir("aurora_threads2");
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + a.string() + " --evals 10000 --threads 1 --quiet").status, 0);
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + b.string() + " --evals 10000 --threads 2 --quiet").status, 0);
+  EXPECT_EQ(slurp(a / "metrics.csv"), slurp(b / "metrics.csv"));
+  EXPECT_EQ(slurp(a / "archive.csv"), slurp(b / "archive.csv"));
+}
+
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {
   EXPECT_EQ(qdmeta_cli("").status, 2);
   EXPECT_EQ(qdmeta_cli("run --out /tmp/x").status, 2);
