@@ -52,7 +52,7 @@ AuroraParams quick() {
   p.initial_population = 600;
   p.batch_size = 200;
   p.target_size = 1000;
-  p.max_epochs = 30;
+  p.max_epochs = 10;
   return p;
 }
 

@@ -92,21 +92,21 @@ TEST(Autoencoder, ParameterCountFollowsTheLayerWidths) {
 
 TEST(Autoencoder, LearnsATwoDimensionalManifoldWellBelowItsVariance) {
   AutoencoderParams p;
-  p.learning_rate = 1e-2;
-  p.max_epochs = 1500;
+  p.learning_rate = 0.03;
+  p.max_epochs = 400;
   p.stopping_window = 1'000'000;  // no early stopping: measure the fit itself
   Autoencoder ae = make(p);
-  const RowMatrix x = manifold(400, 2);
+  const RowMatrix x = manifold(200, 2);
   Rng rng(3);
   const TrainingReport r = ae.train(x, rng);
-  EXPECT_EQ(r.epochs, 1500);
+  EXPECT_EQ(r.epochs, 400);
   // z-scored inputs have variance about 1 per entry; the initial loss is about that.
   EXPECT_GT(r.initial_training_loss, 0.5);
   const double final_loss = ae.loss(ae.normalise(x.data(), x.rows()));
-  EXPECT_LT(final_loss, 0.02) << "initial " << r.initial_training_loss;
+  EXPECT_LT(final_loss, 0.005) << "initial " << r.initial_training_loss;  // 0.00017 when written
   // On fresh points of the same sheet, too.
   const RowMatrix fresh = manifold(200, 99);
-  EXPECT_LT(ae.loss(ae.normalise(fresh.data(), fresh.rows())), 0.03);
+  EXPECT_LT(ae.loss(ae.normalise(fresh.data(), fresh.rows())), 0.01);
 }
 
 TEST(Autoencoder, ThePapersSettingsLowerTheLoss) {
