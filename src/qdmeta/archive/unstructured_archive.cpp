@@ -82,13 +82,8 @@ void sweep(const Real* const* coords, Index dims, const Index* slots, std::size_
   const Real q0 = point[0];
   const std::size_t start = static_cast<std::size_t>(std::lower_bound(keys, keys + n, q0) - keys);
   Real worst = std::numeric_limits<Real>::infinity();  // the m-th best squared distance so far
-  const auto visit = [&](std::size_t pos, Real gap) {
-    Real d2 = gap * gap;
-    for (Index j = 1; j < d; ++j) {
-      const Real diff = coords[j][pos] - point[j];
-      d2 += diff * diff;
-    }
-    if (d2 > worst) return;  // the common case once `best` is full
+  // The rare path: a member at least as near as the worst kept one.
+  const auto consider = [&](std::size_t pos, Real d2) {
     const Index slot = slots[pos];
     if (slot == excluded) return;
     const Neighbour candidate{d2, slot};
@@ -97,20 +92,31 @@ void sweep(const Real* const* coords, Index dims, const Index* slots, std::size_
     if (best.size() > m) best.pop_back();
     if (best.size() == m) worst = best.back().squared_distance;
   };
+  // The hot path, kept inline in each loop: the squared distance from the gap term on.
+  const auto distance2 = [&](std::size_t pos, Real gap) {
+    Real d2 = gap * gap;
+    for (Index j = 1; j < d; ++j) {
+      const Real diff = coords[j][pos] - point[j];
+      d2 += diff * diff;
+    }
+    return d2;
+  };
   // Seed with the m + 1 entries on each side of the query's position, then sweep right and
   // left until the gap along the first coordinate alone exceeds the worst kept distance.
   const std::size_t seed_lo = start > m + 1 ? start - (m + 1) : 0;
   const std::size_t seed_hi = std::min(n, start + m + 1);
-  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) visit(pos, keys[pos] - q0);
+  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) consider(pos, distance2(pos, keys[pos] - q0));
   for (std::size_t pos = seed_hi; pos < n; ++pos) {
     const Real gap = keys[pos] - q0;
     if (gap * gap > worst) break;
-    visit(pos, gap);
+    const Real d2 = distance2(pos, gap);
+    if (d2 <= worst) consider(pos, d2);
   }
   for (std::size_t pos = seed_lo; pos-- > 0;) {
     const Real gap = keys[pos] - q0;
     if (gap * gap > worst) break;
-    visit(pos, gap);
+    const Real d2 = distance2(pos, gap);
+    if (d2 <= worst) consider(pos, d2);
   }
 }
 
