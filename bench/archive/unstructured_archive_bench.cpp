@@ -1,6 +1,6 @@
 // AURORA's neighbour queries at 10,000 members in a 2-D latent space (z-scored Gaussian-like
 // codes, as the archive holds them): the 16 nearest of a point near a member, by the archive's
-// sweep, by a brute-force scan with a running k-selection, and by a nanoflann k-d tree (built
+// grid, by a brute-force scan with a running k-selection, and by a nanoflann k-d tree (built
 // once, queries only: a lower bound for a tree that must also follow insertions and
 // replacements). Plus a rebuild: re-adding 10,000 members through the insertion rule.
 #include <benchmark/benchmark.h>
@@ -46,7 +46,7 @@ std::vector<Real> queries(const std::vector<Real>& points) {
   return q;
 }
 
-void BM_NearestSweep(benchmark::State& state) {
+void BM_NearestGrid(benchmark::State& state) {
   const auto points = latent_points(kMembers, 1);
   const auto archive = filled_archive(points);
   const auto q = queries(points);
@@ -57,7 +57,7 @@ void BM_NearestSweep(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_NearestSweep);
+BENCHMARK(BM_NearestGrid);
 
 void BM_NearestBruteForce(benchmark::State& state) {
   const auto points = latent_points(kMembers, 1);

@@ -33,94 +33,50 @@ bool eps_dominates(double candidate_fitness, double candidate_novelty, double me
              -(candidate_novelty - member_novelty) * std::abs(member_fitness);
 }
 
+namespace {
+constexpr int kGridCells = 128;       // per grid axis
+constexpr double kGridHalfWidth = 4;  // the grid spans [-4, 4] on each of its axes
+constexpr double kCellSide = 2 * kGridHalfWidth / kGridCells;
+
+int grid_coordinate(Real x) {
+  const double c = std::floor((static_cast<double>(x) + kGridHalfWidth) / kCellSide);
+  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(kGridCells - 1)));
+}
+}  // namespace
+
 UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params) : params_(params) {
   params_.validate();
   coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
-  sorted_coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
+  grid_dims_ = std::min<Index>(params_.descriptor_size, 2);
+  cells_.resize(static_cast<std::size_t>(grid_dims_ > 1 ? kGridCells * kGridCells : kGridCells));
 }
 
-std::size_t UnstructuredArchive::sorted_position(Real key, Index slot) const {
-  const std::vector<Real>& keys = sorted_coordinates_[0];
-  std::size_t lo = 0, hi = sorted_slots_.size();
-  while (lo < hi) {  // first entry not before (key, slot)
-    const std::size_t mid = (lo + hi) / 2;
-    const Real k = keys[mid];
-    if (k < key || (k == key && sorted_slots_[mid] < slot)) lo = mid + 1;
-    else hi = mid;
+
+std::int32_t UnstructuredArchive::cell_of(const Real* point, std::int32_t* column_row) const {
+  const int cx = grid_coordinate(point[0]);
+  const int cy = grid_dims_ > 1 ? grid_coordinate(point[1]) : 0;
+  if (column_row) {
+    column_row[0] = cx;
+    column_row[1] = cy;
   }
-  return lo;
+  return cx * (grid_dims_ > 1 ? kGridCells : 1) + cy;
 }
 
 void UnstructuredArchive::index_insert(Index slot) {
-  const auto s = static_cast<std::size_t>(slot);
-  const auto pos = static_cast<std::ptrdiff_t>(sorted_position(coordinates_[0][s], slot));
-  sorted_slots_.insert(sorted_slots_.begin() + pos, slot);
-  for (std::size_t j = 0; j < coordinates_.size(); ++j)
-    sorted_coordinates_[j].insert(sorted_coordinates_[j].begin() + pos, coordinates_[j][s]);
+  Real point[2] = {coordinates_[0][static_cast<std::size_t>(slot)], 0.0f};
+  if (grid_dims_ > 1) point[1] = coordinates_[1][static_cast<std::size_t>(slot)];
+  const std::int32_t cell = cell_of(point);
+  cells_[static_cast<std::size_t>(cell)].push_back(slot);
+  if (static_cast<std::size_t>(slot) >= cell_of_slot_.size()) cell_of_slot_.resize(static_cast<std::size_t>(slot) + 1);
+  cell_of_slot_[static_cast<std::size_t>(slot)] = cell;
 }
 
 void UnstructuredArchive::index_erase(Index slot) {
-  const auto pos =
-      static_cast<std::ptrdiff_t>(sorted_position(coordinates_[0][static_cast<std::size_t>(slot)], slot));
-  sorted_slots_.erase(sorted_slots_.begin() + pos);
-  for (auto& c : sorted_coordinates_) c.erase(c.begin() + pos);
+  auto& members = cells_[static_cast<std::size_t>(cell_of_slot_[static_cast<std::size_t>(slot)])];
+  const auto it = std::find(members.begin(), members.end(), slot);
+  *it = members.back();  // order inside a cell does not matter: ties go by slot
+  members.pop_back();
 }
-
-namespace {
-
-using Neighbour = UnstructuredArchive::Neighbour;
-
-// The sweep of UnstructuredArchive::nearest over `n` members sorted by their first coordinate
-// (coords[j][pos]). kDims > 0 fixes the dimension at compile time for the common latent sizes;
-// 0 reads `dims`. Squared distances are summed from the first coordinate on, exactly as a
-// plain loop would, so a gap term alone is never above the full distance.
-template <int kDims>
-void sweep(const Real* const* coords, Index dims, const Index* slots, std::size_t n, const Real* point,
-           std::size_t m, Index excluded, std::vector<Neighbour>& best) {
-  const Index d = kDims > 0 ? kDims : dims;
-  const Real* keys = coords[0];
-  const Real q0 = point[0];
-  const std::size_t start = static_cast<std::size_t>(std::lower_bound(keys, keys + n, q0) - keys);
-  Real worst = std::numeric_limits<Real>::infinity();  // the m-th best squared distance so far
-  // The rare path: a member at least as near as the worst kept one.
-  const auto consider = [&](std::size_t pos, Real d2) {
-    const Index slot = slots[pos];
-    if (slot == excluded) return;
-    const Neighbour candidate{d2, slot};
-    if (best.size() == m && !(candidate < best.back())) return;
-    best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
-    if (best.size() > m) best.pop_back();
-    if (best.size() == m) worst = best.back().squared_distance;
-  };
-  // The hot path, kept inline in each loop: the squared distance from the gap term on.
-  const auto distance2 = [&](std::size_t pos, Real gap) {
-    Real d2 = gap * gap;
-    for (Index j = 1; j < d; ++j) {
-      const Real diff = coords[j][pos] - point[j];
-      d2 += diff * diff;
-    }
-    return d2;
-  };
-  // Seed with the m + 1 entries on each side of the query's position, then sweep right and
-  // left until the gap along the first coordinate alone exceeds the worst kept distance.
-  const std::size_t seed_lo = start > m + 1 ? start - (m + 1) : 0;
-  const std::size_t seed_hi = std::min(n, start + m + 1);
-  for (std::size_t pos = seed_lo; pos < seed_hi; ++pos) consider(pos, distance2(pos, keys[pos] - q0));
-  for (std::size_t pos = seed_hi; pos < n; ++pos) {
-    const Real gap = keys[pos] - q0;
-    if (gap * gap > worst) break;
-    const Real d2 = distance2(pos, gap);
-    if (d2 <= worst) consider(pos, d2);
-  }
-  for (std::size_t pos = seed_lo; pos-- > 0;) {
-    const Real gap = keys[pos] - q0;
-    if (gap * gap > worst) break;
-    const Real d2 = distance2(pos, gap);
-    if (d2 <= worst) consider(pos, d2);
-  }
-}
-
-}  // namespace
 
 std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
                                                                          Index excluded) const {
@@ -128,16 +84,40 @@ std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const R
   if (count <= 0 || empty()) return best;
   const auto m = static_cast<std::size_t>(count);
   best.reserve(m + 1);
-  std::vector<const Real*> coords;
-  for (const auto& c : sorted_coordinates_) coords.push_back(c.data());
   const Index d = params_.descriptor_size;
-  const std::size_t n = sorted_slots_.size();
-  switch (d) {
-    case 1: sweep<1>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
-    case 2: sweep<2>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
-    case 3: sweep<3>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
-    case 4: sweep<4>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
-    default: sweep<0>(coords.data(), d, sorted_slots_.data(), n, point, m, excluded, best); break;
+  Real worst = std::numeric_limits<Real>::infinity();  // the m-th best squared distance so far
+  const int rows = grid_dims_ > 1 ? kGridCells : 1;
+  const auto visit_cell = [&](int cx, int cy) {
+    for (const Index slot : cells_[static_cast<std::size_t>(cx * rows + cy)]) {
+      Real d2 = 0.0f;
+      for (Index j = 0; j < d; ++j) {
+        const Real diff = coordinates_[static_cast<std::size_t>(j)][static_cast<std::size_t>(slot)] - point[j];
+        d2 += diff * diff;
+      }
+      if (d2 > worst || slot == excluded) continue;
+      const Neighbour candidate{d2, slot};
+      if (best.size() == m && !(candidate < best.back())) continue;
+      best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
+      if (best.size() > m) best.pop_back();
+      if (best.size() == m) worst = best.back().squared_distance;
+    }
+  };
+  std::int32_t q[2];
+  cell_of(point, q);
+  for (int r = 0; r < kGridCells; ++r) {
+    // A member in ring r is at least (r - 1) cell sides away along one grid axis (clamped
+    // members lie farther out than their cell); the margin absorbs rounding in the cell index.
+    const double bound = std::max(0.0, (r - 1) * kCellSide - 1e-3 * kCellSide);
+    if (best.size() == m && bound * bound > static_cast<double>(worst)) break;
+    const int x0 = q[0] - r, x1 = q[0] + r, y0 = q[1] - r, y1 = q[1] + r;
+    for (int cx = std::max(x0, 0); cx <= std::min(x1, kGridCells - 1); ++cx) {
+      if (cx == x0 || cx == x1) {  // a full column of the ring
+        for (int cy = std::max(y0, 0); cy <= std::min(y1, rows - 1); ++cy) visit_cell(cx, cy);
+      } else {  // only the top and bottom cells
+        if (y0 >= 0) visit_cell(cx, y0);
+        if (y1 < rows && y1 != y0) visit_cell(cx, y1);
+      }
+    }
   }
   return best;
 }
@@ -209,8 +189,8 @@ void UnstructuredArchive::clear() {
   solutions_.clear();
   base_.clear();
   for (auto& c : coordinates_) c.clear();
-  for (auto& c : sorted_coordinates_) c.clear();
-  sorted_slots_.clear();
+  for (auto& c : cells_) c.clear();
+  cell_of_slot_.clear();
 }
 
 ArchiveStats UnstructuredArchive::stats() const {

@@ -12,11 +12,12 @@
 // The threshold is the caller's (AURORA adapts it); each call passes the one in force.
 //
 // Members occupy slots 0..size-1; a replacement keeps the slot. Neighbour queries are exact
-// and use a sweep over the members sorted by their first descriptor coordinate: from the
-// query's position outward, nearer first, until the gap along that coordinate alone exceeds
-// the k-th best distance. In the 2- to 4-D latent spaces of AURORA that visits a few percent
-// of 10,000 members; a brute-force scan with the k-selection visits all (bench/README.md).
-// Ties are broken by the lower slot, so results never depend on the visiting order.
+// and use a uniform grid over the first two descriptor coordinates (128 x 128 cells over
+// [-4, 4]^2, where AURORA's z-scored codes live; members beyond share the edge cells, which
+// keeps queries exact, only slower): cells are visited in square rings around the query's cell
+// until the ring's distance alone exceeds the k-th best distance found. Ties are broken by the
+// lower slot, so results never depend on the visiting order (bench/README.md compares this
+// with a brute-force scan and a k-d tree).
 #include <cstdint>
 #include <vector>
 
@@ -91,13 +92,13 @@ class UnstructuredArchive {
   std::vector<Real> solutions_;                  // size x solution_size
   std::vector<Real> base_;                       // size x base_feature_size
   std::vector<std::vector<Real>> coordinates_;   // descriptor_size arrays of size entries, by slot
-  // The sweep index: members sorted by (first coordinate, slot), their descriptors copied here
-  // one array per dimension, so a sweep reads memory in order.
-  std::vector<std::vector<Real>> sorted_coordinates_;
-  std::vector<Index> sorted_slots_;
+  // The grid index: the slots in each cell, and each slot's cell.
+  std::vector<std::vector<Index>> cells_;
+  std::vector<std::int32_t> cell_of_slot_;
+  Index grid_dims_ = 1;  // 1 or 2: the coordinates the grid spans
+  std::int32_t cell_of(const Real* point, std::int32_t* column_row = nullptr) const;
   void index_insert(Index slot);
   void index_erase(Index slot);
-  std::size_t sorted_position(Real key, Index slot) const;
 };
 
 }  // namespace qdmeta
