@@ -401,6 +401,37 @@ TEST(Cli, ReportNeedsAnExperiment) {
   EXPECT_NE(o.output.find("no experiment.toml"), std::string::npos) << o.output;
 }
 
+TEST(Cli, AuroraRunStoresRastriginOfEachGenotypeWithLatentMeasuresAndBaseFeatures) {
+  const fs::path out = fresh_dir("aurora");
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/aurora.toml";
+  const Outcome o = qdmeta_cli("run --config " + config + " --out " + out.string() + " --evals 12000 --quiet");
+  ASSERT_EQ(o.status, 0) << o.output;
+  const std::string archive = slurp(out / "archive.csv");
+  EXPECT_TRUE(archive.starts_with("index,objective,measures_0,measures_1,solution_0,"));
+  EXPECT_NE(archive.find(",base_0,"), std::string::npos);
+  const EliteTable t = read_elites_csv(out / "archive.csv");
+  ASSERT_GT(t.size(), 500);
+  ASSERT_EQ(t.measures.cols(), 2);
+  for (Index i = 0; i < t.size(); ++i) {
+    const double f = rastrigin::standard({t.solutions.row(i).data(), static_cast<std::size_t>(t.solutions.cols())});
+    ASSERT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f)) << "row " << i;
+    ASSERT_EQ(t.index[static_cast<std::size_t>(i)], i);  // container slots
+    ASSERT_TRUE(t.base_features.row(i) == t.solutions.row(i)) << "row " << i;  // Rastrigin: base = genotype
+  }
+  const std::string summary = slurp(out / "summary.json");
+  EXPECT_NE(summary.find("\"algorithm\": \"aurora\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"trainings\""), std::string::npos) << summary;
+}
+
+TEST(Cli, AuroraSameSeedSameBitsWithOneOrTwoThreads) {
+  const std::string config = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/aurora.toml";
+  const fs::path a = fresh_dir("aurora_threads1"), b = fresh_dir("aurora_threads2");
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + a.string() + " --evals 10000 --threads 1 --quiet").status, 0);
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + b.string() + " --evals 10000 --threads 2 --quiet").status, 0);
+  EXPECT_EQ(slurp(a / "metrics.csv"), slurp(b / "metrics.csv"));
+  EXPECT_EQ(slurp(a / "archive.csv"), slurp(b / "archive.csv"));
+}
+
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {
   EXPECT_EQ(qdmeta_cli("").status, 2);
   EXPECT_EQ(qdmeta_cli("run --out /tmp/x").status, 2);

@@ -401,3 +401,47 @@ TEST(BuildRun, MutationStepThatDoesNotDivideOneNamesTheFile) {
 
 }  // namespace
 }  // namespace qdmeta
+
+namespace qdmeta {
+namespace {
+
+const std::string kAurora = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/aurora.toml";
+
+TEST(BuildRun, ShippedAuroraConfigBuildsWithThePapersSettings) {
+  const BuiltRun run = build_run(load_toml(kAurora), kAurora, {});
+  EXPECT_EQ(run.settings.algorithm, "aurora");
+  EXPECT_EQ(run.algorithm->name(), "aurora");
+  EXPECT_EQ(run.settings.budget, 100'000'000);
+  const auto& a = *run.resolved["aurora"].as_table();
+  EXPECT_EQ(a["latent_size"].value<std::int64_t>(), 2);
+  EXPECT_EQ(a["target_size"].value<std::int64_t>(), 10'000);
+  EXPECT_EQ(a["batch_size"].value<std::int64_t>(), 400);
+  EXPECT_EQ(a["initial_population"].value<std::int64_t>(), 2000);
+  EXPECT_EQ(a["novelty_neighbours"].value<std::int64_t>(), 15);
+  EXPECT_EQ(a["size_control_gain"].value<double>(), 5e-6);
+  EXPECT_EQ(run.resolved["mutation"]["sigma"].value<double>(), 0.05);
+  EXPECT_EQ(run.algorithm->stats().num_elites, 0);
+}
+
+TEST(BuildRun, BadAuroraConfigsNameTheKey) {
+  struct Case {
+    const char* toml_text;
+    const char* expected;  // part of the message
+  };
+  const Case cases[] = {
+      {"algorithm = \"aurora\"\n[aurora]\nlatent_sise = 2\n", "unknown key 'aurora.latent_sise' in [aurora]"},
+      {"algorithm = \"aurora\"\n[aurora]\neps = 1.5\n", "aurora.eps = 1.5 is out of range"},
+      {"algorithm = \"aurora\"\n[aurora]\nhidden = []\n", "aurora.hidden has 0 entries"},
+      {"algorithm = \"aurora\"\n[aurora]\ntarget_size = 0\n", "aurora.target_size = 0 is out of range"},
+      {"algorithm = \"aurora\"\n[archive]\nbins = [10, 10]\n", "unknown key 'archive' at the top level"},
+  };
+  for (const auto& c : cases) {
+    const toml::table cfg = toml::parse(c.toml_text);
+    const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+    EXPECT_TRUE(msg.starts_with("case.toml")) << c.toml_text << " -> " << msg;
+    EXPECT_TRUE(contains(msg, c.expected)) << c.toml_text << " -> " << msg;
+  }
+}
+
+}  // namespace
+}  // namespace qdmeta

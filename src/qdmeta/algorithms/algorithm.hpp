@@ -3,6 +3,7 @@
 // and its elites as a flat table that io/ can write.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
@@ -58,6 +59,8 @@ class Algorithm {
   virtual bool checkpointable() const { return false; }
   virtual void save(BinaryWriter& out) const;
   virtual void load(BinaryReader& in);
+  // Algorithm-specific figures for summary.json, as (key, value) (e.g. AURORA's trainings).
+  virtual std::vector<std::pair<std::string, double>> summary_extras() const { return {}; }
 };
 
 }  // namespace qdmeta

@@ -20,10 +20,7 @@ void random_genotypes(RowMatrix& genotypes, Rng& rng) {
 }
 
 void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
-  const Index n = offspring.cols();
-  for (Index r = 0; r < offspring.rows(); ++r)
-    std::copy_n(archive.solution(archive.sample_cell(rng)), n, offspring.row(r).data());
-  mutation.apply(offspring, rng);
+  mutate_copies([&](Rng& r) { return archive.solution(archive.sample_cell(r)); }, mutation, rng, offspring);
 }
 
 Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,

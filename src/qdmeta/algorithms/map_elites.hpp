@@ -2,6 +2,7 @@
 // Plain MAP-Elites over a grid archive (SPEC.md section 1): an initial population of random
 // genotypes, then generations of `batch_size` offspring, each a mutated copy of a parent drawn
 // uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
+#include <algorithm>
 #include <memory>
 
 #include "qdmeta/algorithms/algorithm.hpp"
@@ -21,6 +22,14 @@ struct MapElitesParams {
 // Building blocks shared with QD-Meta's per-map evolution.
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
 void random_genotypes(RowMatrix& genotypes, Rng& rng);
+// Fills `offspring` (rows already sized) with mutated copies of parents, all drawn first:
+// pick_parent(rng) returns a pointer to one parent's genes (any archive's selection).
+template <class PickParent>
+void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
+  const Index n = offspring.cols();
+  for (Index r = 0; r < offspring.rows(); ++r) std::copy_n(pick_parent(rng), n, offspring.row(r).data());
+  mutation.apply(offspring, rng);
+}
 // Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites.
 void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring);
 // Maps base features to target features and inserts the valid rows in batch order.

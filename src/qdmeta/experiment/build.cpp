@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "qdmeta/algorithms/aurora.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/control/controller.hpp"
@@ -21,9 +22,10 @@ namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
 
-enum class AlgorithmKind { kMapElites, kQdMeta };
-constexpr EnumNames<AlgorithmKind, 2> kAlgorithmNames{
-    {{AlgorithmKind::kMapElites, "map-elites"}, {AlgorithmKind::kQdMeta, "qd-meta"}}};
+enum class AlgorithmKind { kMapElites, kQdMeta, kAurora };
+constexpr EnumNames<AlgorithmKind, 3> kAlgorithmNames{{{AlgorithmKind::kMapElites, "map-elites"},
+                                                       {AlgorithmKind::kQdMeta, "qd-meta"},
+                                                       {AlgorithmKind::kAurora, "aurora"}}};
 
 constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::kNone, "none"},
                                                           {CmaBoundsHandling::kClamp, "clamp"},
@@ -169,6 +171,28 @@ std::unique_ptr<MetaObjective> read_meta_fitness(ConfigReader& m, const Task& ta
   throw InputError("unreachable meta-fitness kind");
 }
 
+// The [aurora] table (SPEC.md section 6).
+AuroraParams read_aurora(ConfigReader& a) {
+  AuroraParams p;
+  p.batch_size = a.integer("batch_size", p.batch_size, 1, 10'000'000);
+  p.initial_population = a.integer("initial_population", p.initial_population, 1, 100'000'000);
+  p.latent_size = a.integer("latent_size", p.latent_size, 1, 1'000);
+  const auto hidden = a.integers("hidden", std::vector<std::int64_t>(p.hidden.begin(), p.hidden.end()), 1, 100'000, 1, 16);
+  p.hidden.assign(hidden.begin(), hidden.end());
+  p.learning_rate = a.number("learning_rate", p.learning_rate, 1e-12, 1e3);
+  p.max_epochs = static_cast<int>(a.integer("max_epochs", p.max_epochs, 1, 100'000'000));
+  p.max_training_rows = a.integer("max_training_rows", p.max_training_rows, 1, 100'000'000);
+  p.target_size = a.integer("target_size", p.target_size, 1, 100'000'000);
+  p.eps = a.number("eps", p.eps, 0.0, 0.999);
+  p.novelty_neighbours = static_cast<int>(a.integer("novelty_neighbours", p.novelty_neighbours, 1, 1'000'000));
+  p.size_control_gain = a.number("size_control_gain", p.size_control_gain, 0.0, 1.0);
+  p.threshold_factor = a.number("threshold_factor", p.threshold_factor, 1e-12, 1e12);
+  p.rebuild_every = static_cast<int>(a.integer("rebuild_every", p.rebuild_every, 1, 100'000'000));
+  p.retrain_period_step = static_cast<int>(a.integer("retrain_period_step", p.retrain_period_step, 1, 100'000'000));
+  p.retrain_period_max = static_cast<int>(a.integer("retrain_period_max", p.retrain_period_max, 1, 100'000'000));
+  return p;
+}
+
 }  // namespace
 
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides) {
@@ -242,6 +266,17 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
       built.algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
                                                  std::move(controller), s.seed);
+      break;
+    }
+    case AlgorithmKind::kAurora: {
+      ConfigReader a = root.table("aurora");
+      const AuroraParams p = read_aurora(a);
+      a.finish();
+      try {
+        built.algorithm = std::make_unique<Aurora>(p, std::move(task), mutation, s.seed);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", a.source(), e.what()));
+      }
       break;
     }
   }

@@ -64,6 +64,7 @@ void write_summary(const std::filesystem::path& path, const RunResult& r, const 
   j["norm_qd_score"] = r.stats.norm_qd_score;
   j["obj_max"] = r.stats.obj_max;
   j["obj_mean"] = r.stats.obj_mean;
+  for (const auto& [name, value] : algorithm.summary_extras()) j[name] = value;
   j["threads"] = threads;
   j["wall_seconds"] = r.wall_seconds;
   j["evals_per_second"] = r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0.0;

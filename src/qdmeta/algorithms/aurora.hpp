@@ -1,0 +1,105 @@
+#pragma once
+// AURORA-CSC-Uniform (SPEC.md section 6; Grillotti & Cully 2021): MAP-Elites-style evolution
+// in an unstructured archive whose descriptors are the latent codes of an autoencoder trained
+// on the archive's own base features, with container size control (CSC) steering the archive
+// toward a target size, and uniform parent selection.
+//
+// One step = one generation:
+//   generation 0   evaluates the initial population; the autoencoder is first trained on its
+//                  base features, the distance threshold l is initialised from the latent
+//                  volume (0.5 (V / target)^(1/d)), and the rows are inserted (threshold
+//                  l (1 - eps)).
+//   generation g   draws batch_size parents uniformly, mutates and evaluates them; retrains on
+//                  the archive at the scheduled generations (1, then gaps of 20, 30, 40, ...,
+//                  capped), and rebuilds the archive after each retraining and every
+//                  rebuild_every generations; applies CSC, l <- l (1 - gain (target - size));
+//                  then inserts the offspring in batch order.
+// A rebuild re-encodes every member, z-scores the codes over the archive (those statistics then
+// also serve every offspring until the next rebuild), takes one CSC step on l, empties the
+// archive and re-adds every member with the threshold l (1 - eps).
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/unstructured_archive.hpp"
+#include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/task.hpp"
+#include "qdmeta/featuremap/autoencoder.hpp"
+
+namespace qdmeta {
+
+struct AuroraParams {
+  Index batch_size = 400;               // offspring per generation, >= 1
+  Index initial_population = 2000;      // random genotypes evaluated first, >= 1
+  Index latent_size = 2;                // descriptor dimensions (Rastrigin 2, RHex 4), >= 1
+  std::vector<Index> hidden = {32, 8};  // encoder hidden widths; the decoder mirrors them
+  double learning_rate = 1e-3;          // Adam step size
+  int max_epochs = 100;                 // full-batch steps per training at most
+  Index max_training_rows = 10'000;     // archive rows trained on at most (uniform subsample)
+  Index target_size = 10'000;           // container size control's target
+  double eps = 0.1;                     // insertion rule's eps (and the rebuild's l (1 - eps))
+  int novelty_neighbours = 15;          // k of the novelty score
+  double size_control_gain = 5e-6;      // l <- l (1 - gain (target - size)) every generation, >= 0
+  double threshold_factor = 0.5;        // l0 = factor (V / target)^(1/d), > 0
+  int rebuild_every = 10;               // generations between rebuilds, >= 1
+  int retrain_period_step = 10;         // gap after the k-th retraining: min(step (k + 1), max), >= 1
+  int retrain_period_max = 15'000;      // cap of that gap, >= 1
+  void validate() const;
+};
+
+class Aurora final : public Algorithm {
+ public:
+  Aurora(AuroraParams params, Task task, MutationParams mutation, std::uint64_t seed);
+
+  std::string name() const override { return "aurora"; }
+  void step(Evaluator& evaluator) override;
+  std::int64_t generation() const override { return generation_; }
+  EvaluationCounters counters() const override { return counters_; }
+  ArchiveStats stats() const override { return archive_.stats(); }
+  // index = archive slot, measures = descriptor (z-scored latent code), base = base features.
+  EliteTable elites() const override;
+  std::vector<std::pair<std::string, double>> summary_extras() const override;
+
+  const UnstructuredArchive& archive() const { return archive_; }
+  const Autoencoder& autoencoder() const { return autoencoder_; }
+  double threshold() const { return threshold_; }
+  std::int64_t trainings() const { return trainings_; }
+  std::int64_t next_retraining() const { return next_retraining_; }
+  const TrainingReport& last_training() const { return last_training_; }
+  // Descriptors (z-scored latent codes, count x latent_size) of raw base-feature rows.
+  RowMatrix describe(const Real* base_features, Index count) const;
+
+ private:
+  void train(const RowMatrix& base_features);
+  // Re-encodes the given members, sets the latent z-scoring from them, sets l (initialised from
+  // the latent volume, or one CSC step) and re-adds them all with the threshold l (1 - eps).
+  void refill(const RowMatrix& solutions, const std::vector<Real>& objectives, const RowMatrix& base_features,
+              bool initialise_threshold);
+  void rebuild();
+  void control_size();
+
+  AuroraParams params_;
+  Task task_;
+  Mutation mutation_;
+  std::uint64_t seed_;
+  Autoencoder autoencoder_;
+  UnstructuredArchive archive_;
+  // State a checkpoint needs besides the autoencoder (parameters, input z-scoring, Adam) and
+  // the archive: all of it is here.
+  Eigen::RowVectorXd latent_mean_;
+  Eigen::RowVectorXd latent_scale_;
+  double threshold_ = 0.0;               // l
+  bool trained_ = false;
+  std::int64_t trainings_ = 0;           // every training, the initial one included
+  std::int64_t scheduled_trainings_ = 0; // k of the retraining schedule
+  std::int64_t next_retraining_ = 1;
+  std::int64_t generation_ = 0;
+  EvaluationCounters counters_;
+  TrainingReport last_training_;
+  // Scratch.
+  RowMatrix genotypes_;
+  EvaluationBatch evaluations_;
+};
+
+}  // namespace qdmeta
