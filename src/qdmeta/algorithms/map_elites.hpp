@@ -2,6 +2,7 @@
 // Plain MAP-Elites over a grid archive (SPEC.md section 1): an initial population of random
 // genotypes, then generations of `batch_size` offspring, each a mutated copy of a parent drawn
 // uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
+#include <algorithm>
 #include <memory>
 
 #include "qdmeta/algorithms/algorithm.hpp"
@@ -18,11 +19,38 @@ struct MapElitesParams {
   void validate() const;
 };
 
-// Building blocks shared with QD-Meta's per-map evolution.
+// Building blocks shared with QD-Meta's per-map evolution and CVT-MAP-Elites.
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
 void random_genotypes(RowMatrix& genotypes, Rng& rng);
-// Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites.
-void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring);
+
+// Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites of any
+// archive with sample_cell(rng) and solution(cell) (GridArchive, CvtArchive).
+template <class Archive>
+void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
+  const Index n = offspring.cols();
+  for (Index r = 0; r < offspring.rows(); ++r)
+    std::copy_n(archive.solution(archive.sample_cell(rng)), n, offspring.row(r).data());
+  mutation.apply(offspring, rng);
+}
+
+// The candidates of one MAP-Elites generation into `genotypes` (n columns): random genotypes
+// while the archive is empty (the initial population in generation 0, a batch after, when every
+// solution so far was invalid), else a batch of mutated elites. Each generation has its own
+// stream, (seed, kInitialPopulation or kVariation, generation).
+template <class Archive>
+void next_genotypes(const Archive& archive, const MapElitesParams& params, const Mutation& mutation,
+                    std::uint64_t seed, std::int64_t generation, Index n, RowMatrix& genotypes) {
+  const auto g = static_cast<std::uint64_t>(generation);
+  if (archive.empty()) {
+    genotypes.resize(generation == 0 ? params.initial_population : params.batch_size, n);
+    Rng rng = Rng::stream(seed, {key(StreamKey::kInitialPopulation), g});
+    random_genotypes(genotypes, rng);
+  } else {
+    genotypes.resize(params.batch_size, n);
+    Rng rng = Rng::stream(seed, {key(StreamKey::kVariation), g});
+    generate_offspring(archive, mutation, rng, genotypes);
+  }
+}
 // Maps base features to target features and inserts the valid rows in batch order.
 // `targets` is a scratch buffer. Returns the number of rows that entered the archive.
 Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,

@@ -1,0 +1,87 @@
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+void CvtMapElitesParams::validate() const {
+  map_elites.validate();
+  kmeans.validate();
+  require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
+}
+
+CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
+    : params_(std::move(params)), task_(std::move(task)), mutation_(mutation), seed_(seed) {
+  params_.validate();
+}
+
+void CvtMapElites::prepare(Evaluator& evaluator) {
+  if (archive_) return;
+  CachedCentroids made;
+  evaluator.within_workers(
+      [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
+  if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());
+  cache_outcome_ = made.outcome;
+  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset()}, std::move(made.centroids));
+}
+
+const CvtArchive& CvtMapElites::archive() const {
+  if (!archive_) throw Error("cvt-map-elites: the archive is made by the first step (or prepare())");
+  return *archive_;
+}
+
+void CvtMapElites::step(Evaluator& evaluator) {
+  prepare(evaluator);
+  CvtArchive& archive = *archive_;
+  const Index n = task_.genotype_size();
+  next_genotypes(archive, params_.map_elites, mutation_, seed_, generation_, n, genotypes_);
+  const Index count = genotypes_.rows();
+  evaluations_.resize(count, task_.base_feature_size());
+  evaluator.evaluate(task_, {genotypes_.data(), count, n}, evaluations_.view());
+  // Cells in parallel over fixed row ranges (each row's cell does not depend on the split),
+  // then insertion in batch order. Invalid rows get a cell too; it is not used.
+  cells_.resize(static_cast<std::size_t>(count));
+  const Index chunk = params_.lookup_chunk;
+  evaluator.parallel_for((count + chunk - 1) / chunk, [&](Index c) {
+    const Index first = c * chunk;
+    archive.index_of(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
+                     cells_.data() + first);
+  });
+  for (Index r = 0; r < count; ++r) {
+    if (!evaluations_.valid[static_cast<std::size_t>(r)]) continue;
+    archive.add_to_cell(cells_[static_cast<std::size_t>(r)], genotypes_.row(r).data(), evaluations_.fitness[r],
+                        evaluations_.base_features.row(r).data());
+  }
+  counters_.bottom += count;
+  ++generation_;
+}
+
+ArchiveStats CvtMapElites::stats() const { return archive_ ? archive_->stats() : ArchiveStats{}; }
+
+EliteTable CvtMapElites::elites() const {
+  EliteTable t;
+  if (!archive_) return t;
+  const CvtArchive& archive = *archive_;
+  std::vector<Index> cells = archive.filled_cells();
+  std::sort(cells.begin(), cells.end());
+  const auto count = static_cast<Index>(cells.size());
+  t.index.assign(cells.begin(), cells.end());
+  t.objective.resize(cells.size());
+  t.measures.resize(count, archive.dimensions());
+  t.solutions.resize(count, archive.params().solution_size);
+  t.base_features.resize(count, 0);  // the measures are the base features
+  for (Index i = 0; i < count; ++i) {
+    const Index c = cells[static_cast<std::size_t>(i)];
+    t.objective[static_cast<std::size_t>(i)] = archive.objective(c);
+    std::copy_n(archive.measures(c), archive.dimensions(), t.measures.row(i).data());
+    std::copy_n(archive.solution(c), archive.params().solution_size, t.solutions.row(i).data());
+  }
+  return t;
+}
+
+}  // namespace qdmeta

@@ -1,0 +1,101 @@
+// CVT-MAP-Elites: same bits at any thread count, every elite in its nearest centroid's cell with
+// its base features as descriptor, strictly-better replacement over a run, accounting.
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "qdmeta/tasks/rastrigin/rastrigin.hpp"
+#include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+
+namespace qdmeta {
+namespace {
+
+CvtMapElites make_cvt(std::uint64_t seed) {
+  CvtMapElitesParams p;
+  p.kmeans.centroids = 300;
+  p.kmeans.samples = 6000;
+  p.kmeans.init_samples = 3000;
+  p.kmeans.iterations = 3;
+  p.lookup_chunk = 30;
+  return CvtMapElites(p, Task(RastriginTask()), {}, seed);
+}
+
+TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
+  std::vector<EliteTable> results;
+  for (int threads : {1, 2, 3}) {
+    auto evaluator = make_evaluator(threads);
+    CvtMapElites cvt = make_cvt(7);
+    for (int g = 0; g < 30; ++g) cvt.step(*evaluator);
+    results.push_back(cvt.elites());
+  }
+  for (std::size_t i = 1; i < results.size(); ++i) {
+    EXPECT_EQ(results[i].index, results[0].index);
+    EXPECT_EQ(results[i].objective, results[0].objective);
+    EXPECT_TRUE(results[i].solutions == results[0].solutions);
+    EXPECT_TRUE(results[i].measures == results[0].measures);
+  }
+}
+
+TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(3);
+  EXPECT_EQ(cvt.elites().size(), 0);  // nothing before the first step
+  EXPECT_EQ(cvt.stats(), ArchiveStats{});
+  for (int g = 0; g < 20; ++g) cvt.step(evaluator);
+  const EliteTable t = cvt.elites();
+  ASSERT_GT(t.size(), 250);
+  const RowMatrix& centroids = cvt.archive().centroids();
+  for (Index i = 0; i < t.size(); ++i) {
+    EXPECT_EQ(t.index[static_cast<std::size_t>(i)], nearest_centroid_naive(centroids, t.measures.row(i).data()));
+    EXPECT_TRUE(t.measures.row(i) == t.solutions.row(i));  // Rastrigin's base features are the genes
+    const double f = rastrigin::standard({t.solutions.row(i).data(), 20});
+    EXPECT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f));
+  }
+  EXPECT_EQ(cvt.stats().num_elites, t.size());
+  EXPECT_DOUBLE_EQ(cvt.stats().coverage, static_cast<double>(t.size()) / 300);
+}
+
+TEST(CvtMapElites, ArchiveNeverLosesAnEliteAndOnlyImproves) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(11);
+  cvt.step(evaluator);
+  std::vector<Real> previous(300, -INFINITY);
+  Index size = 0;
+  double best = -INFINITY;
+  int improved = 0;
+  for (int g = 0; g < 60; ++g) {
+    cvt.step(evaluator);
+    const ArchiveStats s = cvt.stats();
+    EXPECT_GE(s.num_elites, size);
+    EXPECT_GE(s.obj_max, best);
+    size = s.num_elites;
+    best = s.obj_max;
+    for (Index c = 0; c < 300; ++c) {
+      if (!cvt.archive().occupied(c)) {
+        EXPECT_EQ(previous[static_cast<std::size_t>(c)], -INFINITY);
+        continue;
+      }
+      EXPECT_GE(cvt.archive().objective(c), previous[static_cast<std::size_t>(c)]);
+      improved += cvt.archive().objective(c) > previous[static_cast<std::size_t>(c)];
+      previous[static_cast<std::size_t>(c)] = cvt.archive().objective(c);
+    }
+  }
+  EXPECT_GT(improved, 300);  // the run does improve its elites
+}
+
+TEST(CvtMapElites, CountsInitialPopulationThenBatches) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(5);
+  cvt.step(evaluator);
+  EXPECT_EQ(cvt.counters().bottom, 2000);
+  cvt.step(evaluator);
+  EXPECT_EQ(cvt.counters().bottom, 2400);
+  EXPECT_EQ(cvt.counters().meta, 0);
+  EXPECT_EQ(cvt.generation(), 2);
+  EXPECT_EQ(cvt.name(), "cvt-map-elites");
+}
+
+}  // namespace
+}  // namespace qdmeta
