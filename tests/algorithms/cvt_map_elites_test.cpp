@@ -12,8 +12,9 @@
 namespace qdmeta {
 namespace {
 
-CvtMapElites make_cvt(std::uint64_t seed) {
+CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound) {
   CvtMapElitesParams p;
+  p.search = search;
   p.kmeans.centroids = 300;
   p.kmeans.samples = 6000;
   p.kmeans.init_samples = 3000;
@@ -36,6 +37,19 @@ TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
     EXPECT_TRUE(results[i].solutions == results[0].solutions);
     EXPECT_TRUE(results[i].measures == results[0].measures);
   }
+}
+
+TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
+  SerialEvaluator evaluator;
+  CvtMapElites a = make_cvt(9, CvtSearch::kParentBound), b = make_cvt(9, CvtSearch::kBruteForce);
+  for (int g = 0; g < 40; ++g) {
+    a.step(evaluator);
+    b.step(evaluator);
+  }
+  const EliteTable ta = a.elites(), tb = b.elites();
+  EXPECT_EQ(ta.index, tb.index);
+  EXPECT_EQ(ta.objective, tb.objective);
+  EXPECT_TRUE(ta.solutions == tb.solutions);
 }
 
 TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {

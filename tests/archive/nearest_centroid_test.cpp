@@ -76,6 +76,29 @@ TEST(NearestCentroid, ExactTiesGoToTheLowestIndex) {
   expect_matches_naive(centroids, random_block(200, 20, 9));
 }
 
+TEST(NearestCentroid, BoundsTheDistanceToEveryOtherCentroid) {
+  for (const auto& [k, d] : std::vector<std::pair<Index, Index>>{{1, 2}, {2, 1}, {600, 20}, {1100, 5}}) {
+    const RowMatrix centroids = random_block(k, d, static_cast<std::uint64_t>(k + d));
+    RowMatrix points = random_block(150, d, 21);
+    points.row(0) = centroids.row(k / 2);  // on a centroid
+    const NearestCentroid search(centroids);
+    std::vector<Index> cells(150);
+    std::vector<double> others(150);
+    search.find(points.data(), 150, cells.data(), nullptr, others.data());
+    for (Index i = 0; i < 150; ++i) {
+      double nearest_other = std::numeric_limits<double>::infinity();
+      for (Index c = 0; c < k; ++c)
+        if (c != cells[static_cast<std::size_t>(i)])
+          nearest_other = std::min(nearest_other, std::sqrt(squared_distance(points.row(i).data(), centroids.row(c).data(), d)));
+      const double bound = others[static_cast<std::size_t>(i)];
+      EXPECT_LE(bound, nearest_other) << k << " centroids, point " << i;
+      if (k > 1) {
+        EXPECT_GE(bound, nearest_other - 1e-3) << "a loose bound: " << k << " centroids, point " << i;
+      }
+    }
+  }
+}
+
 TEST(NearestCentroid, TheAnswerDoesNotDependOnHowRowsAreSplit) {
   const NearestCentroid search(random_block(800, 20, 10));
   const RowMatrix points = random_block(333, 20, 11);

@@ -39,22 +39,25 @@ void CvtMapElites::step(Evaluator& evaluator) {
   prepare(evaluator);
   CvtArchive& archive = *archive_;
   const Index n = task_.genotype_size();
-  next_genotypes(archive, params_.map_elites, mutation_, seed_, generation_, n, genotypes_);
+  next_genotypes(archive, params_.map_elites, mutation_, seed_, generation_, n, genotypes_, &parents_);
   const Index count = genotypes_.rows();
   evaluations_.resize(count, task_.base_feature_size());
   evaluator.evaluate(task_, {genotypes_.data(), count, n}, evaluations_.view());
   // Cells in parallel over fixed row ranges (each row's cell does not depend on the split),
   // then insertion in batch order. Invalid rows get a cell too; it is not used.
   cells_.resize(static_cast<std::size_t>(count));
+  bounds_.resize(static_cast<std::size_t>(count));
+  const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
   const Index chunk = params_.lookup_chunk;
   evaluator.parallel_for((count + chunk - 1) / chunk, [&](Index c) {
     const Index first = c * chunk;
-    archive.index_of(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
-                     cells_.data() + first);
+    archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
+                   parents ? parents + first : nullptr, cells_.data() + first, bounds_.data() + first);
   });
   for (Index r = 0; r < count; ++r) {
-    if (!evaluations_.valid[static_cast<std::size_t>(r)]) continue;
-    archive.add_to_cell(cells_[static_cast<std::size_t>(r)], genotypes_.row(r).data(), evaluations_.fitness[r],
+    const auto u = static_cast<std::size_t>(r);
+    if (!evaluations_.valid[u]) continue;
+    archive.add_to_cell(cells_[u], bounds_[u], genotypes_.row(r).data(), evaluations_.fitness[r],
                         evaluations_.base_features.row(r).data());
   }
   counters_.bottom += count;

@@ -17,11 +17,17 @@
 
 namespace qdmeta {
 
+// How an offspring's cell is found; both give the same cell (the exact nearest centroid).
+enum class CvtSearch { kParentBound, kBruteForce };
+inline constexpr EnumNames<CvtSearch, 2> kCvtSearchNames{
+    {{CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
+
 struct CvtMapElitesParams {
   MapElitesParams map_elites;        // batch size and initial population
   KMeansParams kmeans;               // how the centroids are made
   std::filesystem::path cache_dir;   // centroid cache directory; empty: no cache
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
+  CvtSearch search = CvtSearch::kParentBound;  // try the parent's cell first, or always search
   void validate() const;
 };
 
@@ -55,7 +61,9 @@ class CvtMapElites final : public Algorithm {
   EvaluationCounters counters_;
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
+  std::vector<Index> parents_;
   std::vector<Index> cells_;
+  std::vector<double> bounds_;
 };
 
 }  // namespace qdmeta

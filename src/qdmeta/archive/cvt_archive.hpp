@@ -31,16 +31,24 @@ class CvtArchive {
   Index size() const { return static_cast<Index>(filled_.size()); }
   bool empty() const { return filled_.empty(); }
   const RowMatrix& centroids() const { return search_.centroids(); }
+  const NearestCentroid& search() const { return search_; }
 
-  // Cells of `count` descriptors (row-major); single-threaded, callers may split the rows.
-  void index_of(const Real* measures, Index count, Index* cells) const { search_.find(measures, count, cells); }
+  // The cell of a descriptor: a full search.
   Index index_of(const Real* measures) const { return search_.find(measures); }
 
-  AddStatus add(const Real* solution, Real objective, const Real* measures) {
-    return add_to_cell(index_of(measures), solution, objective, measures);
-  }
-  // `cell` must be index_of(measures), computed beforehand (e.g. for a whole batch).
-  AddStatus add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures);
+  // Cells of `count` descriptors (row-major) into `cells`, and into `bounds` a lower bound on
+  // the distance from each descriptor to every other centroid. With `parents` (the cell of each
+  // row's parent elite, -1 for none), a row is first tried against its parent (offspring land
+  // near their parent): with delta = |x - m_p| (m_p the parent's descriptor) and b_p the
+  // parent's bound, every other centroid lies at least b_p - delta from x, so if x's distance to
+  // the parent's centroid is below that, the parent's cell is x's nearest, exactly and without a
+  // search. Other rows get the full search. The answer equals index_of's either way.
+  // Single-threaded; callers may split the rows (each row's answer does not depend on it).
+  void locate(const Real* measures, Index count, const Index* parents, Index* cells, double* bounds) const;
+
+  AddStatus add(const Real* solution, Real objective, const Real* measures);
+  // `cell` and `bound` must come from locate() for these measures (e.g. for a whole batch).
+  AddStatus add_to_cell(Index cell, double bound, const Real* solution, Real objective, const Real* measures);
   void clear();
 
   bool occupied(Index cell) const { return occupied_[static_cast<std::size_t>(cell)] != 0; }
@@ -59,6 +67,7 @@ class CvtArchive {
   NearestCentroid search_;
   std::vector<std::uint8_t> occupied_;
   std::vector<Real> objectives_;
+  std::vector<double> bounds_;  // per elite: lower bound on its descriptor's distance to other centroids
   RowMatrix solutions_;
   RowMatrix measures_;
   std::vector<Index> filled_;

@@ -61,24 +61,28 @@ Index NearestCentroid::find(const Real* point) const {
   return cell;
 }
 
-void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
+void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances, double* others) const {
   const Index k = count(), d = dimensions();
   // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
   // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their
   // magnitudes, under (2d + 1) u (||x|| + ||c||)^2 in all. Two values whose exact order could
   // differ lie within twice that; the slack doubles it again for safety.
   const double unit = std::numeric_limits<Real>::epsilon() / 2;
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
   RowMatrix values;
-  std::vector<std::vector<Candidate>> candidates(static_cast<std::size_t>(std::min(n, kPointBlock)));
-  std::vector<Real> best(candidates.size());
-  std::vector<Real> slack(candidates.size());
+  const auto block_rows = static_cast<std::size_t>(std::min(n, kPointBlock));
+  std::vector<std::vector<Candidate>> candidates(block_rows);
+  // Per row: the smallest float value, where it is, and the second smallest.
+  std::vector<Real> best(block_rows), second(block_rows), slack(block_rows);
+  std::vector<Index> best_cell(block_rows);
   for (Index first = 0; first < n; first += kPointBlock) {
     const Index rows = std::min(kPointBlock, n - first);
     const Eigen::Map<const RowMatrix> x(points + first * d, rows, d);
     for (Index r = 0; r < rows; ++r) {
       const auto u = static_cast<std::size_t>(r);
       candidates[u].clear();
-      best[u] = std::numeric_limits<Real>::infinity();
+      best[u] = second[u] = kInf;
+      best_cell[u] = -1;
       const double reach = std::sqrt(static_cast<double>(x.row(r).squaredNorm())) + max_norm_;
       slack[u] = static_cast<Real>(8.0 * (static_cast<double>(d) + 1.0) * unit * reach * reach + 1e-30);
     }
@@ -90,13 +94,20 @@ void NearestCentroid::find(const Real* points, Index n, Index* cells, double* di
       values.noalias() += x * transposed_.middleCols(c0, cols);
       for (Index r = 0; r < rows; ++r) {
         const auto u = static_cast<std::size_t>(r);
-        const Real block_min = values.row(r).minCoeff();
-        if (!(block_min <= best[u] + slack[u])) continue;
-        best[u] = std::min(best[u], block_min);
-        const Real limit = best[u] + slack[u];
+        // Most blocks hold nothing near the best so far: one vectorised minimum rules them out.
+        if (!(values.row(r).minCoeff() <= std::max(second[u], best[u] + slack[u]))) continue;
         const Real* row = values.row(r).data();
-        for (Index j = 0; j < cols; ++j)
-          if (row[j] <= limit) candidates[u].push_back({c0 + j, row[j]});
+        for (Index j = 0; j < cols; ++j) {
+          const Real v = row[j];
+          if (v < best[u]) {
+            second[u] = best[u];
+            best[u] = v;
+            best_cell[u] = c0 + j;
+          } else if (v < second[u]) {
+            second[u] = v;
+          }
+          if (v <= best[u] + slack[u]) candidates[u].push_back({c0 + j, v});
+        }
       }
     }
     for (Index r = 0; r < rows; ++r) {
@@ -116,6 +127,15 @@ void NearestCentroid::find(const Real* points, Index n, Index* cells, double* di
       if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));
       cells[first + r] = winner;
       if (distances) distances[first + r] = winner_distance;
+      if (others) {
+        // Every other centroid's float value is at least `other`, and its exact value at least
+        // that minus the rounding bound (slack / 2); the distance adds ||x||^2.
+        const double other = winner == best_cell[u] ? second[u] : best[u];
+        double norm = 0.0;
+        for (Index i = 0; i < d; ++i) norm += static_cast<double>(p[i]) * p[i];
+        const double squared = norm + other - 0.5 * static_cast<double>(slack[u]);
+        others[first + r] = squared > 0 ? std::sqrt(squared) * (1 - 1e-9) : 0.0;
+      }
     }
   }
 }

@@ -28,9 +28,11 @@ class NearestCentroid {
   const RowMatrix& centroids() const { return centroids_; }
 
   // The nearest centroid of each of `count` points (row-major, dimensions() columns) into
-  // `cells`; with `distances`, also the exact squared distance to it. Single-threaded: callers
-  // split big batches into row ranges (each row's answer does not depend on the split).
-  void find(const Real* points, Index count, Index* cells, double* distances = nullptr) const;
+  // `cells`; with `distances`, also the exact squared distance to it; with `others`, a lower
+  // bound on the distance (not squared) from the point to every other centroid. Single-threaded:
+  // callers split big batches into row ranges (each row's cell does not depend on the split).
+  void find(const Real* points, Index count, Index* cells, double* distances = nullptr,
+            double* others = nullptr) const;
   Index find(const Real* point) const;
 
  private:

@@ -115,6 +115,7 @@ CvtMapElitesParams read_cvt(ConfigReader& c) {
                                    "give cvt.cache_dir or set cvt.cache = false", c.source()));
   }
   p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
+  p.search = c.choice("search", p.search, kCvtSearchNames);
   try {
     p.kmeans.validate();
   } catch (const InputError& e) {
