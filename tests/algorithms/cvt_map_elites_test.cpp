@@ -15,6 +15,7 @@ namespace {
 CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound) {
   CvtMapElitesParams p;
   p.search = search;
+  p.neighbours = 32;
   p.kmeans.centroids = 300;
   p.kmeans.samples = 6000;
   p.kmeans.init_samples = 3000;

@@ -76,25 +76,35 @@ TEST(NearestCentroid, ExactTiesGoToTheLowestIndex) {
   expect_matches_naive(centroids, random_block(200, 20, 9));
 }
 
-TEST(NearestCentroid, BoundsTheDistanceToEveryOtherCentroid) {
-  for (const auto& [k, d] : std::vector<std::pair<Index, Index>>{{1, 2}, {2, 1}, {600, 20}, {1100, 5}}) {
-    const RowMatrix centroids = random_block(k, d, static_cast<std::uint64_t>(k + d));
-    RowMatrix points = random_block(150, d, 21);
-    points.row(0) = centroids.row(k / 2);  // on a centroid
-    const NearestCentroid search(centroids);
-    std::vector<Index> cells(150);
-    std::vector<double> others(150);
-    search.find(points.data(), 150, cells.data(), nullptr, others.data());
-    for (Index i = 0; i < 150; ++i) {
-      double nearest_other = std::numeric_limits<double>::infinity();
-      for (Index c = 0; c < k; ++c)
-        if (c != cells[static_cast<std::size_t>(i)])
-          nearest_other = std::min(nearest_other, std::sqrt(squared_distance(points.row(i).data(), centroids.row(c).data(), d)));
-      const double bound = others[static_cast<std::size_t>(i)];
-      EXPECT_LE(bound, nearest_other) << k << " centroids, point " << i;
-      if (k > 1) {
-        EXPECT_GE(bound, nearest_other - 1e-3) << "a loose bound: " << k << " centroids, point " << i;
+TEST(NearestCentroid, NeighbourListsAreSortedExactAndBoundTheRest) {
+  const Index k = 700, d = 20;
+  const RowMatrix centroids = random_block(k, d, 41);
+  const NearestCentroid search(centroids);
+  const RowMatrix points = random_block(40, d, 42);
+  for (Index length : {1, 30, 699, 700}) {
+    std::vector<std::int32_t> cells(static_cast<std::size_t>(length));
+    std::vector<float> distances(cells.size());
+    for (Index i = 0; i < points.rows(); ++i) {
+      double outside = 0.0;
+      search.neighbours(points.row(i).data(), length, cells.data(), distances.data(), &outside);
+      std::vector<bool> listed(static_cast<std::size_t>(k), false);
+      for (Index j = 0; j < length; ++j) {
+        const auto u = static_cast<std::size_t>(j);
+        listed[static_cast<std::size_t>(cells[u])] = true;
+        const double exact = std::sqrt(squared_distance(points.row(i).data(), centroids.row(cells[u]).data(), d));
+        EXPECT_NEAR(distances[u], exact, 1e-6 * exact);
+        if (j > 0) {
+          EXPECT_LE(distances[u - 1], distances[u]);
+        }
       }
+      EXPECT_EQ(cells[0], nearest_centroid_naive(centroids, points.row(i).data()));
+      double nearest_unlisted = std::numeric_limits<double>::infinity();
+      for (Index c = 0; c < k; ++c)
+        if (!listed[static_cast<std::size_t>(c)])
+          nearest_unlisted = std::min(nearest_unlisted, std::sqrt(squared_distance(points.row(i).data(), centroids.row(c).data(), d)));
+      EXPECT_LE(outside, nearest_unlisted);
+      EXPECT_GE(outside, nearest_unlisted - 1e-3);  // and not loose
+      EXPECT_GE(outside, distances[static_cast<std::size_t>(length - 1)] - 1e-3);
     }
   }
 }

@@ -13,6 +13,7 @@ void CvtMapElitesParams::validate() const {
   map_elites.validate();
   kmeans.validate();
   require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
+  require_range("cvt.neighbours", neighbours, Index{1}, Index{100'000});
 }
 
 CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
@@ -27,7 +28,8 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
       [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
   if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());
   cache_outcome_ = made.outcome;
-  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset()}, std::move(made.centroids));
+  const Index lists = params_.search == CvtSearch::kParentBound ? params_.neighbours : 0;
+  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
 }
 
 const CvtArchive& CvtMapElites::archive() const {
@@ -43,23 +45,42 @@ void CvtMapElites::step(Evaluator& evaluator) {
   const Index count = genotypes_.rows();
   evaluations_.resize(count, task_.base_feature_size());
   evaluator.evaluate(task_, {genotypes_.data(), count, n}, evaluations_.view());
-  // Cells in parallel over fixed row ranges (each row's cell does not depend on the split),
-  // then insertion in batch order. Invalid rows get a cell too; it is not used.
+  // Cells in parallel over fixed row ranges (each row's cell does not depend on the split);
+  // then the neighbour lists of the rows that may enter (judged against the archive before the
+  // batch: a superset of those that will), in parallel; then insertion in batch order.
+  // Invalid rows get a cell too; it is not used.
   cells_.resize(static_cast<std::size_t>(count));
-  bounds_.resize(static_cast<std::size_t>(count));
+  settled_.assign(static_cast<std::size_t>(count), 0);
   const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
   const Index chunk = params_.lookup_chunk;
-  evaluator.parallel_for((count + chunk - 1) / chunk, [&](Index c) {
+  const Index chunks = (count + chunk - 1) / chunk;
+  searched_per_chunk_.assign(static_cast<std::size_t>(chunks), 0);
+  evaluator.parallel_for(chunks, [&](Index c) {
     const Index first = c * chunk;
-    archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
-                   parents ? parents + first : nullptr, cells_.data() + first, bounds_.data() + first);
+    searched_per_chunk_[static_cast<std::size_t>(c)] =
+        archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
+                       parents ? parents + first : nullptr, cells_.data() + first, settled_.data() + first);
   });
+  for (Index n_searched : searched_per_chunk_) searched_ += n_searched;
+  entering_.clear();
   for (Index r = 0; r < count; ++r) {
     const auto u = static_cast<std::size_t>(r);
-    if (!evaluations_.valid[u]) continue;
-    archive.add_to_cell(cells_[u], bounds_[u], genotypes_.row(r).data(), evaluations_.fitness[r],
-                        evaluations_.base_features.row(r).data());
+    if (evaluations_.valid[u] && archive.would_enter(cells_[u], evaluations_.fitness[r])) entering_.push_back(r);
   }
+  lists_.resize(count, archive.list_length());
+  if (archive.list_length() > 0) {
+    const auto entering = static_cast<Index>(entering_.size());
+    evaluator.parallel_for((entering + chunk - 1) / chunk, [&](Index c) {
+      for (Index i = c * chunk; i < std::min(entering, (c + 1) * chunk); ++i) {
+        const Index r = entering_[static_cast<std::size_t>(i)];
+        const auto u = static_cast<std::size_t>(r);
+        archive.neighbours_of(evaluations_.base_features.row(r).data(), settled_[u] ? parents_[u] : -1, lists_, r);
+      }
+    });
+  }
+  for (Index r : entering_)
+    archive.add_to_cell(cells_[static_cast<std::size_t>(r)], genotypes_.row(r).data(), evaluations_.fitness[r],
+                        evaluations_.base_features.row(r).data(), lists_, r);
   counters_.bottom += count;
   ++generation_;
 }

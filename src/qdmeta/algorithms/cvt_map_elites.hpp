@@ -27,7 +27,8 @@ struct CvtMapElitesParams {
   KMeansParams kmeans;               // how the centroids are made
   std::filesystem::path cache_dir;   // centroid cache directory; empty: no cache
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
-  CvtSearch search = CvtSearch::kParentBound;  // try the parent's cell first, or always search
+  CvtSearch search = CvtSearch::kParentBound;  // settle offspring from the parent's neighbours, or always search
+  Index neighbours = 256;            // parent-bound: neighbour list length per elite, >= 1
   void validate() const;
 };
 
@@ -49,6 +50,8 @@ class CvtMapElites final : public Algorithm {
   bool prepared() const { return archive_.has_value(); }
   const CvtArchive& archive() const;
   CacheOutcome cache_outcome() const { return cache_outcome_; }
+  // Offspring whose cell needed the full search (the rest were settled by the parent bound).
+  std::int64_t searched() const { return searched_; }
 
  private:
   CvtMapElitesParams params_;
@@ -58,12 +61,16 @@ class CvtMapElites final : public Algorithm {
   std::optional<CvtArchive> archive_;
   CacheOutcome cache_outcome_ = CacheOutcome::kDisabled;
   std::int64_t generation_ = 0;
+  std::int64_t searched_ = 0;
   EvaluationCounters counters_;
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
   std::vector<Index> parents_;
   std::vector<Index> cells_;
-  std::vector<double> bounds_;
+  std::vector<std::uint8_t> settled_;  // 1: the row's cell came from its parent's neighbour list
+  std::vector<Index> searched_per_chunk_;
+  std::vector<Index> entering_;  // rows that would enter the archive as it was before the batch
+  NeighbourLists lists_;         // their neighbour lists, one row per batch row
 };
 
 }  // namespace qdmeta

@@ -5,62 +5,106 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
 
-void CvtArchiveParams::validate() const { require_at_least("archive solution size", solution_size, Index{1}); }
+void CvtArchiveParams::validate() const {
+  require_at_least("archive solution size", solution_size, Index{1});
+  require_range("cvt.neighbours", neighbours, Index{0}, Index{100'000});
+}
 
 CvtArchive::CvtArchive(CvtArchiveParams params, RowMatrix centroids)
     : params_(params), search_((params.validate(), std::move(centroids))) {
+  list_length_ = std::min(params_.neighbours, cells());
   occupied_.assign(static_cast<std::size_t>(cells()), 0);
   objectives_.assign(static_cast<std::size_t>(cells()), 0);
-  bounds_.assign(static_cast<std::size_t>(cells()), 0.0);
   solutions_.resize(cells(), params_.solution_size);
   measures_.resize(cells(), dimensions());
+  lists_.resize(cells(), list_length_);
 }
 
-void CvtArchive::locate(const Real* measures, Index count, const Index* parents, Index* cells, double* bounds) const {
+Index CvtArchive::from_parent(const Real* x, Index parent) const {
+  const Index d = dimensions();
+  const double delta = std::sqrt(squared_distance(x, measures_.row(parent).data(), d));
+  const std::int32_t* list = lists_.cells.row(parent).data();
+  const Real* listed = lists_.distances.row(parent).data();
+  Index best = -1;
+  double best_squared = std::numeric_limits<double>::infinity();
+  double best_distance = best_squared;
+  for (Index i = 0; i < list_length_; ++i) {
+    // Listed distances are exact distances rounded to float (relative error under 1e-7); the
+    // margins keep every bound below the truth despite that and the double rounding here.
+    const double lower = static_cast<double>(listed[i]) * (1 - 1e-6) - delta - 1e-12;
+    if (lower > best_distance) break;  // the list is sorted: no later entry can be nearer
+    const Index c = list[i];
+    const double squared = squared_distance(x, search_.centroids().row(c).data(), d);
+    if (squared < best_squared || (squared == best_squared && c < best)) {
+      best_squared = squared;
+      best = c;
+      best_distance = std::sqrt(squared) * (1 + 1e-12);
+    }
+  }
+  const double outside = lists_.outside[static_cast<std::size_t>(parent)] - delta - 1e-12;
+  return best >= 0 && outside > best_distance ? best : -1;
+}
+
+Index CvtArchive::locate(const Real* measures, Index count, const Index* parents, Index* cells,
+                         std::uint8_t* settled) const {
   const Index d = dimensions();
   std::vector<Index> searched;  // rows that need the full search
   for (Index r = 0; r < count; ++r) {
-    const Real* x = measures + r * d;
-    const Index p = parents ? parents[r] : -1;
-    if (p >= 0 && occupied(p)) {
-      const double delta = std::sqrt(squared_distance(x, measures_.row(p).data(), d));
-      const double own = std::sqrt(squared_distance(x, search_.centroids().row(p).data(), d));
-      const double others = bounds_[static_cast<std::size_t>(p)] - delta;
-      // The margin covers the rounding of the double distances (relative 1e-16).
-      if (own < others - 1e-9 * (others + own + delta)) {
-        cells[r] = p;
-        bounds[r] = others * (1 - 1e-12) - 1e-12 * delta;  // kept a hair low against rounding
-        continue;
-      }
-    }
-    searched.push_back(r);
+    const Index p = parents && list_length_ > 0 ? parents[r] : -1;
+    const Index cell = p >= 0 && occupied(p) ? from_parent(measures + r * d, p) : -1;
+    if (settled) settled[r] = cell >= 0;
+    if (cell >= 0) cells[r] = cell;
+    else searched.push_back(r);
   }
-  if (searched.empty()) return;
+  if (searched.empty()) return 0;
   RowMatrix block(static_cast<Index>(searched.size()), d);
   for (std::size_t i = 0; i < searched.size(); ++i)
     std::copy_n(measures + searched[i] * d, d, block.row(static_cast<Index>(i)).data());
   std::vector<Index> found(searched.size());
-  std::vector<double> found_bounds(searched.size());
-  search_.find(block.data(), block.rows(), found.data(), nullptr, found_bounds.data());
-  for (std::size_t i = 0; i < searched.size(); ++i) {
-    cells[searched[i]] = found[i];
-    bounds[searched[i]] = found_bounds[i];
+  search_.find(block.data(), block.rows(), found.data());
+  for (std::size_t i = 0; i < searched.size(); ++i) cells[searched[i]] = found[i];
+  return static_cast<Index>(searched.size());
+}
+
+void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const {
+  if (list_length_ == 0) return;
+  if (parent >= 0) {
+    const Index d = dimensions();
+    const double delta = std::sqrt(squared_distance(measures, measures_.row(parent).data(), d));
+    std::vector<std::pair<double, std::int32_t>> exact(static_cast<std::size_t>(list_length_));
+    for (Index i = 0; i < list_length_; ++i) {
+      const std::int32_t c = lists_.cells(parent, i);
+      exact[static_cast<std::size_t>(i)] = {squared_distance(measures, search_.centroids().row(c).data(), d), c};
+    }
+    std::sort(exact.begin(), exact.end());
+    for (Index i = 0; i < list_length_; ++i) {
+      lists.cells(row, i) = exact[static_cast<std::size_t>(i)].second;
+      lists.distances(row, i) = static_cast<Real>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
+    }
+    // Unlisted centroids are at least the parent's bound from the parent: delta less from here.
+    const double outside = lists_.outside[static_cast<std::size_t>(parent)];
+    lists.outside[static_cast<std::size_t>(row)] = (outside - delta) * (1 - 1e-12) - 1e-12;
+    return;
   }
+  search_.neighbours(measures, list_length_, lists.cells.row(row).data(), lists.distances.row(row).data(),
+                     &lists.outside[static_cast<std::size_t>(row)]);
 }
 
 AddStatus CvtArchive::add(const Real* solution, Real objective, const Real* measures) {
-  Index cell = 0;
-  double bound = 0.0;
-  locate(measures, 1, nullptr, &cell, &bound);
-  return add_to_cell(cell, bound, solution, objective, measures);
+  NeighbourLists one;
+  one.resize(1, list_length_);
+  neighbours_of(measures, -1, one, 0);
+  return add_to_cell(index_of(measures), solution, objective, measures, one, 0);
 }
 
-AddStatus CvtArchive::add_to_cell(Index cell, double bound, const Real* solution, Real objective, const Real* measures) {
+AddStatus CvtArchive::add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
+                                  const NeighbourLists& lists, Index row) {
   auto& occ = occupied_[static_cast<std::size_t>(cell)];
   AddStatus status;
   if (!occ) {
@@ -73,9 +117,13 @@ AddStatus CvtArchive::add_to_cell(Index cell, double bound, const Real* solution
     return AddStatus::kNotAdded;
   }
   objectives_[static_cast<std::size_t>(cell)] = objective;
-  bounds_[static_cast<std::size_t>(cell)] = bound;
   std::copy_n(solution, params_.solution_size, solutions_.row(cell).data());
   std::copy_n(measures, dimensions(), measures_.row(cell).data());
+  if (list_length_ > 0) {
+    lists_.cells.row(cell) = lists.cells.row(row);
+    lists_.distances.row(cell) = lists.distances.row(row);
+    lists_.outside[static_cast<std::size_t>(cell)] = lists.outside[static_cast<std::size_t>(row)];
+  }
   return status;
 }
 

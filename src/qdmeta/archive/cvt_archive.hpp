@@ -3,6 +3,14 @@
 // descriptor belongs to the cell of its nearest centroid (exact, ties to the lowest index), one
 // elite per cell, replaced only by a strictly better objective. Descriptors are the task's base
 // features. Storage is struct-of-arrays, one row per cell, like GridArchive.
+//
+// Offspring land near their parent, so each elite also keeps a neighbour list: the `neighbours`
+// centroids nearest its descriptor with their distances, and a lower bound on its distance to
+// every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
+// least d(m_p, c) - delta from any centroid c (triangle inequality): walking p's list in order
+// of distance finds the nearest listed centroid, and when p's outside bound minus delta exceeds
+// that distance no other centroid can be nearer, so the answer is exact without the full search
+// over all centroids. Otherwise the full search runs. Both give index_of's answer.
 #include <cstdint>
 #include <vector>
 
@@ -17,7 +25,20 @@ namespace qdmeta {
 struct CvtArchiveParams {
   Index solution_size = 0;  // genes per solution, >= 1
   double qd_offset = 0.0;   // QD-score counts objective - qd_offset
+  Index neighbours = 256;   // neighbour list length per elite (capped at the cell count); 0: none
   void validate() const;
+};
+
+// Neighbour lists of descriptors about to enter the archive, one row each.
+struct NeighbourLists {
+  Eigen::Matrix<std::int32_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> cells;
+  RowMatrix distances;
+  std::vector<double> outside;
+  void resize(Index rows, Index length) {
+    cells.resize(rows, length);
+    distances.resize(rows, length);
+    outside.resize(static_cast<std::size_t>(rows));
+  }
 };
 
 class CvtArchive {
@@ -31,24 +52,33 @@ class CvtArchive {
   Index size() const { return static_cast<Index>(filled_.size()); }
   bool empty() const { return filled_.empty(); }
   const RowMatrix& centroids() const { return search_.centroids(); }
-  const NearestCentroid& search() const { return search_; }
+  Index list_length() const { return list_length_; }
 
-  // The cell of a descriptor: a full search.
+  // The cell of a descriptor: the full search.
   Index index_of(const Real* measures) const { return search_.find(measures); }
 
-  // Cells of `count` descriptors (row-major) into `cells`, and into `bounds` a lower bound on
-  // the distance from each descriptor to every other centroid. With `parents` (the cell of each
-  // row's parent elite, -1 for none), a row is first tried against its parent (offspring land
-  // near their parent): with delta = |x - m_p| (m_p the parent's descriptor) and b_p the
-  // parent's bound, every other centroid lies at least b_p - delta from x, so if x's distance to
-  // the parent's centroid is below that, the parent's cell is x's nearest, exactly and without a
-  // search. Other rows get the full search. The answer equals index_of's either way.
-  // Single-threaded; callers may split the rows (each row's answer does not depend on it).
-  void locate(const Real* measures, Index count, const Index* parents, Index* cells, double* bounds) const;
+  // Cells of `count` descriptors (row-major) into `cells`. With `parents` (the cell of each
+  // row's parent elite, -1 for none) and neighbour lists, rows are first settled from their
+  // parent's list (see above); the others get the full search. Single-threaded; callers may
+  // split the rows (each row's answer does not depend on it). Returns the number of rows that
+  // needed the full search.
+  // With `settled`, marks each row settled from its parent's list (1) or searched (0).
+  Index locate(const Real* measures, Index count, const Index* parents, Index* cells,
+               std::uint8_t* settled = nullptr) const;
+
+  // True when `objective` would enter `cell` now (empty, or strictly better).
+  bool would_enter(Index cell, Real objective) const { return !occupied(cell) || objective > this->objective(cell); }
+  // The neighbour list of a descriptor into row `row` of `lists` (sized lists.resize(rows,
+  // list_length())). With `parent` >= 0, a row that locate() settled from that parent's list:
+  // the list is derived from the parent's (same centroids, re-sorted by exact distance; outside
+  // bound lowered by delta), cheap; else the full computation (a pass over all centroids).
+  void neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
 
   AddStatus add(const Real* solution, Real objective, const Real* measures);
-  // `cell` and `bound` must come from locate() for these measures (e.g. for a whole batch).
-  AddStatus add_to_cell(Index cell, double bound, const Real* solution, Real objective, const Real* measures);
+  // `cell` must be index_of(measures) and row `row` of `lists` its neighbour list (ignored when
+  // list_length() is 0), computed beforehand (e.g. for a whole batch, in parallel).
+  AddStatus add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
+                        const NeighbourLists& lists, Index row);
   void clear();
 
   bool occupied(Index cell) const { return occupied_[static_cast<std::size_t>(cell)] != 0; }
@@ -63,13 +93,17 @@ class CvtArchive {
   ArchiveStats stats() const;
 
  private:
+  // The nearest centroid from the parent's list, or -1 when the list cannot prove it.
+  Index from_parent(const Real* x, Index parent) const;
+
   CvtArchiveParams params_;
   NearestCentroid search_;
+  Index list_length_ = 0;
   std::vector<std::uint8_t> occupied_;
   std::vector<Real> objectives_;
-  std::vector<double> bounds_;  // per elite: lower bound on its descriptor's distance to other centroids
   RowMatrix solutions_;
   RowMatrix measures_;
+  NeighbourLists lists_;  // one row per cell: its elite's neighbour list
   std::vector<Index> filled_;
 };
 

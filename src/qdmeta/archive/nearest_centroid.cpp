@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <utility>
 
 #include "qdmeta/core/error.hpp"
 
@@ -61,7 +63,57 @@ Index NearestCentroid::find(const Real* point) const {
   return cell;
 }
 
-void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances, double* others) const {
+void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* cells, float* distances,
+                                 double* outside) const {
+  const Index k = this->count(), d = dimensions();
+  const Eigen::Map<const Vector> x(point, d);
+  Vector values = norms_;
+  values.noalias() += transposed_.transpose() * x;
+  // The `count` smallest values: a threshold by selection on a copy of the values, then one
+  // pass in index order (ties at the threshold go to the lowest indices).
+  std::vector<std::int32_t> order;
+  order.reserve(static_cast<std::size_t>(count) + 1);
+  if (count < k) {
+    std::vector<Real> sorted(values.data(), values.data() + k);
+    std::nth_element(sorted.begin(), sorted.begin() + count - 1, sorted.end());
+    const Real threshold = sorted[static_cast<std::size_t>(count - 1)];
+    // The smallest value left out, bounding every unlisted centroid.
+    Real next = *std::min_element(sorted.begin() + count, sorted.end());
+    Index below = 0;
+    for (Index j = 0; j < k; ++j) below += values[j] < threshold;
+    Index ties = count - below;  // entries equal to the threshold that fit in the list
+    for (Index j = 0; j < k; ++j) {
+      if (values[j] < threshold) order.push_back(static_cast<std::int32_t>(j));
+      else if (values[j] == threshold && ties > 0) {
+        order.push_back(static_cast<std::int32_t>(j));
+        --ties;
+      }
+    }
+    // Every centroid outside the list has a float value at least `next`; its exact value is at
+    // least that minus the rounding bound (as in find()), plus ||x||^2 for the distance.
+    const double reach = std::sqrt(static_cast<double>(x.squaredNorm())) + max_norm_;
+    const double error = 4.0 * (static_cast<double>(d) + 1.0) * (std::numeric_limits<Real>::epsilon() / 2) * reach * reach;
+    double norm = 0.0;
+    for (Index i = 0; i < d; ++i) norm += static_cast<double>(point[i]) * point[i];
+    const double squared = norm + static_cast<double>(next) - error;
+    *outside = squared > 0 ? std::sqrt(squared) * (1 - 1e-9) : 0.0;
+  } else {
+    for (Index j = 0; j < k; ++j) order.push_back(static_cast<std::int32_t>(j));
+    *outside = std::numeric_limits<double>::infinity();
+  }
+  std::vector<std::pair<double, std::int32_t>> exact(static_cast<std::size_t>(count));
+  for (Index i = 0; i < count; ++i) {
+    const std::int32_t c = order[static_cast<std::size_t>(i)];
+    exact[static_cast<std::size_t>(i)] = {squared_distance(point, centroids_.row(c).data(), d), c};
+  }
+  std::sort(exact.begin(), exact.end());
+  for (Index i = 0; i < count; ++i) {
+    cells[i] = exact[static_cast<std::size_t>(i)].second;
+    distances[i] = static_cast<float>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
+  }
+}
+
+void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
   const Index k = count(), d = dimensions();
   // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
   // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their
@@ -72,17 +124,14 @@ void NearestCentroid::find(const Real* points, Index n, Index* cells, double* di
   RowMatrix values;
   const auto block_rows = static_cast<std::size_t>(std::min(n, kPointBlock));
   std::vector<std::vector<Candidate>> candidates(block_rows);
-  // Per row: the smallest float value, where it is, and the second smallest.
-  std::vector<Real> best(block_rows), second(block_rows), slack(block_rows);
-  std::vector<Index> best_cell(block_rows);
+  std::vector<Real> best(block_rows), slack(block_rows);  // per row: the smallest float value
   for (Index first = 0; first < n; first += kPointBlock) {
     const Index rows = std::min(kPointBlock, n - first);
     const Eigen::Map<const RowMatrix> x(points + first * d, rows, d);
     for (Index r = 0; r < rows; ++r) {
       const auto u = static_cast<std::size_t>(r);
       candidates[u].clear();
-      best[u] = second[u] = kInf;
-      best_cell[u] = -1;
+      best[u] = kInf;
       const double reach = std::sqrt(static_cast<double>(x.row(r).squaredNorm())) + max_norm_;
       slack[u] = static_cast<Real>(8.0 * (static_cast<double>(d) + 1.0) * unit * reach * reach + 1e-30);
     }
@@ -95,19 +144,13 @@ void NearestCentroid::find(const Real* points, Index n, Index* cells, double* di
       for (Index r = 0; r < rows; ++r) {
         const auto u = static_cast<std::size_t>(r);
         // Most blocks hold nothing near the best so far: one vectorised minimum rules them out.
-        if (!(values.row(r).minCoeff() <= std::max(second[u], best[u] + slack[u]))) continue;
+        const Real block_min = values.row(r).minCoeff();
+        if (!(block_min <= best[u] + slack[u])) continue;
+        best[u] = std::min(best[u], block_min);
+        const Real limit = best[u] + slack[u];
         const Real* row = values.row(r).data();
-        for (Index j = 0; j < cols; ++j) {
-          const Real v = row[j];
-          if (v < best[u]) {
-            second[u] = best[u];
-            best[u] = v;
-            best_cell[u] = c0 + j;
-          } else if (v < second[u]) {
-            second[u] = v;
-          }
-          if (v <= best[u] + slack[u]) candidates[u].push_back({c0 + j, v});
-        }
+        for (Index j = 0; j < cols; ++j)
+          if (row[j] <= limit) candidates[u].push_back({c0 + j, row[j]});
       }
     }
     for (Index r = 0; r < rows; ++r) {
@@ -127,15 +170,6 @@ void NearestCentroid::find(const Real* points, Index n, Index* cells, double* di
       if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));
       cells[first + r] = winner;
       if (distances) distances[first + r] = winner_distance;
-      if (others) {
-        // Every other centroid's float value is at least `other`, and its exact value at least
-        // that minus the rounding bound (slack / 2); the distance adds ||x||^2.
-        const double other = winner == best_cell[u] ? second[u] : best[u];
-        double norm = 0.0;
-        for (Index i = 0; i < d; ++i) norm += static_cast<double>(p[i]) * p[i];
-        const double squared = norm + other - 0.5 * static_cast<double>(slack[u]);
-        others[first + r] = squared > 0 ? std::sqrt(squared) * (1 - 1e-9) : 0.0;
-      }
     }
   }
 }

@@ -5,6 +5,7 @@
 // product's rounding bound of the best is then re-checked with the exact reference distance
 // (squared_distance below, in double), so the answer is the centroid the plain loop over all
 // centroids would pick, ties broken by the lowest index.
+#include <cstdint>
 #include <vector>
 
 #include "qdmeta/core/types.hpp"
@@ -28,12 +29,16 @@ class NearestCentroid {
   const RowMatrix& centroids() const { return centroids_; }
 
   // The nearest centroid of each of `count` points (row-major, dimensions() columns) into
-  // `cells`; with `distances`, also the exact squared distance to it; with `others`, a lower
-  // bound on the distance (not squared) from the point to every other centroid. Single-threaded:
-  // callers split big batches into row ranges (each row's cell does not depend on the split).
-  void find(const Real* points, Index count, Index* cells, double* distances = nullptr,
-            double* others = nullptr) const;
+  // `cells`; with `distances`, also the exact squared distance to it. Single-threaded: callers
+  // split big batches into row ranges (each row's answer does not depend on the split).
+  void find(const Real* points, Index count, Index* cells, double* distances = nullptr) const;
   Index find(const Real* point) const;
+
+  // A neighbour list for `point`: the `count` centroids with the smallest float distance values
+  // (count <= count()), sorted by exact distance, into `cells` and `distances` (exact distances,
+  // rounded to float), and a lower bound on the distance from the point to every centroid not in
+  // the list (infinity when the list holds them all). One matrix-vector product and a selection.
+  void neighbours(const Real* point, Index count, std::int32_t* cells, float* distances, double* outside) const;
 
  private:
   RowMatrix centroids_;

@@ -116,6 +116,7 @@ CvtMapElitesParams read_cvt(ConfigReader& c) {
   }
   p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
   p.search = c.choice("search", p.search, kCvtSearchNames);
+  p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
   try {
     p.kmeans.validate();
   } catch (const InputError& e) {
