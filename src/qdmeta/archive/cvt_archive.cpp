@@ -88,9 +88,12 @@ void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourList
       lists.distances(row, i) = static_cast<Real>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
     }
     // Unlisted centroids are at least the parent's bound from the parent: delta less from here.
-    const double outside = lists_.outside[static_cast<std::size_t>(parent)];
-    lists.outside[static_cast<std::size_t>(row)] = (outside - delta) * (1 - 1e-12) - 1e-12;
-    return;
+    const double outside = (lists_.outside[static_cast<std::size_t>(parent)] - delta) * (1 - 1e-12) - 1e-12;
+    lists.outside[static_cast<std::size_t>(row)] = outside;
+    // The bound shrinks along a line of descent; once its margin over the nearest centroid falls
+    // under a fifth of that distance, most offspring would fail it and need the full search, so
+    // the list is remade from all centroids instead.
+    if (outside - lists.distances(row, 0) >= 0.2 * lists.distances(row, 0)) return;
   }
   search_.neighbours(measures, list_length_, lists.cells.row(row).data(), lists.distances.row(row).data(),
                      &lists.outside[static_cast<std::size_t>(row)]);

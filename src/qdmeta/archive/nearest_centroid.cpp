@@ -69,26 +69,27 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
   const Eigen::Map<const Vector> x(point, d);
   Vector values = norms_;
   values.noalias() += transposed_.transpose() * x;
-  // The `count` smallest values: a threshold by selection on a copy of the values, then one
-  // pass in index order (ties at the threshold go to the lowest indices).
+  // The `count` smallest values (ties to the lowest index). A threshold from every 16th value,
+  // set to let through about twice `count`, keeps one cheap pass over all values and a selection
+  // among the few that pass; when too few pass, the selection runs over all values.
   std::vector<std::int32_t> order;
-  order.reserve(static_cast<std::size_t>(count) + 1);
   if (count < k) {
-    std::vector<Real> sorted(values.data(), values.data() + k);
-    std::nth_element(sorted.begin(), sorted.begin() + count - 1, sorted.end());
-    const Real threshold = sorted[static_cast<std::size_t>(count - 1)];
-    // The smallest value left out, bounding every unlisted centroid.
-    Real next = *std::min_element(sorted.begin() + count, sorted.end());
-    Index below = 0;
-    for (Index j = 0; j < k; ++j) below += values[j] < threshold;
-    Index ties = count - below;  // entries equal to the threshold that fit in the list
-    for (Index j = 0; j < k; ++j) {
-      if (values[j] < threshold) order.push_back(static_cast<std::int32_t>(j));
-      else if (values[j] == threshold && ties > 0) {
-        order.push_back(static_cast<std::int32_t>(j));
-        --ties;
-      }
+    std::vector<std::pair<Real, std::int32_t>> passed;
+    std::vector<Real> sample;
+    for (Index j = 0; j < k; j += 16) sample.push_back(values[j]);
+    const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 16 + 8));
+    std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(q), sample.end());
+    const Real threshold = sample[q];
+    for (Index j = 0; j < k; ++j)
+      if (values[j] <= threshold) passed.emplace_back(values[j], static_cast<std::int32_t>(j));
+    if (static_cast<Index>(passed.size()) <= count) {  // rare: select among all values
+      passed.clear();
+      for (Index j = 0; j < k; ++j) passed.emplace_back(values[j], static_cast<std::int32_t>(j));
     }
+    std::nth_element(passed.begin(), passed.begin() + count, passed.end());
+    // The smallest value left out: the values that did not pass exceed every one that did.
+    const Real next = std::min_element(passed.begin() + count, passed.end())->first;
+    for (Index i = 0; i < count; ++i) order.push_back(passed[static_cast<std::size_t>(i)].second);
     // Every centroid outside the list has a float value at least `next`; its exact value is at
     // least that minus the rounding bound (as in find()), plus ||x||^2 for the distance.
     const double reach = std::sqrt(static_cast<double>(x.squaredNorm())) + max_norm_;
