@@ -31,13 +31,14 @@ Index CvtArchive::from_parent(const Real* x, Index parent) const {
   const double delta = std::sqrt(squared_distance(x, measures_.row(parent).data(), d));
   const std::int32_t* list = lists_.cells.row(parent).data();
   const Real* listed = lists_.distances.row(parent).data();
+  const double slack = lists_.slack[static_cast<std::size_t>(parent)];
   Index best = -1;
   double best_squared = std::numeric_limits<double>::infinity();
   double best_distance = best_squared;
   for (Index i = 0; i < list_length_; ++i) {
     // Listed distances are exact distances rounded to float (relative error under 1e-7); the
     // margins keep every bound below the truth despite that and the double rounding here.
-    const double lower = static_cast<double>(listed[i]) * (1 - 1e-6) - delta - 1e-12;
+    const double lower = static_cast<double>(listed[i]) * (1 - 1e-6) - slack - delta - 1e-12;
     if (lower > best_distance) break;  // the list is sorted: no later entry can be nearer
     const Index c = list[i];
     const double squared = squared_distance(x, search_.centroids().row(c).data(), d);
@@ -76,27 +77,22 @@ void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourList
   if (list_length_ == 0) return;
   if (parent >= 0) {
     const Index d = dimensions();
+    const auto u = static_cast<std::size_t>(row);
     const double delta = std::sqrt(squared_distance(measures, measures_.row(parent).data(), d));
-    std::vector<std::pair<double, std::int32_t>> exact(static_cast<std::size_t>(list_length_));
-    for (Index i = 0; i < list_length_; ++i) {
-      const std::int32_t c = lists_.cells(parent, i);
-      exact[static_cast<std::size_t>(i)] = {squared_distance(measures, search_.centroids().row(c).data(), d), c};
-    }
-    std::sort(exact.begin(), exact.end());
-    for (Index i = 0; i < list_length_; ++i) {
-      lists.cells(row, i) = exact[static_cast<std::size_t>(i)].second;
-      lists.distances(row, i) = static_cast<Real>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
-    }
-    // Unlisted centroids are at least the parent's bound from the parent: delta less from here.
-    const double outside = (lists_.outside[static_cast<std::size_t>(parent)] - delta) * (1 - 1e-12) - 1e-12;
-    lists.outside[static_cast<std::size_t>(row)] = outside;
-    // The bound shrinks along a line of descent; once its margin over the nearest centroid falls
-    // under a fifth of that distance, most offspring would fail it and need the full search, so
-    // the list is remade from all centroids instead.
-    if (outside - lists.distances(row, 0) >= 0.2 * lists.distances(row, 0)) return;
+    lists.cells.row(row) = lists_.cells.row(parent);
+    lists.distances.row(row) = lists_.distances.row(parent);
+    // Kept a hair wide (slack) and low (outside) against the rounding of delta.
+    lists.slack[u] = (lists_.slack[static_cast<std::size_t>(parent)] + delta) * (1 + 1e-12) + 1e-12;
+    lists.outside[u] = (lists_.outside[static_cast<std::size_t>(parent)] - delta) * (1 - 1e-12) - 1e-12;
+    // The bound wears down along a line of descent; once its margin over the nearest centroid
+    // falls under a fifth of that distance, most offspring would fail it and need the full
+    // search, so the list is remade from all centroids instead.
+    const double nearest = std::sqrt(squared_distance(measures, search_.centroids().row(lists_.cells(parent, 0)).data(), d));
+    if (lists.outside[u] - nearest >= 0.2 * nearest) return;
   }
   search_.neighbours(measures, list_length_, lists.cells.row(row).data(), lists.distances.row(row).data(),
                      &lists.outside[static_cast<std::size_t>(row)]);
+  lists.slack[static_cast<std::size_t>(row)] = 0.0;
 }
 
 AddStatus CvtArchive::add(const Real* solution, Real objective, const Real* measures) {
@@ -126,6 +122,7 @@ AddStatus CvtArchive::add_to_cell(Index cell, const Real* solution, Real objecti
     lists_.cells.row(cell) = lists.cells.row(row);
     lists_.distances.row(cell) = lists.distances.row(row);
     lists_.outside[static_cast<std::size_t>(cell)] = lists.outside[static_cast<std::size_t>(row)];
+    lists_.slack[static_cast<std::size_t>(cell)] = lists.slack[static_cast<std::size_t>(row)];
   }
   return status;
 }

@@ -34,10 +34,15 @@ struct NeighbourLists {
   Eigen::Matrix<std::int32_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> cells;
   RowMatrix distances;
   std::vector<double> outside;
+  // How far the descriptor may be from the point the distances were measured from: the true
+  // distance to a listed centroid is at least the listed one minus this (and `outside` already
+  // has it taken off). 0 for a list made from all centroids.
+  std::vector<double> slack;
   void resize(Index rows, Index length) {
     cells.resize(rows, length);
     distances.resize(rows, length);
     outside.resize(static_cast<std::size_t>(rows));
+    slack.resize(static_cast<std::size_t>(rows));
   }
 };
 
@@ -70,8 +75,8 @@ class CvtArchive {
   bool would_enter(Index cell, Real objective) const { return !occupied(cell) || objective > this->objective(cell); }
   // The neighbour list of a descriptor into row `row` of `lists` (sized lists.resize(rows,
   // list_length())). With `parent` >= 0, a row that locate() settled from that parent's list:
-  // the list is derived from the parent's (same centroids, re-sorted by exact distance; outside
-  // bound lowered by delta), cheap; else the full computation (a pass over all centroids).
+  // the parent's list serves as it is, its slack and outside bound worn by delta (cheap), unless
+  // that leaves too thin a margin; else the full computation (a pass over all centroids).
   void neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
 
   AddStatus add(const Real* solution, Real objective, const Real* measures);

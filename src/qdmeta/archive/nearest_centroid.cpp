@@ -53,6 +53,7 @@ NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(cen
                                  centroids_.rows(), centroids_.cols()));
   if (!centroids_.allFinite()) throw InputError("nearest centroid: a centroid has a NaN or infinite coordinate");
   transposed_ = -2 * centroids_.transpose();  // x * transposed_ = -2 x.c (exact scaling)
+  transposed_rows_ = transposed_;
   norms_ = centroids_.rowwise().squaredNorm();
   max_norm_ = std::sqrt(static_cast<double>(norms_.maxCoeff()));
 }
@@ -68,7 +69,7 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
   const Index k = this->count(), d = dimensions();
   const Eigen::Map<const Vector> x(point, d);
   Vector values = norms_;
-  values.noalias() += transposed_.transpose() * x;
+  values.noalias() += transposed_rows_.transpose() * x;
   // The `count` smallest values (ties to the lowest index). A threshold from every 16th value,
   // set to let through about twice `count`, keeps one cheap pass over all values and a selection
   // among the few that pass; when too few pass, the selection runs over all values.
@@ -80,8 +81,14 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
     const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 16 + 8));
     std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(q), sample.end());
     const Real threshold = sample[q];
-    for (Index j = 0; j < k; ++j)
-      if (values[j] <= threshold) passed.emplace_back(values[j], static_cast<std::int32_t>(j));
+    std::vector<std::int32_t> below(static_cast<std::size_t>(k));
+    std::size_t n_below = 0;
+    for (Index j = 0; j < k; ++j) {  // branch-free compaction
+      below[n_below] = static_cast<std::int32_t>(j);
+      n_below += values[j] <= threshold;
+    }
+    passed.reserve(n_below);
+    for (std::size_t i = 0; i < n_below; ++i) passed.emplace_back(values[below[i]], below[i]);
     if (static_cast<Index>(passed.size()) <= count) {  // rare: select among all values
       passed.clear();
       for (Index j = 0; j < k; ++j) passed.emplace_back(values[j], static_cast<std::int32_t>(j));

@@ -43,6 +43,7 @@ class NearestCentroid {
  private:
   RowMatrix centroids_;
   Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> transposed_;  // -2 C^T (d x k), column per centroid
+  RowMatrix transposed_rows_;  // the same, row-major: one point's values as d passes over k floats
   Vector norms_;                                                     // ||c||^2 in float
   double max_norm_ = 0.0;                                            // max ||c||
 };
