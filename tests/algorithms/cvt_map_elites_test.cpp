@@ -100,6 +100,36 @@ TEST(CvtMapElites, ArchiveNeverLosesAnEliteAndOnlyImproves) {
   EXPECT_GT(improved, 300);  // the run does improve its elites
 }
 
+// A task whose solutions with g0 < 0.3 are invalid ("dead") and leave NaN base features.
+struct HalfDeadTask {
+  Index genotype_size() const { return 3; }
+  Index base_feature_size() const { return 3; }
+  bool shareable() const { return true; }
+  void evaluate(GenotypeView g, EvaluationView out) const {
+    for (Index i = 0; i < g.count; ++i) {
+      const bool alive = g.row(i)[0] >= 0.3f;
+      out.valid[i] = alive;
+      out.fitness[i] = g.row(i)[1];
+      for (Index j = 0; j < 3; ++j) out.base_row(i)[j] = alive ? g.row(i)[j] : std::nanf("");
+    }
+  }
+};
+
+TEST(CvtMapElites, InvalidSolutionsNeverEnterAndTheirFeaturesAreIgnored) {
+  CvtMapElitesParams p;
+  p.kmeans.centroids = 50;
+  p.kmeans.samples = 2000;
+  p.kmeans.init_samples = 2000;
+  p.kmeans.iterations = 2;
+  p.neighbours = 8;
+  CvtMapElites cvt(p, Task(HalfDeadTask{}), {}, 4);
+  SerialEvaluator evaluator;
+  for (int g = 0; g < 10; ++g) cvt.step(evaluator);
+  const EliteTable t = cvt.elites();
+  ASSERT_GT(t.size(), 20);
+  for (Index i = 0; i < t.size(); ++i) EXPECT_GE(t.solutions(i, 0), 0.3f);
+}
+
 TEST(CvtMapElites, CountsInitialPopulationThenBatches) {
   SerialEvaluator evaluator;
   CvtMapElites cvt = make_cvt(5);

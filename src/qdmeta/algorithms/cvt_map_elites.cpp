@@ -48,7 +48,10 @@ void CvtMapElites::step(Evaluator& evaluator) {
   // Cells in parallel over fixed row ranges (each row's cell does not depend on the split);
   // then the neighbour lists of the rows that may enter (judged against the archive before the
   // batch: a superset of those that will), in parallel; then insertion in batch order.
-  // Invalid rows get a cell too; it is not used.
+  // Invalid rows get a cell too, never used: their base features (which a task may leave
+  // undefined, even NaN) are zeroed first.
+  for (Index r = 0; r < count; ++r)
+    if (!evaluations_.valid[static_cast<std::size_t>(r)]) evaluations_.base_features.row(r).setZero();
   cells_.resize(static_cast<std::size_t>(count));
   settled_.assign(static_cast<std::size_t>(count), 0);
   const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
