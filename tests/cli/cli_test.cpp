@@ -432,6 +432,39 @@ TEST(Cli, AuroraSameSeedSameBitsWithOneOrTwoThreads) {
   EXPECT_EQ(slurp(a / "archive.csv"), slurp(b / "archive.csv"));
 }
 
+// A small CVT-MAP-Elites run (200 centroids, its own cache directory): every archive row's
+// fitness is Rastrigin of its genotype and its cell the nearest centroid of its measures; the
+// same bits with 1 and 2 threads, and again when the centroids come from the cache.
+TEST(Cli, CvtMapElitesRunIsExactAndThreadIndependent) {
+  const fs::path cache = fresh_dir("cvt_cache");
+  const fs::path config = write_config("cvt", "algorithm = \"cvt-map-elites\"\n"
+                                              "[cvt]\ncentroids = 200\nsamples = 4000\ninit_samples = 2000\n"
+                                              "iterations = 5\ncache_dir = \"" + cache.string() + "\"\n");
+  const fs::path a = fresh_dir("cvt1"), b = fresh_dir("cvt2"), c = fresh_dir("cvt3");
+  const Outcome o = qdmeta_cli("run --config " + config.string() + " --out " + a.string() + " --evals 30000 --threads 1 --quiet");
+  ASSERT_EQ(o.status, 0) << o.output;
+  EXPECT_EQ(std::distance(fs::directory_iterator(cache), fs::directory_iterator{}), 1);  // the centroids, cached
+  ASSERT_EQ(qdmeta_cli("run --config " + config.string() + " --out " + b.string() + " --evals 30000 --threads 2 --quiet").status, 0);
+  fs::remove_all(cache);  // made afresh with 2 threads: the same centroids
+  ASSERT_EQ(qdmeta_cli("run --config " + config.string() + " --out " + c.string() + " --evals 30000 --threads 2 --quiet").status, 0);
+  EXPECT_EQ(slurp(a / "metrics.csv"), slurp(b / "metrics.csv"));
+  EXPECT_EQ(slurp(a / "archive.csv"), slurp(b / "archive.csv"));
+  EXPECT_EQ(slurp(a / "archive.csv"), slurp(c / "archive.csv"));
+  EXPECT_NE(slurp(a / "config.toml").find("centroids = 200"), std::string::npos);
+
+  const EliteTable t = read_elites_csv(a / "archive.csv");
+  ASSERT_GT(t.size(), 150);
+  ASSERT_EQ(t.measures.cols(), 20);
+  for (Index i = 0; i < t.size(); ++i) {
+    const double f = rastrigin::standard({t.solutions.row(i).data(), 20});
+    ASSERT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f)) << "row " << i;
+    ASSERT_TRUE(t.measures.row(i) == t.solutions.row(i)) << "row " << i;  // descriptor = base features = genes
+    ASSERT_LT(t.index[static_cast<std::size_t>(i)], 200);
+  }
+  std::set<std::int64_t> cells(t.index.begin(), t.index.end());
+  EXPECT_EQ(static_cast<Index>(cells.size()), t.size());
+}
+
 TEST(Cli, MissingSubcommandOrOptionIsAnError) {
   EXPECT_EQ(qdmeta_cli("").status, 2);
   EXPECT_EQ(qdmeta_cli("run --out /tmp/x").status, 2);

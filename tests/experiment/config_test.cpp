@@ -389,6 +389,48 @@ TEST(BuildRun, OtherBadConfigs) {
   }
 }
 
+TEST(BuildRun, ShippedCvtConfigBuildsWithThePapersSettings) {
+  const std::string path = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/cvt-map-elites.toml";
+  const BuiltRun run = build_run(load_toml(path), path, {});
+  ASSERT_NE(run.algorithm, nullptr);
+  EXPECT_EQ(run.algorithm->name(), "cvt-map-elites");
+  EXPECT_EQ(run.settings.budget, 100'000'000);
+  EXPECT_EQ(run.algorithm->stats(), ArchiveStats{});  // the centroids come with the first step
+  const toml::table& r = run.resolved;
+  EXPECT_EQ(r["cvt"]["centroids"].value<std::int64_t>(), 10'000);
+  EXPECT_EQ(r["cvt"]["samples"].value<std::int64_t>(), 1'000'000);
+  EXPECT_EQ(r["cvt"]["init"].value<std::string>(), "k-means++");
+  EXPECT_EQ(r["cvt"]["method"].value<std::string>(), "lloyd");
+  EXPECT_EQ(r["cvt"]["batch_size"].value<std::int64_t>(), 100'000);  // default recorded
+  EXPECT_EQ(r["cvt"]["lookup_chunk"].value<std::int64_t>(), 50);
+  EXPECT_EQ(r["map_elites"]["batch_size"].value<std::int64_t>(), 400);
+  EXPECT_EQ(r["mutation"]["sigma"].value<double>(), 0.05);
+}
+
+TEST(BuildRun, BadCvtConfigs) {
+  struct Case {
+    const char* toml_text;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\ncentroids = 0\n", "cvt.centroids = 0 is out of range"},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\nsamples = 50\n", "cvt.samples = 50 is out of range: must be in [10000,"},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\nmethod = \"elkan\"\n",
+       "cvt.method = \"elkan\" is not a valid choice: use one of \"lloyd\", \"mini-batch\""},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\ninit = \"kmeans++\"\n", "use one of \"k-means++\", \"random\""},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\ncentroid = 5\n", "unknown key 'cvt.centroid'"},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\ncache = \"yes\"\n", "cvt.cache must be true or false, got a string"},
+      {"algorithm = \"cvt-map-elites\"\n[map_elites]\nbatch_size = 0\n", "map_elites.batch_size = 0 is out of range"},
+      {"algorithm = \"map-elites\"\n[cvt]\ncentroids = 5\n", "unknown key 'cvt'"},
+  };
+  for (const auto& c : cases) {
+    const toml::table cfg = toml::parse(c.toml_text);
+    const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+    EXPECT_TRUE(contains(msg, "case.toml")) << c.toml_text << " -> " << msg;
+    EXPECT_TRUE(contains(msg, c.expected)) << c.toml_text << " -> " << msg;
+  }
+}
+
 TEST(BuildRun, MutationStepThatDoesNotDivideOneNamesTheFile) {
   // build.hpp: "Throws InputError naming the file and key for anything wrong in the config."
   // mutation.step passes its range check but fails MutationParams::validate (0.3 does not

@@ -19,10 +19,6 @@ void random_genotypes(RowMatrix& genotypes, Rng& rng) {
   for (Index k = 0; k < genotypes.size(); ++k) g[k] = static_cast<Real>(rng.uniform());
 }
 
-void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
-  mutate_copies([&](Rng& r) { return archive.solution(archive.sample_cell(r)); }, mutation, rng, offspring);
-}
-
 Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,
                    const EvaluationBatch& evaluations, RowMatrix& targets) {
   const Index count = genotypes.rows();
@@ -67,17 +63,7 @@ MapElites::MapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureM
 
 void MapElites::step(Evaluator& evaluator) {
   const Index n = task_.genotype_size();
-  // The first generation, or any generation that finds the archive empty (every solution so
-  // far invalid), draws random genotypes; the others mutate elites.
-  if (archive_.empty()) {
-    genotypes_.resize(generation_ == 0 ? params_.initial_population : params_.batch_size, n);
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kInitialPopulation), static_cast<std::uint64_t>(generation_)});
-    random_genotypes(genotypes_, rng);
-  } else {
-    genotypes_.resize(params_.batch_size, n);
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(generation_)});
-    generate_offspring(archive_, mutation_, rng, genotypes_);
-  }
+  next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
   evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
   evaluator.evaluate(task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view());
   insert_batch(archive_, *feature_map_, genotypes_, evaluations_, targets_);

@@ -4,6 +4,7 @@
 // uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
 #include <algorithm>
 #include <memory>
+#include <vector>
 
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
@@ -19,7 +20,7 @@ struct MapElitesParams {
   void validate() const;
 };
 
-// Building blocks shared with QD-Meta's per-map evolution.
+// Building blocks shared with QD-Meta's per-map evolution and CVT-MAP-Elites.
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
 void random_genotypes(RowMatrix& genotypes, Rng& rng);
 // Fills `offspring` (rows already sized) with mutated copies of parents, all drawn first:
@@ -30,8 +31,44 @@ void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng,
   for (Index r = 0; r < offspring.rows(); ++r) std::copy_n(pick_parent(rng), n, offspring.row(r).data());
   mutation.apply(offspring, rng);
 }
-// Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites.
-void generate_offspring(const GridArchive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring);
+
+// Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites of any
+// archive with sample_cell(rng) and solution(cell) (GridArchive, CvtArchive); with `parents`,
+// records each row's parent cell there.
+template <class Archive>
+void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring,
+                        std::vector<Index>* parents = nullptr) {
+  const Index n = offspring.cols();
+  if (parents) parents->resize(static_cast<std::size_t>(offspring.rows()));
+  for (Index r = 0; r < offspring.rows(); ++r) {
+    const Index cell = archive.sample_cell(rng);
+    std::copy_n(archive.solution(cell), n, offspring.row(r).data());
+    if (parents) (*parents)[static_cast<std::size_t>(r)] = cell;
+  }
+  mutation.apply(offspring, rng);
+}
+
+// The candidates of one MAP-Elites generation into `genotypes` (n columns): random genotypes
+// while the archive is empty (the initial population in generation 0, a batch after, when every
+// solution so far was invalid), else a batch of mutated elites. Each generation has its own
+// stream, (seed, kInitialPopulation or kVariation, generation). With `parents`, records each
+// row's parent cell there (-1 for random genotypes).
+template <class Archive>
+void next_genotypes(const Archive& archive, const MapElitesParams& params, const Mutation& mutation,
+                    std::uint64_t seed, std::int64_t generation, Index n, RowMatrix& genotypes,
+                    std::vector<Index>* parents = nullptr) {
+  const auto g = static_cast<std::uint64_t>(generation);
+  if (archive.empty()) {
+    genotypes.resize(generation == 0 ? params.initial_population : params.batch_size, n);
+    Rng rng = Rng::stream(seed, {key(StreamKey::kInitialPopulation), g});
+    random_genotypes(genotypes, rng);
+    if (parents) parents->assign(static_cast<std::size_t>(genotypes.rows()), -1);
+  } else {
+    genotypes.resize(params.batch_size, n);
+    Rng rng = Rng::stream(seed, {key(StreamKey::kVariation), g});
+    generate_offspring(archive, mutation, rng, genotypes, parents);
+  }
+}
 // Maps base features to target features and inserts the valid rows in batch order.
 // `targets` is a scratch buffer. Returns the number of rows that entered the archive.
 Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,

@@ -28,6 +28,7 @@ class SerialEvaluator final : public Evaluator {
     task.evaluate(genotypes, out);
   }
   int workers() const override { return 1; }
+  void within_workers(const std::function<void()>& fn) override;  // a one-thread task arena
 };
 
 // Threads from oneTBB. `threads` = 0 uses every core. Rows are split into chunks of at most

@@ -74,6 +74,11 @@ class ThreadEvaluator final : public Evaluator {
 
 }  // namespace
 
+void SerialEvaluator::within_workers(const std::function<void()>& fn) {
+  tbb::task_arena one(1);
+  one.execute(fn);
+}
+
 std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows) {
   return std::make_unique<ThreadEvaluator>(threads, chunk_rows);
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "qdmeta/algorithms/aurora.hpp"
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/control/controller.hpp"
@@ -22,9 +23,10 @@ namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
 
-enum class AlgorithmKind { kMapElites, kQdMeta, kAurora };
-constexpr EnumNames<AlgorithmKind, 3> kAlgorithmNames{{{AlgorithmKind::kMapElites, "map-elites"},
+enum class AlgorithmKind { kMapElites, kQdMeta, kCvtMapElites, kAurora };
+constexpr EnumNames<AlgorithmKind, 4> kAlgorithmNames{{{AlgorithmKind::kMapElites, "map-elites"},
                                                        {AlgorithmKind::kQdMeta, "qd-meta"},
+                                                       {AlgorithmKind::kCvtMapElites, "cvt-map-elites"},
                                                        {AlgorithmKind::kAurora, "aurora"}}};
 
 constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::kNone, "none"},
@@ -112,6 +114,44 @@ SarsaParams read_sarsa(ConfigReader& c) {
       static_cast<std::size_t>(c.integer("max_candidates", static_cast<std::int64_t>(t.max_candidates), 1, 1'000'000));
   t.min_value_gap = c.number("min_value_gap", t.min_value_gap, 0.0, 1e300);
   t.ks_alpha = c.number("ks_alpha", t.ks_alpha, 1e-12, 0.999999);
+  return p;
+}
+
+MapElitesParams read_map_elites(ConfigReader& me) {
+  MapElitesParams p;
+  p.batch_size = me.integer("batch_size", p.batch_size, 1, 10'000'000);
+  p.initial_population = me.integer("initial_population", p.initial_population, 1, 100'000'000);
+  return p;
+}
+
+// The [cvt] table: how the centroids are made and cached.
+CvtMapElitesParams read_cvt(ConfigReader& c) {
+  CvtMapElitesParams p;
+  KMeansParams& k = p.kmeans;
+  k.centroids = c.integer("centroids", k.centroids, 1, 10'000'000);
+  k.samples = c.integer("samples", k.samples, 1, 1'000'000'000);
+  k.init = c.choice("init", k.init, kKMeansInitNames);
+  k.init_samples = c.integer("init_samples", k.init_samples, 1, 1'000'000'000);
+  k.method = c.choice("method", k.method, kKMeansMethodNames);
+  k.iterations = static_cast<int>(c.integer("iterations", k.iterations, 0, 1'000'000));
+  k.batch_size = c.integer("batch_size", k.batch_size, 1, 1'000'000'000);
+  k.seed = static_cast<std::uint64_t>(c.integer("seed", static_cast<std::int64_t>(k.seed), 0, kMaxInt));
+  const bool cache = c.boolean("cache", true);
+  const std::string dir = c.string("cache_dir", "");
+  if (cache) {
+    p.cache_dir = dir.empty() ? default_centroid_cache_dir() : std::filesystem::path(dir);
+    if (p.cache_dir.empty())
+      throw InputError(fmt::format("{}: cvt.cache_dir is empty and neither XDG_CACHE_HOME nor HOME is set: "
+                                   "give cvt.cache_dir or set cvt.cache = false", c.source()));
+  }
+  p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
+  p.search = c.choice("search", p.search, kCvtSearchNames);
+  p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
+  try {
+    p.kmeans.validate();
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", c.source(), e.what()));
+  }
   return p;
 }
 
@@ -230,9 +270,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   switch (kind) {
     case AlgorithmKind::kMapElites: {
       ConfigReader me = root.table("map_elites");
-      MapElitesParams p;
-      p.batch_size = me.integer("batch_size", p.batch_size, 1, 10'000'000);
-      p.initial_population = me.integer("initial_population", p.initial_population, 1, 100'000'000);
+      const MapElitesParams p = read_map_elites(me);
       ConfigReader archive_table = root.table("archive");
       std::vector<int> measures;
       GridArchiveParams grid = read_grid(archive_table, &measures, task.base_feature_size());
@@ -241,6 +279,16 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       archive_table.finish();
       built.algorithm = std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid),
                                                     mutation, s.seed);
+      break;
+    }
+    case AlgorithmKind::kCvtMapElites: {
+      ConfigReader me = root.table("map_elites");
+      ConfigReader cvt = root.table("cvt");
+      CvtMapElitesParams p = read_cvt(cvt);
+      p.map_elites = read_map_elites(me);
+      me.finish();
+      cvt.finish();
+      built.algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
       break;
     }
     case AlgorithmKind::kQdMeta: {

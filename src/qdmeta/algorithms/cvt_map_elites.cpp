@@ -1,0 +1,114 @@
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+void CvtMapElitesParams::validate() const {
+  map_elites.validate();
+  kmeans.validate();
+  require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
+  require_range("cvt.neighbours", neighbours, Index{1}, Index{100'000});
+}
+
+CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
+    : params_(std::move(params)), task_(std::move(task)), mutation_(mutation), seed_(seed) {
+  params_.validate();
+}
+
+void CvtMapElites::prepare(Evaluator& evaluator) {
+  if (archive_) return;
+  CachedCentroids made;
+  evaluator.within_workers(
+      [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
+  if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());
+  cache_outcome_ = made.outcome;
+  const Index lists = params_.search == CvtSearch::kParentBound ? params_.neighbours : 0;
+  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
+}
+
+const CvtArchive& CvtMapElites::archive() const {
+  if (!archive_) throw Error("cvt-map-elites: the archive is made by the first step (or prepare())");
+  return *archive_;
+}
+
+void CvtMapElites::step(Evaluator& evaluator) {
+  prepare(evaluator);
+  CvtArchive& archive = *archive_;
+  const Index n = task_.genotype_size();
+  next_genotypes(archive, params_.map_elites, mutation_, seed_, generation_, n, genotypes_, &parents_);
+  const Index count = genotypes_.rows();
+  evaluations_.resize(count, task_.base_feature_size());
+  evaluator.evaluate(task_, {genotypes_.data(), count, n}, evaluations_.view());
+  // Cells in parallel over fixed row ranges (each row's cell does not depend on the split);
+  // then the neighbour lists of the rows that may enter (judged against the archive before the
+  // batch: a superset of those that will), in parallel; then insertion in batch order.
+  // Invalid rows get a cell too, never used: their base features (which a task may leave
+  // undefined, even NaN) are zeroed first.
+  for (Index r = 0; r < count; ++r)
+    if (!evaluations_.valid[static_cast<std::size_t>(r)]) evaluations_.base_features.row(r).setZero();
+  cells_.resize(static_cast<std::size_t>(count));
+  settled_.assign(static_cast<std::size_t>(count), 0);
+  const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
+  const Index chunk = params_.lookup_chunk;
+  const Index chunks = (count + chunk - 1) / chunk;
+  searched_per_chunk_.assign(static_cast<std::size_t>(chunks), 0);
+  evaluator.parallel_for(chunks, [&](Index c) {
+    const Index first = c * chunk;
+    searched_per_chunk_[static_cast<std::size_t>(c)] =
+        archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
+                       parents ? parents + first : nullptr, cells_.data() + first, settled_.data() + first);
+  });
+  for (Index n_searched : searched_per_chunk_) searched_ += n_searched;
+  entering_.clear();
+  for (Index r = 0; r < count; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    if (evaluations_.valid[u] && archive.would_enter(cells_[u], evaluations_.fitness[r])) entering_.push_back(r);
+  }
+  lists_.resize(count, archive.list_length());
+  if (archive.list_length() > 0) {
+    const auto entering = static_cast<Index>(entering_.size());
+    evaluator.parallel_for((entering + chunk - 1) / chunk, [&](Index c) {
+      for (Index i = c * chunk; i < std::min(entering, (c + 1) * chunk); ++i) {
+        const Index r = entering_[static_cast<std::size_t>(i)];
+        const auto u = static_cast<std::size_t>(r);
+        archive.neighbours_of(evaluations_.base_features.row(r).data(), settled_[u] ? parents_[u] : -1, lists_, r);
+      }
+    });
+  }
+  for (Index r : entering_)
+    archive.add_to_cell(cells_[static_cast<std::size_t>(r)], genotypes_.row(r).data(), evaluations_.fitness[r],
+                        evaluations_.base_features.row(r).data(), lists_, r);
+  counters_.bottom += count;
+  ++generation_;
+}
+
+ArchiveStats CvtMapElites::stats() const { return archive_ ? archive_->stats() : ArchiveStats{}; }
+
+EliteTable CvtMapElites::elites() const {
+  EliteTable t;
+  if (!archive_) return t;
+  const CvtArchive& archive = *archive_;
+  std::vector<Index> cells = archive.filled_cells();
+  std::sort(cells.begin(), cells.end());
+  const auto count = static_cast<Index>(cells.size());
+  t.index.assign(cells.begin(), cells.end());
+  t.objective.resize(cells.size());
+  t.measures.resize(count, archive.dimensions());
+  t.solutions.resize(count, archive.params().solution_size);
+  t.base_features.resize(count, 0);  // the measures are the base features
+  for (Index i = 0; i < count; ++i) {
+    const Index c = cells[static_cast<std::size_t>(i)];
+    t.objective[static_cast<std::size_t>(i)] = archive.objective(c);
+    std::copy_n(archive.measures(c), archive.dimensions(), t.measures.row(i).data());
+    std::copy_n(archive.solution(c), archive.params().solution_size, t.solutions.row(i).data());
+  }
+  return t;
+}
+
+}  // namespace qdmeta

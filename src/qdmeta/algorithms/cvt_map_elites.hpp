@@ -1,0 +1,76 @@
+#pragma once
+// CVT-MAP-Elites (Vassiliades et al.; SPEC.md section 6): MAP-Elites whose cells are the
+// Voronoi cells of k-means centroids in the base-feature space. Same loop as MapElites (random
+// initial population, then batches of mutated elites drawn uniformly); a solution's descriptor is
+// its base features, its cell the nearest centroid. The centroids are made (or read from the
+// cache) by the first step, on the evaluator's workers.
+#include <filesystem>
+#include <optional>
+
+#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/archive/cvt_archive.hpp"
+#include "qdmeta/archive/kmeans.hpp"
+#include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/task.hpp"
+#include "qdmeta/io/centroid_cache.hpp"
+
+namespace qdmeta {
+
+// How an offspring's cell is found; both give the same cell (the exact nearest centroid).
+enum class CvtSearch { kParentBound, kBruteForce };
+inline constexpr EnumNames<CvtSearch, 2> kCvtSearchNames{
+    {{CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
+
+struct CvtMapElitesParams {
+  MapElitesParams map_elites;        // batch size and initial population
+  KMeansParams kmeans;               // how the centroids are made
+  std::filesystem::path cache_dir;   // centroid cache directory; empty: no cache
+  Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
+  CvtSearch search = CvtSearch::kParentBound;  // settle offspring from the parent's neighbours, or always search
+  Index neighbours = 256;            // parent-bound: neighbour list length per elite, >= 1
+  void validate() const;
+};
+
+class CvtMapElites final : public Algorithm {
+ public:
+  CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed);
+
+  std::string name() const override { return "cvt-map-elites"; }
+  void step(Evaluator& evaluator) override;
+  std::int64_t generation() const override { return generation_; }
+  EvaluationCounters counters() const override { return counters_; }
+  ArchiveStats stats() const override;
+  // index = centroid index, measures = descriptor (base features), solutions = genotypes.
+  EliteTable elites() const override;
+
+  // Makes or loads the centroids and the empty archive (the first step calls it). k-means runs
+  // on the evaluator's workers; a regenerated cache file is reported on stderr.
+  void prepare(Evaluator& evaluator);
+  bool prepared() const { return archive_.has_value(); }
+  const CvtArchive& archive() const;
+  CacheOutcome cache_outcome() const { return cache_outcome_; }
+  // Offspring whose cell needed the full search (the rest were settled by the parent bound).
+  std::int64_t searched() const { return searched_; }
+
+ private:
+  CvtMapElitesParams params_;
+  Task task_;
+  Mutation mutation_;
+  std::uint64_t seed_;
+  std::optional<CvtArchive> archive_;
+  CacheOutcome cache_outcome_ = CacheOutcome::kDisabled;
+  std::int64_t generation_ = 0;
+  std::int64_t searched_ = 0;
+  EvaluationCounters counters_;
+  RowMatrix genotypes_;
+  EvaluationBatch evaluations_;
+  std::vector<Index> parents_;
+  std::vector<Index> cells_;
+  std::vector<std::uint8_t> settled_;  // 1: the row's cell came from its parent's neighbour list
+  std::vector<Index> searched_per_chunk_;
+  std::vector<Index> entering_;  // rows that would enter the archive as it was before the batch
+  NeighbourLists lists_;         // their neighbour lists, one row per batch row
+};
+
+}  // namespace qdmeta

@@ -1,0 +1,115 @@
+#pragma once
+// A CVT-MAP-Elites archive (Vassiliades et al.; SPEC.md section 6): one cell per centroid, a
+// descriptor belongs to the cell of its nearest centroid (exact, ties to the lowest index), one
+// elite per cell, replaced only by a strictly better objective. Descriptors are the task's base
+// features. Storage is struct-of-arrays, one row per cell, like GridArchive.
+//
+// Offspring land near their parent, so each elite also keeps a neighbour list: the `neighbours`
+// centroids nearest its descriptor with their distances, and a lower bound on its distance to
+// every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
+// least d(m_p, c) - delta from any centroid c (triangle inequality): walking p's list in order
+// of distance finds the nearest listed centroid, and when p's outside bound minus delta exceeds
+// that distance no other centroid can be nearer, so the answer is exact without the full search
+// over all centroids. Otherwise the full search runs. Both give index_of's answer.
+#include <cstdint>
+#include <vector>
+
+#include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/archive/nearest_centroid.hpp"
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/core/types.hpp"
+
+namespace qdmeta {
+
+struct CvtArchiveParams {
+  Index solution_size = 0;  // genes per solution, >= 1
+  double qd_offset = 0.0;   // QD-score counts objective - qd_offset
+  Index neighbours = 256;   // neighbour list length per elite (capped at the cell count); 0: none
+  void validate() const;
+};
+
+// Neighbour lists of descriptors about to enter the archive, one row each.
+struct NeighbourLists {
+  Eigen::Matrix<std::int32_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> cells;
+  RowMatrix distances;
+  std::vector<double> outside;
+  // How far the descriptor may be from the point the distances were measured from: the true
+  // distance to a listed centroid is at least the listed one minus this (and `outside` already
+  // has it taken off). 0 for a list made from all centroids.
+  std::vector<double> slack;
+  void resize(Index rows, Index length) {
+    cells.resize(rows, length);
+    distances.resize(rows, length);
+    outside.resize(static_cast<std::size_t>(rows));
+    slack.resize(static_cast<std::size_t>(rows));
+  }
+};
+
+class CvtArchive {
+ public:
+  // `centroids`: one row per cell (k x descriptor size).
+  CvtArchive(CvtArchiveParams params, RowMatrix centroids);
+
+  const CvtArchiveParams& params() const { return params_; }
+  Index cells() const { return search_.count(); }
+  Index dimensions() const { return search_.dimensions(); }
+  Index size() const { return static_cast<Index>(filled_.size()); }
+  bool empty() const { return filled_.empty(); }
+  const RowMatrix& centroids() const { return search_.centroids(); }
+  Index list_length() const { return list_length_; }
+
+  // The cell of a descriptor: the full search.
+  Index index_of(const Real* measures) const { return search_.find(measures); }
+
+  // Cells of `count` descriptors (row-major) into `cells`. With `parents` (the cell of each
+  // row's parent elite, -1 for none) and neighbour lists, rows are first settled from their
+  // parent's list (see above); the others get the full search. Single-threaded; callers may
+  // split the rows (each row's answer does not depend on it). Returns the number of rows that
+  // needed the full search.
+  // With `settled`, marks each row settled from its parent's list (1) or searched (0).
+  Index locate(const Real* measures, Index count, const Index* parents, Index* cells,
+               std::uint8_t* settled = nullptr) const;
+
+  // True when `objective` would enter `cell` now (empty, or strictly better).
+  bool would_enter(Index cell, Real objective) const { return !occupied(cell) || objective > this->objective(cell); }
+  // The neighbour list of a descriptor into row `row` of `lists` (sized lists.resize(rows,
+  // list_length())). With `parent` >= 0, a row that locate() settled from that parent's list:
+  // the parent's list serves as it is, its slack and outside bound worn by delta (cheap), unless
+  // that leaves too thin a margin; else the full computation (a pass over all centroids).
+  void neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
+
+  AddStatus add(const Real* solution, Real objective, const Real* measures);
+  // `cell` must be index_of(measures) and row `row` of `lists` its neighbour list (ignored when
+  // list_length() is 0), computed beforehand (e.g. for a whole batch, in parallel).
+  AddStatus add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
+                        const NeighbourLists& lists, Index row);
+  void clear();
+
+  bool occupied(Index cell) const { return occupied_[static_cast<std::size_t>(cell)] != 0; }
+  Real objective(Index cell) const { return objectives_[static_cast<std::size_t>(cell)]; }
+  const Real* solution(Index cell) const { return solutions_.row(cell).data(); }
+  const Real* measures(Index cell) const { return measures_.row(cell).data(); }
+  // Filled cells, in the order they were first filled.
+  const std::vector<Index>& filled_cells() const { return filled_; }
+  // A filled cell drawn uniformly. The archive must not be empty.
+  Index sample_cell(Rng& rng) const { return filled_[rng.below(filled_.size())]; }
+
+  ArchiveStats stats() const;
+
+ private:
+  // The nearest centroid from the parent's list, or -1 when the list cannot prove it.
+  Index from_parent(const Real* x, Index parent) const;
+
+  CvtArchiveParams params_;
+  NearestCentroid search_;
+  Index list_length_ = 0;
+  std::vector<std::uint8_t> occupied_;
+  std::vector<Real> objectives_;
+  RowMatrix solutions_;
+  RowMatrix measures_;
+  NeighbourLists lists_;  // one row per cell: its elite's neighbour list
+  std::vector<Index> filled_;
+};
+
+}  // namespace qdmeta

@@ -1,0 +1,185 @@
+#include "qdmeta/archive/nearest_centroid.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+#include "qdmeta/core/error.hpp"
+
+namespace qdmeta {
+namespace {
+
+// Block sizes of the distance product (the best of those measured, bench/README.md): a 64 x 512
+// float block (128 KiB) stays in L2 while it is scanned for its minimum.
+constexpr Index kPointBlock = 64;
+constexpr Index kCentroidBlock = 512;
+
+struct Candidate {
+  Index cell;
+  Real value;  // ||c||^2 - 2 x.c in float
+};
+
+}  // namespace
+
+double squared_distance(const Real* a, const Real* b, Index dimensions) {
+  double sum = 0.0;
+  for (Index i = 0; i < dimensions; ++i) {
+    const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
+    sum += d * d;
+  }
+  return sum;
+}
+
+Index nearest_centroid_naive(const RowMatrix& centroids, const Real* point) {
+  Index best = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (Index c = 0; c < centroids.rows(); ++c) {
+    const double d = squared_distance(point, centroids.row(c).data(), centroids.cols());
+    if (d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(centroids)) {
+  if (centroids_.rows() < 1 || centroids_.cols() < 1)
+    throw InputError(fmt::format("nearest centroid: {} x {} centroids: need at least one centroid of one dimension",
+                                 centroids_.rows(), centroids_.cols()));
+  if (!centroids_.allFinite()) throw InputError("nearest centroid: a centroid has a NaN or infinite coordinate");
+  transposed_ = -2 * centroids_.transpose();  // x * transposed_ = -2 x.c (exact scaling)
+  transposed_rows_ = transposed_;
+  norms_ = centroids_.rowwise().squaredNorm();
+  max_norm_ = std::sqrt(static_cast<double>(norms_.maxCoeff()));
+}
+
+Index NearestCentroid::find(const Real* point) const {
+  Index cell = 0;
+  find(point, 1, &cell);
+  return cell;
+}
+
+void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* cells, float* distances,
+                                 double* outside) const {
+  const Index k = this->count(), d = dimensions();
+  const Eigen::Map<const Vector> x(point, d);
+  Vector values = norms_;
+  values.noalias() += transposed_rows_.transpose() * x;
+  // The `count` smallest values (ties to the lowest index). A threshold from every 16th value,
+  // set to let through about twice `count`, keeps one cheap pass over all values and a selection
+  // among the few that pass; when too few pass, the selection runs over all values.
+  std::vector<std::int32_t> order;
+  if (count < k) {
+    std::vector<std::pair<Real, std::int32_t>> passed;
+    std::vector<Real> sample;
+    for (Index j = 0; j < k; j += 16) sample.push_back(values[j]);
+    const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 16 + 8));
+    std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(q), sample.end());
+    const Real threshold = sample[q];
+    std::vector<std::int32_t> below(static_cast<std::size_t>(k));
+    std::size_t n_below = 0;
+    for (Index j = 0; j < k; ++j) {  // branch-free compaction
+      below[n_below] = static_cast<std::int32_t>(j);
+      n_below += values[j] <= threshold;
+    }
+    passed.reserve(n_below);
+    for (std::size_t i = 0; i < n_below; ++i) passed.emplace_back(values[below[i]], below[i]);
+    if (static_cast<Index>(passed.size()) <= count) {  // rare: select among all values
+      passed.clear();
+      for (Index j = 0; j < k; ++j) passed.emplace_back(values[j], static_cast<std::int32_t>(j));
+    }
+    std::nth_element(passed.begin(), passed.begin() + count, passed.end());
+    // The smallest value left out: the values that did not pass exceed every one that did.
+    const Real next = std::min_element(passed.begin() + count, passed.end())->first;
+    for (Index i = 0; i < count; ++i) order.push_back(passed[static_cast<std::size_t>(i)].second);
+    // Every centroid outside the list has a float value at least `next`; its exact value is at
+    // least that minus the rounding bound (as in find()), plus ||x||^2 for the distance.
+    const double reach = std::sqrt(static_cast<double>(x.squaredNorm())) + max_norm_;
+    const double error = 4.0 * (static_cast<double>(d) + 1.0) * (std::numeric_limits<Real>::epsilon() / 2) * reach * reach;
+    double norm = 0.0;
+    for (Index i = 0; i < d; ++i) norm += static_cast<double>(point[i]) * point[i];
+    const double squared = norm + static_cast<double>(next) - error;
+    *outside = squared > 0 ? std::sqrt(squared) * (1 - 1e-9) : 0.0;
+  } else {
+    for (Index j = 0; j < k; ++j) order.push_back(static_cast<std::int32_t>(j));
+    *outside = std::numeric_limits<double>::infinity();
+  }
+  std::vector<std::pair<double, std::int32_t>> exact(static_cast<std::size_t>(count));
+  for (Index i = 0; i < count; ++i) {
+    const std::int32_t c = order[static_cast<std::size_t>(i)];
+    exact[static_cast<std::size_t>(i)] = {squared_distance(point, centroids_.row(c).data(), d), c};
+  }
+  std::sort(exact.begin(), exact.end());
+  for (Index i = 0; i < count; ++i) {
+    cells[i] = exact[static_cast<std::size_t>(i)].second;
+    distances[i] = static_cast<float>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
+  }
+}
+
+void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
+  const Index k = count(), d = dimensions();
+  // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
+  // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their
+  // magnitudes, under (2d + 1) u (||x|| + ||c||)^2 in all. Two values whose exact order could
+  // differ lie within twice that; the slack doubles it again for safety.
+  const double unit = std::numeric_limits<Real>::epsilon() / 2;
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  RowMatrix values;
+  const auto block_rows = static_cast<std::size_t>(std::min(n, kPointBlock));
+  std::vector<std::vector<Candidate>> candidates(block_rows);
+  std::vector<Real> best(block_rows), slack(block_rows);  // per row: the smallest float value
+  for (Index first = 0; first < n; first += kPointBlock) {
+    const Index rows = std::min(kPointBlock, n - first);
+    const Eigen::Map<const RowMatrix> x(points + first * d, rows, d);
+    for (Index r = 0; r < rows; ++r) {
+      const auto u = static_cast<std::size_t>(r);
+      candidates[u].clear();
+      best[u] = kInf;
+      const double reach = std::sqrt(static_cast<double>(x.row(r).squaredNorm())) + max_norm_;
+      slack[u] = static_cast<Real>(8.0 * (static_cast<double>(d) + 1.0) * unit * reach * reach + 1e-30);
+    }
+    for (Index c0 = 0; c0 < k; c0 += kCentroidBlock) {
+      const Index cols = std::min(kCentroidBlock, k - c0);
+      // values(r, j) = ||c_j||^2 - 2 x_r.c_j: the norms broadcast, then the product added.
+      values.resize(rows, cols);
+      values.rowwise() = norms_.segment(c0, cols).transpose();
+      values.noalias() += x * transposed_.middleCols(c0, cols);
+      for (Index r = 0; r < rows; ++r) {
+        const auto u = static_cast<std::size_t>(r);
+        // Most blocks hold nothing near the best so far: one vectorised minimum rules them out.
+        const Real block_min = values.row(r).minCoeff();
+        if (!(block_min <= best[u] + slack[u])) continue;
+        best[u] = std::min(best[u], block_min);
+        const Real limit = best[u] + slack[u];
+        const Real* row = values.row(r).data();
+        for (Index j = 0; j < cols; ++j)
+          if (row[j] <= limit) candidates[u].push_back({c0 + j, row[j]});
+      }
+    }
+    for (Index r = 0; r < rows; ++r) {
+      const auto u = static_cast<std::size_t>(r);
+      const Real limit = best[u] + slack[u];
+      const Real* p = points + (first + r) * d;
+      Index winner = -1;
+      double winner_distance = std::numeric_limits<double>::infinity();
+      for (const Candidate& c : candidates[u]) {  // in increasing cell order
+        if (c.value > limit) continue;
+        const double dist = squared_distance(p, centroids_.row(c.cell).data(), d);
+        if (dist < winner_distance) {
+          winner_distance = dist;
+          winner = c.cell;
+        }
+      }
+      if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));
+      cells[first + r] = winner;
+      if (distances) distances[first + r] = winner_distance;
+    }
+  }
+}
+
+}  // namespace qdmeta

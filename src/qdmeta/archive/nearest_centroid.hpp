@@ -1,0 +1,51 @@
+#pragma once
+// Exact nearest-centroid search for CVT archives and k-means. Distances are first computed for
+// blocks of points x blocks of centroids as ||c||^2 - 2 x.c through an Eigen float matrix
+// product (the arithmetic peak of the machine); every centroid whose float value lies within the
+// product's rounding bound of the best is then re-checked with the exact reference distance
+// (squared_distance below, in double), so the answer is the centroid the plain loop over all
+// centroids would pick, ties broken by the lowest index.
+#include <cstdint>
+#include <vector>
+
+#include "qdmeta/core/types.hpp"
+
+namespace qdmeta {
+
+// The reference: sum over i of (a_i - b_i)^2 in double, in index order.
+double squared_distance(const Real* a, const Real* b, Index dimensions);
+
+// The reference search: the plain loop (for tests and as the definition of "exact").
+Index nearest_centroid_naive(const RowMatrix& centroids, const Real* point);
+
+class NearestCentroid {
+ public:
+  NearestCentroid() = default;
+  // `centroids`: one per row (k x d), k >= 1, all finite.
+  explicit NearestCentroid(RowMatrix centroids);
+
+  Index count() const { return centroids_.rows(); }
+  Index dimensions() const { return centroids_.cols(); }
+  const RowMatrix& centroids() const { return centroids_; }
+
+  // The nearest centroid of each of `count` points (row-major, dimensions() columns) into
+  // `cells`; with `distances`, also the exact squared distance to it. Single-threaded: callers
+  // split big batches into row ranges (each row's answer does not depend on the split).
+  void find(const Real* points, Index count, Index* cells, double* distances = nullptr) const;
+  Index find(const Real* point) const;
+
+  // A neighbour list for `point`: the `count` centroids with the smallest float distance values
+  // (count <= count()), sorted by exact distance, into `cells` and `distances` (exact distances,
+  // rounded to float), and a lower bound on the distance from the point to every centroid not in
+  // the list (infinity when the list holds them all). One matrix-vector product and a selection.
+  void neighbours(const Real* point, Index count, std::int32_t* cells, float* distances, double* outside) const;
+
+ private:
+  RowMatrix centroids_;
+  Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> transposed_;  // -2 C^T (d x k), column per centroid
+  RowMatrix transposed_rows_;  // the same, row-major: one point's values as d passes over k floats
+  Vector norms_;                                                     // ||c||^2 in float
+  double max_norm_ = 0.0;                                            // max ||c||
+};
+
+}  // namespace qdmeta

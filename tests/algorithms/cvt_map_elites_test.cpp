@@ -1,0 +1,146 @@
+// CVT-MAP-Elites: same bits at any thread count, every elite in its nearest centroid's cell with
+// its base features as descriptor, strictly-better replacement over a run, accounting.
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "qdmeta/tasks/rastrigin/rastrigin.hpp"
+#include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+
+namespace qdmeta {
+namespace {
+
+CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound) {
+  CvtMapElitesParams p;
+  p.search = search;
+  p.neighbours = 32;
+  p.kmeans.centroids = 300;
+  p.kmeans.samples = 6000;
+  p.kmeans.init_samples = 3000;
+  p.kmeans.iterations = 3;
+  p.lookup_chunk = 30;
+  return CvtMapElites(p, Task(RastriginTask()), {}, seed);
+}
+
+TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
+  std::vector<EliteTable> results;
+  for (int threads : {1, 2, 3}) {
+    auto evaluator = make_evaluator(threads);
+    CvtMapElites cvt = make_cvt(7);
+    for (int g = 0; g < 30; ++g) cvt.step(*evaluator);
+    results.push_back(cvt.elites());
+  }
+  for (std::size_t i = 1; i < results.size(); ++i) {
+    EXPECT_EQ(results[i].index, results[0].index);
+    EXPECT_EQ(results[i].objective, results[0].objective);
+    EXPECT_TRUE(results[i].solutions == results[0].solutions);
+    EXPECT_TRUE(results[i].measures == results[0].measures);
+  }
+}
+
+TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
+  SerialEvaluator evaluator;
+  CvtMapElites a = make_cvt(9, CvtSearch::kParentBound), b = make_cvt(9, CvtSearch::kBruteForce);
+  for (int g = 0; g < 40; ++g) {
+    a.step(evaluator);
+    b.step(evaluator);
+  }
+  const EliteTable ta = a.elites(), tb = b.elites();
+  EXPECT_EQ(ta.index, tb.index);
+  EXPECT_EQ(ta.objective, tb.objective);
+  EXPECT_TRUE(ta.solutions == tb.solutions);
+}
+
+TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(3);
+  EXPECT_EQ(cvt.elites().size(), 0);  // nothing before the first step
+  EXPECT_EQ(cvt.stats(), ArchiveStats{});
+  for (int g = 0; g < 20; ++g) cvt.step(evaluator);
+  const EliteTable t = cvt.elites();
+  ASSERT_GT(t.size(), 250);
+  const RowMatrix& centroids = cvt.archive().centroids();
+  for (Index i = 0; i < t.size(); ++i) {
+    EXPECT_EQ(t.index[static_cast<std::size_t>(i)], nearest_centroid_naive(centroids, t.measures.row(i).data()));
+    EXPECT_TRUE(t.measures.row(i) == t.solutions.row(i));  // Rastrigin's base features are the genes
+    const double f = rastrigin::standard({t.solutions.row(i).data(), 20});
+    EXPECT_NEAR(t.objective[static_cast<std::size_t>(i)], f, 1e-3 + 1e-5 * std::abs(f));
+  }
+  EXPECT_EQ(cvt.stats().num_elites, t.size());
+  EXPECT_DOUBLE_EQ(cvt.stats().coverage, static_cast<double>(t.size()) / 300);
+}
+
+TEST(CvtMapElites, ArchiveNeverLosesAnEliteAndOnlyImproves) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(11);
+  cvt.step(evaluator);
+  std::vector<Real> previous(300, -INFINITY);
+  Index size = 0;
+  double best = -INFINITY;
+  int improved = 0;
+  for (int g = 0; g < 60; ++g) {
+    cvt.step(evaluator);
+    const ArchiveStats s = cvt.stats();
+    EXPECT_GE(s.num_elites, size);
+    EXPECT_GE(s.obj_max, best);
+    size = s.num_elites;
+    best = s.obj_max;
+    for (Index c = 0; c < 300; ++c) {
+      if (!cvt.archive().occupied(c)) {
+        EXPECT_EQ(previous[static_cast<std::size_t>(c)], -INFINITY);
+        continue;
+      }
+      EXPECT_GE(cvt.archive().objective(c), previous[static_cast<std::size_t>(c)]);
+      improved += cvt.archive().objective(c) > previous[static_cast<std::size_t>(c)];
+      previous[static_cast<std::size_t>(c)] = cvt.archive().objective(c);
+    }
+  }
+  EXPECT_GT(improved, 300);  // the run does improve its elites
+}
+
+// A task whose solutions with g0 < 0.3 are invalid ("dead") and leave NaN base features.
+struct HalfDeadTask {
+  Index genotype_size() const { return 3; }
+  Index base_feature_size() const { return 3; }
+  bool shareable() const { return true; }
+  void evaluate(GenotypeView g, EvaluationView out) const {
+    for (Index i = 0; i < g.count; ++i) {
+      const bool alive = g.row(i)[0] >= 0.3f;
+      out.valid[i] = alive;
+      out.fitness[i] = g.row(i)[1];
+      for (Index j = 0; j < 3; ++j) out.base_row(i)[j] = alive ? g.row(i)[j] : std::nanf("");
+    }
+  }
+};
+
+TEST(CvtMapElites, InvalidSolutionsNeverEnterAndTheirFeaturesAreIgnored) {
+  CvtMapElitesParams p;
+  p.kmeans.centroids = 50;
+  p.kmeans.samples = 2000;
+  p.kmeans.init_samples = 2000;
+  p.kmeans.iterations = 2;
+  p.neighbours = 8;
+  CvtMapElites cvt(p, Task(HalfDeadTask{}), {}, 4);
+  SerialEvaluator evaluator;
+  for (int g = 0; g < 10; ++g) cvt.step(evaluator);
+  const EliteTable t = cvt.elites();
+  ASSERT_GT(t.size(), 20);
+  for (Index i = 0; i < t.size(); ++i) EXPECT_GE(t.solutions(i, 0), 0.3f);
+}
+
+TEST(CvtMapElites, CountsInitialPopulationThenBatches) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(5);
+  cvt.step(evaluator);
+  EXPECT_EQ(cvt.counters().bottom, 2000);
+  cvt.step(evaluator);
+  EXPECT_EQ(cvt.counters().bottom, 2400);
+  EXPECT_EQ(cvt.counters().meta, 0);
+  EXPECT_EQ(cvt.generation(), 2);
+  EXPECT_EQ(cvt.name(), "cvt-map-elites");
+}
+
+}  // namespace
+}  // namespace qdmeta
