@@ -44,7 +44,7 @@ fs::path tiny_config() {
     ASSERT_NE(at, std::string::npos) << from;
     text.replace(at, from.size(), to);
   };
-  set("evaluations = 1_500", "evaluations = 20");
+  set("evaluations = 1_000", "evaluations = 20");
   set("episode_seconds = 1.0", "episode_seconds = 0.5");
   set("settle_steps = 300", "settle_steps = 100");
   set("batch_size = 16", "batch_size = 4");
