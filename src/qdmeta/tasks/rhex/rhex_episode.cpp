@@ -40,13 +40,6 @@ RelativePose relative_pose(const Eigen::Isometry3d& start, const Eigen::Isometry
   return {d.x(), d.y(), d.z(), euler.x(), euler.y(), euler.z()};
 }
 
-BodyPose body_pose(const Eigen::Isometry3d& t) {
-  BodyPose p;
-  for (int i = 0; i < 3; ++i) p.position[i] = t.translation()[i];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) p.rotation[3 * r + c] = t.linear()(r, c);
-  return p;
-}
 
 bool turned_over(const Eigen::Isometry3d& t) { return t.linear()(2, 2) <= 0.0; }  // body z-axis tilted >= 90 deg
 
@@ -132,7 +125,7 @@ class Episode {
       result_.max_z = std::max(result_.max_z, now.translation().z());
     }
     result_.max_tilt = std::max(result_.max_tilt, std::acos(std::clamp(now.linear()(2, 2), -1.0, 1.0)));
-    if (s_.record_poses) result_.poses.push_back(body_pose(now));
+    if (s_.record_poses) record(step, now);
     if (step % trajectory_every_ == 0) result_.trajectory.push_back(relative_pose(start_, now));
     if (step % kFeatureEvery == 0) {
       FeatureSetCounts& c = result_.counts;
@@ -142,6 +135,18 @@ class Episode {
       const Eigen::Vector3d v = w_.robot->getCOMLinearVelocity();
       for (int j = 0; j < 3; ++j) c.velocity_sum[j] += v[j];
     }
+  }
+
+  void record(int step, const Eigen::Isometry3d& body) {
+    PoseRecord p;
+    p.time = step * s_.time_step;
+    const Eigen::Vector3d euler = dart::math::matrixToEulerXYZ(body.linear());
+    for (int j = 0; j < 3; ++j) {
+      p.position[j] = body.translation()[j];
+      p.euler[j] = euler[j];
+    }
+    for (int i = 0; i < kLegs; ++i) p.legs[i] = leg_angle(i);
+    result_.poses.push_back(p);
   }
 
   // Rotation of leg i's first body about y relative to the robot body.
@@ -161,7 +166,7 @@ class Episode {
       w_.world->step(false);
       ++result_.settle_steps;
       const Eigen::Isometry3d now_t = w_.body->getWorldTransform();
-      if (s_.record_poses) result_.poses.push_back(body_pose(now_t));
+      if (s_.record_poses) record(result_.walk_steps + step + 1, now_t);
       const RelativePose now = relative_pose(start_, now_t);
       const double change = std::sqrt(std::pow(now.x - last.x, 2) + std::pow(now.y - last.y, 2) +
                                       std::pow(now.z - last.z, 2) + std::pow(now.roll - last.roll, 2) +

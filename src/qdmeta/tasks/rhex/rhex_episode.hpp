@@ -41,10 +41,13 @@ struct EpisodeSettings {
   void validate() const;
 };
 
-// Body pose in the world: position and rotation matrix (row-major).
-struct BodyPose {
+// One recorded step (gait export): body position and XYZ Euler angles in the world, and each
+// leg's rotation about y relative to the body (rad, in (-pi, pi]; 0 for a removed leg).
+struct PoseRecord {
+  double time = 0.0;
   std::array<double, 3> position{};
-  std::array<double, 9> rotation{};
+  std::array<double, 3> euler{};
+  std::array<double, kLegs> legs{};
 };
 
 struct EpisodeResult {
@@ -67,7 +70,7 @@ struct EpisodeResult {
                                           // from the bodies' transforms, wrapped to [0, pi])
   double min_z = 0.0, max_z = 0.0;   // body height range over the walk after its first second (m)
   double max_tilt = 0.0;             // largest angle of the body's z-axis from vertical (rad)
-  std::vector<BodyPose> poses;       // every step when settings.record_poses
+  std::vector<PoseRecord> poses;     // every step (walk and settle) when settings.record_poses
 };
 
 // Runs one episode in a fresh world (so the same input always gives the same bits).
