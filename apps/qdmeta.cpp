@@ -23,6 +23,9 @@
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
+#ifdef QDMETA_WITH_RHEX
+#include "qdmeta/tasks/rhex/rhex_config.hpp"
+#endif
 
 namespace fs = std::filesystem;
 using namespace qdmeta;
@@ -220,6 +223,9 @@ int command_experiment(const ExperimentArgs& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef QDMETA_WITH_RHEX
+  register_rhex_task();  // [task] name = "rhex"
+#endif
   CLI::App app{"qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites and AURORA"};
   app.set_version_flag("--version", std::string(kVersion));
   app.require_subcommand(1);

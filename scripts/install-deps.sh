@@ -10,8 +10,9 @@ core=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-numpy
 )
-# Optional components of later milestones (robot task in DART, MPI evaluator, AURORA's k-d tree).
-optional=(libnanoflann-dev)
+# Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
+# DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
+optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev)
 
 packages=("${core[@]}")
 if [ "${QDMETA_DEPS:-all}" != core ]; then packages+=("${optional[@]}"); fi

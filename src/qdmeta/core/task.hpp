@@ -81,6 +81,12 @@ class Task {
 
   // An independent copy for a worker that may not share this instance.
   Task clone() const { return Task(impl_->clone()); }
+  // The wrapped user task if it is a T (like std::function::target), else nullptr.
+  template <class T>
+  const T* target() const {
+    const auto* model = dynamic_cast<const Model<T>*>(impl_.get());
+    return model != nullptr ? &model->task : nullptr;
+  }
   // Identity of the wrapped instance: copies of a Task share it, clones do not.
   const void* id() const { return impl_.get(); }
 

@@ -13,6 +13,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
 #include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/task_registry.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
@@ -44,7 +45,15 @@ enum class TaskKind { kRastrigin };
 constexpr EnumNames<TaskKind, 1> kTaskNames{{{TaskKind::kRastrigin, "rastrigin"}}};
 
 Task read_task(ConfigReader& t) {
-  switch (t.choice("name", TaskKind::kRastrigin, kTaskNames)) {
+  // Tasks registered by optional components or users (task_registry.hpp) come first.
+  const std::string name = t.string("name", enum_to_string(kTaskNames, TaskKind::kRastrigin));
+  if (const TaskPlugin* plugin = find_task_plugin(name)) return plugin->read_task(t);
+  std::string valid = "\"rastrigin\"";
+  for (const auto& n : registered_task_names()) valid += fmt::format(", \"{}\"", n);
+  if (name != enum_to_string(kTaskNames, TaskKind::kRastrigin))
+    throw InputError(fmt::format("{}: task.name = \"{}\" is not a valid choice: use one of {}{}", t.source(), name, valid,
+                                 name == "rhex" ? " (this build has no RHex task: it needs DART)" : ""));
+  switch (TaskKind::kRastrigin) {
     case TaskKind::kRastrigin: {
       RastriginParams p;
       p.dimensions = static_cast<int>(t.integer("dimensions", p.dimensions, 1, 10000));
@@ -174,6 +183,8 @@ std::unique_ptr<GenerationController> read_control(ConfigReader& c) {
 // meta-fitness's dimensions) come from the seed and are written to the resolved config, so
 // that the resolved file repeats the run.
 std::unique_ptr<MetaObjective> read_meta_fitness(ConfigReader& m, const Task& task, std::uint64_t seed) {
+  if (const TaskPlugin* plugin = find_task_plugin(task.name()); plugin && plugin->read_meta_fitness)
+    return plugin->read_meta_fitness(m, task, seed);
   if (task.name() != "rastrigin")
     throw InputError(fmt::format("{}: task '{}' has no meta-fitness yet", m.source(), task.name()));
   RastriginMetaParams p;
@@ -344,6 +355,8 @@ std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& confi
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");
   const Task task = read_task(task_table);
+  if (task.name() != "rastrigin")
+    throw InputError(fmt::format("task '{}' has no test phase yet (qdmeta adapt knows Rastrigin's)", task.name()));
   const auto n = static_cast<int>(task.genotype_size());
   const double m = -task.qd_offset();  // Rastrigin's offset is -M
   if (test == "dimension") {

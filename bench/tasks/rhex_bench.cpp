@@ -1,0 +1,68 @@
+// RHex episode cost (bench/README.md): one 5 s episode of a tripod gait per collision detector
+// and leg model on one core, and random controllers through the ThreadEvaluator.
+#include <benchmark/benchmark.h>
+
+#include <array>
+
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/tasks/rhex/rhex_task.hpp"
+
+namespace qdmeta {
+namespace {
+
+// Alternating tripods (legs 0, 2, 4 and 1, 3, 5), T = 0.665 s, duty 0.5, stance angle 0.35 pi.
+std::array<Real, rhex::kGenes> tripod_genes() {
+  std::array<Real, rhex::kGenes> g{};
+  g[0] = 0.5f;
+  for (int i = 1; i <= 6; ++i) g[i] = 0.5f;
+  for (int i = 7; i <= 12; ++i) g[i] = 0.35f;
+  for (int i = 13; i <= 18; ++i) g[i] = 0.5f;
+  g[19] = 1.0f, g[20] = 0.0f, g[21] = 1.0f, g[22] = 0.0f, g[23] = 1.0f;
+  return g;
+}
+
+void BM_RhexEpisode(benchmark::State& state) {
+  RhexParams params;
+  params.episode.collision = static_cast<rhex::CollisionKind>(state.range(0));
+  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+  const RhexTask task(params);
+  const auto genes = tripod_genes();
+  rhex::EpisodeResult result;
+  for (auto _ : state) {
+    result = task.episode(genes.data(), {});
+    benchmark::DoNotOptimize(result.fitness);
+  }
+  state.SetLabel(std::string(enum_to_string(rhex::kCollisionKindNames, params.episode.collision)) + "/" +
+                 std::string(enum_to_string(rhex::kLegModelNames, params.episode.legs)));
+  state.counters["fitness_m"] = result.fitness;
+  state.counters["dead"] = result.dead;
+  state.counters["steps"] = result.walk_steps + result.settle_steps;
+}
+BENCHMARK(BM_RhexEpisode)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->ArgNames({"collision", "legs"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// Random controllers (the first generation of a run) through the evaluator.
+void BM_RhexRandomBatch(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  const Task task{RhexTask{}};
+  constexpr Index kBatch = 64;
+  RowMatrix genotypes(kBatch, rhex::kGenes);
+  Rng rng(7);
+  for (Index i = 0; i < genotypes.size(); ++i) genotypes.data()[i] = static_cast<Real>(rng.uniform());
+  EvaluationBatch out;
+  out.resize(kBatch, task.base_feature_size());
+  auto evaluator = threads == 1 ? make_evaluator(1) : make_thread_evaluator(threads, 1);
+  for (auto _ : state) evaluator->evaluate(task, {genotypes.data(), kBatch, rhex::kGenes}, out.view());
+  int dead = 0;
+  for (auto v : out.valid) dead += v == 0;
+  state.counters["episodes_per_s"] = benchmark::Counter(static_cast<double>(kBatch), benchmark::Counter::kIsRate);
+  state.counters["dead_fraction"] = static_cast<double>(dead) / kBatch;
+}
+BENCHMARK(BM_RhexRandomBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+}  // namespace qdmeta

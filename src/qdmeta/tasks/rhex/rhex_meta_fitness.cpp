@@ -1,0 +1,64 @@
+#include "qdmeta/tasks/rhex/rhex_meta_fitness.hpp"
+
+#include <fmt/format.h>
+
+#include <utility>
+
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/tasks/rastrigin/meta_fitness.hpp"  // meta_sample_size, sample_elites
+
+namespace qdmeta {
+
+void RhexMetaParams::validate() const {
+  if (!(sample_fraction > 0.0 && sample_fraction <= 1.0))
+    throw InputError(fmt::format("meta_fitness.sample_fraction = {} is out of range: must be in (0, 1]", sample_fraction));
+}
+
+RhexMetaFitness::RhexMetaFitness(std::string name, RhexMetaParams params, RhexTask task,
+                                 std::vector<rhex::RhexEnvironment> environments)
+    : name_(std::move(name)), params_(params), task_(std::move(task)), environments_(std::move(environments)) {
+  params_.validate();
+  if (environments_.empty()) throw InputError(fmt::format("{}: needs at least one environment", name_));
+  for (const auto& e : environments_) e.validate();
+}
+
+MetaFitnessResult RhexMetaFitness::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const {
+  const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
+  if (n == 0) return {};
+  const std::vector<Index> sample = sample_elites(elites.rows(), n, rng);
+  const Index env_count = static_cast<Index>(environments_.size());
+  std::vector<double> distance(static_cast<std::size_t>(n * env_count), 0.0);
+  // Each episode builds its own world from a const task, so episodes may run concurrently.
+  evaluator.parallel_for(n * env_count, [&](Index job) {
+    const Index s = job / env_count;
+    const auto& env = environments_[static_cast<std::size_t>(job % env_count)];
+    const rhex::EpisodeResult r = task_.episode(elites.row(sample[static_cast<std::size_t>(s)]).data(), env);
+    distance[static_cast<std::size_t>(job)] = r.dead ? 0.0 : r.fitness;
+  });
+  double sum = 0.0;
+  for (double d : distance) sum += d;
+  return {sum / static_cast<double>(n * env_count), n * env_count};
+}
+
+std::vector<rhex::DamageType> draw_damage_types(Rng& rng, int types) {
+  std::vector<rhex::DamageType> all{rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening,
+                                    rhex::DamageType::kBlockedHip, rhex::DamageType::kPassiveHip};
+  choose_without_replacement(all, static_cast<std::size_t>(types), rng);
+  return all;
+}
+
+std::vector<rhex::RhexEnvironment> damage_environments(const std::vector<rhex::DamageType>& types) {
+  std::vector<rhex::RhexEnvironment> envs;
+  for (rhex::DamageType t : types)
+    for (int leg = 0; leg < rhex::kLegs; ++leg) envs.push_back(rhex::RhexEnvironment::damaged(t, leg));
+  return envs;
+}
+
+std::vector<rhex::ObstacleCourse> draw_courses(Rng& rng, int count) {
+  std::vector<rhex::ObstacleCourse> all;
+  for (int c = 1; c <= 9; ++c) all.push_back(static_cast<rhex::ObstacleCourse>(c));
+  choose_without_replacement(all, static_cast<std::size_t>(count), rng);
+  return all;
+}
+
+}  // namespace qdmeta

@@ -1,0 +1,194 @@
+// The RHex robot built programmatically (SPEC.md section 5): a box body on a free joint and six
+// half-circle legs of 8 plates on revolute hips about the lateral (y) axis.
+#include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/BoxShape.hpp>
+#include <dart/dynamics/FreeJoint.hpp>
+#include <dart/dynamics/RevoluteJoint.hpp>
+#include <dart/dynamics/ShapeNode.hpp>
+#include <dart/dynamics/Skeleton.hpp>
+#include <dart/dynamics/WeldJoint.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "qdmeta/tasks/rhex/rhex_world.hpp"
+
+namespace qdmeta::rhex::detail {
+namespace {
+
+using dart::dynamics::BodyNode;
+using dart::dynamics::BoxShape;
+using dart::dynamics::CollisionAspect;
+using dart::dynamics::DynamicsAspect;
+using dart::dynamics::VisualAspect;
+using std::numbers::pi;
+
+constexpr double kHipDamping = 0.1;
+constexpr double kPlateJointDamping = 0.1;
+constexpr double kPlateJointUpper = 0.049;
+constexpr double kStiffnessAtHip = 202672.0, kStiffnessAtTip = 152000.0;
+constexpr double kPlateArc = pi / kPlates;  // each plate spans pi / 8 of the half circle
+
+Eigen::Isometry3d rotation_y(double angle) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return t;
+}
+
+// Frame of plate k in the hip frame: origin at the plate's start on the arc, x along its chord.
+// The half circle of diameter D hangs below the hip: point(a) = (r sin a, 0, r cos a - r), bulging
+// forward at hip angle 0; a positive hip angle swings the foot backward (stance pushes forward).
+Eigen::Isometry3d plate_frame(int k) {
+  const double r = kLegDiameter / 2.0;
+  const double a = k * kPlateArc;
+  Eigen::Isometry3d t = rotation_y(a + kPlateArc / 2.0);
+  t.translation() = Eigen::Vector3d(r * std::sin(a), 0.0, r * std::cos(a) - r);
+  return t;
+}
+
+double plate_chord() { return kLegDiameter * std::sin(kPlateArc / 2.0); }
+
+// The plate's box in its own frame: centred half a chord along x.
+Eigen::Isometry3d plate_shape_offset() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(plate_chord() / 2.0, 0.0, 0.0);
+  return t;
+}
+
+void add_plate_shape(BodyNode* node, const Eigen::Isometry3d& where) {
+  auto box = std::make_shared<BoxShape>(Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness));
+  auto* shape = node->createShapeNodeWith<VisualAspect, CollisionAspect, DynamicsAspect>(box);
+  shape->setRelativeTransform(where);
+  shape->getDynamicsAspect()->setFrictionCoeff(1.0);
+  shape->getDynamicsAspect()->setRestitutionCoeff(0.0);
+}
+
+// Inertia of plates placed at `frames` (in the body frame), by the parallel-axis theorem.
+dart::dynamics::Inertia plates_inertia(const std::vector<Eigen::Isometry3d>& frames) {
+  const Eigen::Matrix3d own =
+      BoxShape::computeInertia(Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness), kPlateMass);
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  for (const auto& f : frames) com += f.translation();
+  com /= static_cast<double>(frames.size());
+  Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+  for (const auto& f : frames) {
+    const Eigen::Vector3d c = f.translation() - com;
+    moment += f.linear() * own * f.linear().transpose() +
+              kPlateMass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  }
+  return dart::dynamics::Inertia(kPlateMass * static_cast<double>(frames.size()), com, moment);
+}
+
+// Joint from the robot body to the leg's first body, at the hip; `plate0` places that body's
+// frame in the hip frame.
+template <class JointType>
+typename JointType::Properties hip_properties(int leg, const Eigen::Isometry3d& plate0) {
+  typename JointType::Properties props;
+  props.mName = "hip_" + std::to_string(leg);
+  props.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(kHipX[leg], kHipY[leg], 0.0);
+  props.mT_ChildBodyToJoint = plate0.inverse();
+  return props;
+}
+
+void build_leg(int leg, DamageType damage, LegModel model, BodyNode* body, RhexWorld& out) {
+  const int plates = damage == DamageType::kLegShortening ? kShortenedPlates : kPlates;
+  dart::dynamics::BodyNode::Properties leg_props;
+  leg_props.mName = "leg_" + std::to_string(leg);
+
+  // The body that the hip drives: the whole rigid leg, or its first plate.
+  const Eigen::Isometry3d first_frame = model == LegModel::kRigid ? Eigen::Isometry3d::Identity() : plate_frame(0);
+  BodyNode* root = nullptr;
+  dart::dynamics::Joint* hip = nullptr;
+  if (damage == DamageType::kBlockedHip) {
+    auto [joint, node] = out.robot->createJointAndBodyNodePair<dart::dynamics::WeldJoint>(
+        body, hip_properties<dart::dynamics::WeldJoint>(leg, first_frame), leg_props);
+    hip = joint;
+    root = node;
+  } else {
+    auto props = hip_properties<dart::dynamics::RevoluteJoint>(leg, first_frame);
+    props.mAxis = Eigen::Vector3d::UnitY();
+    props.mDampingCoefficients[0] = kHipDamping;
+    props.mActuatorType = damage == DamageType::kPassiveHip ? dart::dynamics::Joint::PASSIVE : dart::dynamics::Joint::FORCE;
+    auto [joint, node] = out.robot->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(body, props, leg_props);
+    hip = joint;
+    root = node;
+  }
+  out.hips[leg] = hip;
+  out.leg_roots[leg] = root;
+  out.actuated[leg] = damage == DamageType::kNone || damage == DamageType::kLegShortening;
+  out.leg_plates[leg] = plates;
+
+  if (model == LegModel::kRigid) {
+    std::vector<Eigen::Isometry3d> frames;
+    for (int k = 0; k < plates; ++k) {
+      frames.push_back(plate_frame(k) * plate_shape_offset());
+      add_plate_shape(root, frames.back());
+    }
+    root->setInertia(plates_inertia(frames));
+    out.leg_body_nodes.push_back(root);
+    out.leg_of_body.push_back(leg);
+    out.leg_bodies[leg] = 1;
+    return;
+  }
+  // Compliant: plate k's frame sits at its start on the arc; joint k-1 -> k is a stiff spring.
+  BodyNode* parent = root;
+  for (int k = 0; k < plates; ++k) {
+    BodyNode* node = parent;
+    if (k > 0) {
+      dart::dynamics::RevoluteJoint::Properties props;
+      props.mName = "plate_" + std::to_string(leg) + "_" + std::to_string(k);
+      props.mAxis = Eigen::Vector3d::UnitY();
+      props.mT_ParentBodyToJoint = plate_frame(k - 1).inverse() * plate_frame(k);
+      const double stiffness = kStiffnessAtHip + (kStiffnessAtTip - kStiffnessAtHip) * (k - 1) / (kPlates - 2);
+      props.mSpringStiffnesses[0] = stiffness;
+      props.mRestPositions[0] = 0.0;
+      props.mDampingCoefficients[0] = kPlateJointDamping;
+      props.mPositionLowerLimits[0] = 0.0;
+      props.mPositionUpperLimits[0] = kPlateJointUpper;
+      props.mIsPositionLimitEnforced = true;
+      props.mActuatorType = dart::dynamics::Joint::PASSIVE;
+      dart::dynamics::BodyNode::Properties plate_props;
+      plate_props.mName = "leg_" + std::to_string(leg) + "_plate_" + std::to_string(k);
+      node = out.robot->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(parent, props, plate_props).second;
+    }
+    add_plate_shape(node, plate_shape_offset());
+    node->setInertia(plates_inertia({plate_shape_offset()}));
+    out.leg_body_nodes.push_back(node);
+    out.leg_of_body.push_back(leg);
+    ++out.leg_bodies[leg];
+    parent = node;
+  }
+}
+
+}  // namespace
+
+void build_robot(const EpisodeSettings& settings, const RhexEnvironment& environment, RhexWorld& out) {
+  out.robot = dart::dynamics::Skeleton::create("rhex");
+  dart::dynamics::FreeJoint::Properties free_props;
+  free_props.mName = "free";
+  dart::dynamics::BodyNode::Properties body_props;
+  body_props.mName = "body";
+  BodyNode* body = out.robot->createJointAndBodyNodePair<dart::dynamics::FreeJoint>(nullptr, free_props, body_props).second;
+  auto box = std::make_shared<BoxShape>(Eigen::Vector3d(kBodyLength, kBodyWidth, kBodyHeight));
+  auto* shape = body->createShapeNodeWith<VisualAspect, CollisionAspect, DynamicsAspect>(box);
+  shape->getDynamicsAspect()->setFrictionCoeff(1.0);
+  shape->getDynamicsAspect()->setRestitutionCoeff(0.0);
+  body->setInertia(dart::dynamics::Inertia(kBodyMass, Eigen::Vector3d::Zero(), box->computeInertia(kBodyMass)));
+  out.body = body;
+
+  for (int leg = 0; leg < kLegs; ++leg) {
+    const DamageType damage = environment.leg == leg ? environment.damage : DamageType::kNone;
+    if (damage == DamageType::kLegRemoval) {
+      out.hips[leg] = nullptr;
+      out.actuated[leg] = false;
+      continue;
+    }
+    build_leg(leg, damage, settings.legs, body, out);
+  }
+
+  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  start.translation() = Eigen::Vector3d(0.0, 0.0, kStartHeight);
+  dart::dynamics::FreeJoint::setTransformOf(body, start);
+}
+
+}  // namespace qdmeta::rhex::detail

@@ -1,0 +1,96 @@
+// The command line on the RHex task: a tiny QD-Meta Damage run ends, writes the contracted files,
+// stores fitness equal to a fresh episode of the stored genotype, and gives the same bits with 1
+// and 2 threads.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "qdmeta/io/csv.hpp"
+#include "qdmeta/tasks/rhex/rhex_task.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+
+int run_cli(const std::string& args, std::string* output = nullptr) {
+  const std::string command = std::string(QDMETA_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return -1;
+  char buffer[4096];
+  std::string out;
+  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
+  const int raw = pclose(pipe);
+  if (output) *output = out;
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// smoke-damage.toml made smaller still: 0.5 s episodes, 8 random genotypes, 4 offspring, 1 generation.
+fs::path tiny_config() {
+  std::string text = slurp(std::string(QDMETA_SOURCE_DIR) + "/configs/rhex/smoke-damage.toml");
+  auto set = [&](const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+  };
+  set("evaluations = 1_000", "evaluations = 20");
+  set("episode_seconds = 1.0", "episode_seconds = 0.5");
+  set("settle_steps = 300", "settle_steps = 100");
+  set("batch_size = 16", "batch_size = 4");
+  set("initial_population = 64", "initial_population = 8");
+  set("generations = 2", "generations = 1");
+  const fs::path path = fs::temp_directory_path() / "qdmeta_rhex_cli_tiny.toml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(RhexCli, TinyQdMetaDamageRun) {
+  const fs::path config = tiny_config();
+  std::array<fs::path, 2> outs;
+  for (int threads : {1, 2}) {
+    const fs::path out = fs::temp_directory_path() / ("qdmeta_rhex_cli_" + std::to_string(threads));
+    fs::remove_all(out);
+    std::string output;
+    ASSERT_EQ(run_cli("run --config " + config.string() + " --out " + out.string() + " --quiet --threads " +
+                          std::to_string(threads),
+                      &output),
+              0)
+        << output;
+    for (const char* f : {"config.toml", "metrics.csv", "meta.csv", "archive.csv", "summary.json"})
+      EXPECT_TRUE(fs::exists(out / f)) << f;
+    outs[static_cast<std::size_t>(threads - 1)] = out;
+  }
+  EXPECT_EQ(slurp(outs[0] / "archive.csv"), slurp(outs[1] / "archive.csv"));
+  EXPECT_EQ(slurp(outs[0] / "metrics.csv"), slurp(outs[1] / "metrics.csv"));
+  EXPECT_NE(slurp(outs[0] / "config.toml").find("damage_types = ["), std::string::npos);
+
+  // Stored fitness = a fresh episode of the stored genotype with the run's task settings.
+  const EliteTable t = read_elites_csv(outs[0] / "archive.csv");
+  ASSERT_GT(t.size(), 0);
+  RhexParams p;
+  p.features = RhexFeatures::kFeatureSets;
+  p.episode.duration = 0.5;
+  p.episode.settle_steps = 100;
+  const RhexTask task(p);
+  for (Index i = 0; i < std::min<Index>(t.size(), 3); ++i) {
+    std::array<Real, rhex::kGenes> g{};
+    for (int j = 0; j < rhex::kGenes; ++j) g[j] = t.solutions(i, j);
+    const auto r = task.episode(g.data(), {});
+    ASSERT_FALSE(r.dead);
+    EXPECT_NEAR(t.objective[i], r.fitness, 1e-3 + 1e-5 * std::abs(r.fitness));
+  }
+}
+
+}  // namespace
+}  // namespace qdmeta
