@@ -111,4 +111,26 @@ EliteTable CvtMapElites::elites() const {
   return t;
 }
 
+
+void CvtMapElites::save(BinaryWriter& out) const {
+  out.tag("cvt_map_elites");
+  out.value(generation_);
+  out.value(searched_);
+  save_counters(out, counters_);
+  out.boolean(archive_.has_value());
+  if (archive_) archive_->save(out);
+}
+
+void CvtMapElites::load(BinaryReader& in) {
+  in.expect_tag("cvt_map_elites");
+  generation_ = in.value<std::int64_t>("generation");
+  searched_ = in.value<std::int64_t>("searched count");
+  counters_ = load_counters(in);
+  if (in.boolean("archive flag")) {
+    SerialEvaluator serial;
+    prepare(serial);
+    archive_->load(in);
+  }
+}
+
 }  // namespace qdmeta

@@ -52,6 +52,10 @@ class CvtMapElites final : public Algorithm {
   CacheOutcome cache_outcome() const { return cache_outcome_; }
   // Offspring whose cell needed the full search (the rest were settled by the parent bound).
   std::int64_t searched() const { return searched_; }
+  bool checkpointable() const override { return true; }
+  void save(BinaryWriter& out) const override;
+  // Makes or loads the centroids first (on one thread; from the cache when they are there).
+  void load(BinaryReader& in) override;
 
  private:
   CvtMapElitesParams params_;

@@ -151,4 +151,52 @@ ArchiveStats CvtArchive::stats() const {
   return s;
 }
 
+
+void CvtArchive::save(BinaryWriter& out) const {
+  out.tag("cvt_archive");
+  out.value<std::int64_t>(cells());
+  out.value<std::int64_t>(dimensions());
+  out.value<std::int64_t>(params_.solution_size);
+  const auto n = static_cast<Index>(filled_.size());
+  std::vector<std::int64_t> cells(filled_.begin(), filled_.end());
+  std::vector<Real> objectives;
+  RowMatrix solutions(n, params_.solution_size), measures(n, dimensions());
+  for (Index i = 0; i < n; ++i) {
+    const Index c = filled_[static_cast<std::size_t>(i)];
+    objectives.push_back(objectives_[static_cast<std::size_t>(c)]);
+    solutions.row(i) = solutions_.row(c);
+    measures.row(i) = measures_.row(c);
+  }
+  out.values(cells);
+  out.values(objectives);
+  out.matrix(solutions);
+  out.matrix(measures);
+}
+
+void CvtArchive::load(BinaryReader& in) {
+  in.expect_tag("cvt_archive");
+  const auto cells = in.value<std::int64_t>("CVT cells");
+  const auto dims = in.value<std::int64_t>("CVT dimensions");
+  const auto genes = in.value<std::int64_t>("CVT solution size");
+  if (cells != this->cells() || dims != dimensions() || genes != params_.solution_size)
+    in.fail(fmt::format("CVT archive of {} cells ({}-D, {} genes) does not fit this run's of {} cells ({}-D, {} genes)",
+                        cells, dims, genes, this->cells(), dimensions(), params_.solution_size));
+  const auto filled = in.values<std::int64_t>("CVT cells filled");
+  const auto objectives = in.values<Real>("CVT objectives");
+  RowMatrix solutions, measures;
+  in.matrix(solutions, "CVT solutions");
+  in.matrix(measures, "CVT measures");
+  const auto n = static_cast<Index>(filled.size());
+  if (static_cast<Index>(objectives.size()) != n || solutions.rows() != n || measures.rows() != n ||
+      solutions.cols() != params_.solution_size || measures.cols() != dimensions())
+    in.fail("CVT archive contents disagree in size");
+  clear();
+  for (Index i = 0; i < n; ++i) {
+    add(solutions.row(i).data(), objectives[static_cast<std::size_t>(i)], measures.row(i).data());
+    if (filled_.size() != static_cast<std::size_t>(i + 1) || filled_.back() != filled[static_cast<std::size_t>(i)])
+      in.fail(fmt::format("CVT elite {} does not fall in its saved cell {}: other centroids?", i,
+                          filled[static_cast<std::size_t>(i)]));
+  }
+}
+
 }  // namespace qdmeta

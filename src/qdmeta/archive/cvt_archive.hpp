@@ -17,6 +17,7 @@
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/archive/nearest_centroid.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -96,6 +97,12 @@ class CvtArchive {
   Index sample_cell(Rng& rng) const { return filled_[rng.below(filled_.size())]; }
 
   ArchiveStats stats() const;
+
+  // Checkpoints: the elites in fill order. load() re-adds them to an archive with the same
+  // centroids, so cells are found again (and must agree) and neighbour lists are made afresh:
+  // lists only decide which centroids get the exact check, never the cell.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   // The nearest centroid from the parent's list, or -1 when the list cannot prove it.
