@@ -208,5 +208,34 @@ TEST(Aurora, ContainerSizeControlDrivesTheArchiveToItsTarget) {
   EXPECT_GT(fixed.back(), 500);
 }
 
+TEST(Aurora, ACheckpointedRunContinuesBitIdentically) {
+  // 45 generations cross retrainings (1, 21) and rebuilds (every 10): the checkpoint at 17 must
+  // carry the network, the latent scaling, the threshold and the schedule.
+  AuroraParams p;
+  p.initial_population = 600;
+  p.batch_size = 200;
+  p.target_size = 1000;
+  p.max_epochs = 10;
+  SerialEvaluator evaluator;
+  Aurora straight = make_rastrigin(31, p);
+  for (int g = 0; g < 45; ++g) straight.step(evaluator);
+  Aurora first = make_rastrigin(31, p);
+  for (int g = 0; g < 17; ++g) first.step(evaluator);
+  BinaryWriter out;
+  first.save(out);
+  Aurora second = make_rastrigin(31, p);
+  BinaryReader in(out.bytes(), "memory");
+  second.load(in);
+  in.finish();
+  for (int g = 17; g < 45; ++g) second.step(evaluator);
+  EXPECT_EQ(second.counters(), straight.counters());
+  EXPECT_EQ(second.trainings(), straight.trainings());
+  EXPECT_EQ(second.threshold(), straight.threshold());
+  const EliteTable a = second.elites(), b = straight.elites();
+  EXPECT_EQ(a.objective, b.objective);
+  EXPECT_TRUE(a.solutions == b.solutions);
+  EXPECT_TRUE(a.measures == b.measures);
+}
+
 }  // namespace
 }  // namespace qdmeta

@@ -225,4 +225,47 @@ std::vector<std::pair<std::string, double>> Aurora::summary_extras() const {
           {"last_training_loss", last_training_.final_training_loss}};
 }
 
+
+void Aurora::save(BinaryWriter& out) const {
+  out.tag("aurora");
+  out.value(generation_);
+  save_counters(out, counters_);
+  autoencoder_.save(out);
+  archive_.save(out);
+  out.matrix(latent_mean_);
+  out.matrix(latent_scale_);
+  out.value(threshold_);
+  out.boolean(trained_);
+  out.value(trainings_);
+  out.value(scheduled_trainings_);
+  out.value(next_retraining_);
+  out.value<std::int64_t>(last_training_.rows);
+  out.value<std::int32_t>(last_training_.epochs);
+  out.boolean(last_training_.stopped_early);
+  out.value(last_training_.initial_training_loss);
+  out.value(last_training_.final_training_loss);
+  out.value(last_training_.final_validation_loss);
+}
+
+void Aurora::load(BinaryReader& in) {
+  in.expect_tag("aurora");
+  generation_ = in.value<std::int64_t>("generation");
+  counters_ = load_counters(in);
+  autoencoder_.load(in);
+  archive_.load(in);
+  in.matrix(latent_mean_, "latent mean");
+  in.matrix(latent_scale_, "latent scale");
+  threshold_ = in.value<double>("distance threshold");
+  trained_ = in.boolean("trained flag");
+  trainings_ = in.value<std::int64_t>("trainings");
+  scheduled_trainings_ = in.value<std::int64_t>("scheduled trainings");
+  next_retraining_ = in.value<std::int64_t>("next retraining");
+  last_training_.rows = in.value<std::int64_t>("last training rows");
+  last_training_.epochs = in.value<std::int32_t>("last training epochs");
+  last_training_.stopped_early = in.boolean("last training stop");
+  last_training_.initial_training_loss = in.value<double>("last training loss");
+  last_training_.final_training_loss = in.value<double>("last training loss");
+  last_training_.final_validation_loss = in.value<double>("last validation loss");
+}
+
 }  // namespace qdmeta

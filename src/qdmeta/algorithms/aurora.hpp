@@ -60,6 +60,9 @@ class Aurora final : public Algorithm {
   // index = archive slot, measures = descriptor (z-scored latent code), base = base features.
   EliteTable elites() const override;
   std::vector<std::pair<std::string, double>> summary_extras() const override;
+  bool checkpointable() const override { return true; }
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
 
   const UnstructuredArchive& archive() const { return archive_; }
   const Autoencoder& autoencoder() const { return autoencoder_; }

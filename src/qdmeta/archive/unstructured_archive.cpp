@@ -212,4 +212,42 @@ ArchiveStats UnstructuredArchive::stats() const {
   return s;
 }
 
+
+void UnstructuredArchive::save(BinaryWriter& out) const {
+  out.tag("unstructured_archive");
+  out.value<std::int64_t>(params_.descriptor_size);
+  out.value<std::int64_t>(params_.solution_size);
+  out.value<std::int64_t>(params_.base_feature_size);
+  out.values(objectives_);
+  out.values(solutions_);
+  out.values(base_);
+  for (const auto& c : coordinates_) out.values(c);
+}
+
+void UnstructuredArchive::load(BinaryReader& in) {
+  in.expect_tag("unstructured_archive");
+  const auto dims = in.value<std::int64_t>("archive descriptor size");
+  const auto genes = in.value<std::int64_t>("archive solution size");
+  const auto base = in.value<std::int64_t>("archive base-feature size");
+  if (dims != params_.descriptor_size || genes != params_.solution_size || base != params_.base_feature_size)
+    in.fail("unstructured archive of another shape than this run's");
+  const auto objectives = in.values<Real>("archive objectives");
+  const auto solutions = in.values<Real>("archive solutions");
+  const auto base_features = in.values<Real>("archive base features");
+  std::vector<std::vector<Real>> coordinates;
+  for (Index j = 0; j < dims; ++j) coordinates.push_back(in.values<Real>("archive descriptors"));
+  const std::size_t n = objectives.size();
+  bool consistent = solutions.size() == n * static_cast<std::size_t>(genes) &&
+                    base_features.size() == n * static_cast<std::size_t>(base);
+  for (const auto& c : coordinates) consistent = consistent && c.size() == n;
+  if (!consistent) in.fail("unstructured archive contents disagree in size");
+  clear();
+  std::vector<Real> descriptor(static_cast<std::size_t>(dims));
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < descriptor.size(); ++j) descriptor[j] = coordinates[j][i];
+    append(solutions.data() + i * static_cast<std::size_t>(genes), objectives[i], descriptor.data(),
+           base > 0 ? base_features.data() + i * static_cast<std::size_t>(base) : nullptr);
+  }
+}
+
 }  // namespace qdmeta

@@ -24,6 +24,7 @@
 
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/grid_archive.hpp"  // AddStatus
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -58,6 +59,10 @@ class UnstructuredArchive {
   AddStatus add(const Real* solution, Real objective, const Real* descriptor, const Real* base_features,
                 double threshold);
   void clear();
+  // Checkpoints: every member in slot order; load() re-adds them in that order (slots and the
+  // neighbour grid as before; queries do not depend on the order inside a grid cell).
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
   Real objective(Index slot) const { return objectives_[static_cast<std::size_t>(slot)]; }
   const Real* solution(Index slot) const { return solutions_.data() + slot * params_.solution_size; }

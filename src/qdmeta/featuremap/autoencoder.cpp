@@ -206,4 +206,26 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
   return report;
 }
 
+
+void Autoencoder::save(BinaryWriter& out) const {
+  out.tag("autoencoder");
+  out.matrix(parameters_);
+  out.matrix(input_mean_);
+  out.matrix(input_scale_);
+}
+
+void Autoencoder::load(BinaryReader& in) {
+  in.expect_tag("autoencoder");
+  Eigen::VectorXd parameters;
+  Eigen::RowVectorXd mean, scale;
+  in.matrix(parameters, "autoencoder weights");
+  in.matrix(mean, "autoencoder input mean");
+  in.matrix(scale, "autoencoder input scale");
+  if (parameters.size() != parameters_.size() || mean.size() != input_mean_.size() || scale.size() != input_scale_.size())
+    in.fail(fmt::format("autoencoder of {} weights does not fit this run's {}", parameters.size(), parameters_.size()));
+  parameters_ = parameters;
+  input_mean_ = mean;
+  input_scale_ = scale;
+}
+
 }  // namespace qdmeta

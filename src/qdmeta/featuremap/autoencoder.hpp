@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -53,6 +54,10 @@ class Autoencoder {
   // All weights and biases, layer by layer: W (out x in, column-major), then b.
   const Eigen::VectorXd& parameters() const { return parameters_; }
   void set_parameters(const Eigen::VectorXd& parameters);
+  // Checkpoints: the weights and the input z-scoring (Adam's moments restart with every
+  // training, so they are not saved). load() requires the same network shape.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
   // The z-scoring in force (set by train(); identity before the first training).
   const Eigen::RowVectorXd& input_mean() const { return input_mean_; }
