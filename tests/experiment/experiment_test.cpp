@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 
 #include "../expect_input_error.hpp"
@@ -13,7 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "qdmeta_experiment_test";
+  // One folder per process: ctest runs the tests of this file as parallel processes.
+  const fs::path dir = fs::temp_directory_path() / ("qdmeta_experiment_test_" + std::to_string(getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "run.toml") << "algorithm = \"map-elites\"\n";
   const fs::path path = dir / (name + ".toml");
