@@ -179,8 +179,6 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         p.wall_seconds = wall();
         if (progress) progress(p);
       };
-      BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
-                                 {static_cast<std::uint64_t>(r), spec.evaluations});
       if (stop_reason_of(dir) == StopReason::kBudget) {
         p.phase = "skip";
         p.run_fraction = 1.0;
@@ -195,6 +193,8 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
                              &resumable.cursor);
           ++result.runs_resumed;
         } else {
+          BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
+                                     {static_cast<std::uint64_t>(r), spec.evaluations});
           start_run_directory(dir, fresh, c.config.string(), threads, /*overwrite=*/true);
           rr = run_to_budget(*fresh.algorithm, *evaluator, fresh.settings, dir, report, stop);
         }
