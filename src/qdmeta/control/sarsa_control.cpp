@@ -41,10 +41,14 @@ double value_of(const std::vector<double>& q) { return std::max(0.0, *std::max_e
 
 SarsaControl::SarsaControl(SarsaParams params) : params_(complete(params)), tree_(params_.tree) {}
 
-std::pair<int, int> SarsaControl::action_range(int action) const {
+std::pair<double, double> SarsaControl::interval(int action) const {
   const double width = static_cast<double>(params_.max_generations - params_.min_generations) / params_.actions;
   const double lo = params_.min_generations + width * action;
-  const double hi = lo + width;
+  return {lo, lo + width};
+}
+
+std::pair<int, int> SarsaControl::action_range(int action) const {
+  const auto [lo, hi] = interval(action);
   const auto clamp = [&](long g) {
     return static_cast<int>(std::clamp<long>(g, params_.min_generations, params_.max_generations));
   };
@@ -81,9 +85,8 @@ int SarsaControl::choose_action(int leaf, Rng& rng) const {
 }
 
 int SarsaControl::draw_generations(int action, Rng& rng) const {
-  const double width = static_cast<double>(params_.max_generations - params_.min_generations) / params_.actions;
-  const double lo = params_.min_generations + width * action;
-  const long g = std::lround(rng.uniform(lo, lo + width));
+  const auto [lo, hi] = interval(action);
+  const long g = std::lround(rng.uniform(lo, hi));
   return static_cast<int>(std::clamp<long>(g, params_.min_generations, params_.max_generations));
 }
 

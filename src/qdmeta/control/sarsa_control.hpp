@@ -64,6 +64,8 @@ class SarsaControl final : public GenerationController {
   double reward(double best, double previous_best, std::int64_t evaluations) const;
 
  private:
+  // Action `action`'s interval [lo, hi) of generations, before rounding.
+  std::pair<double, double> interval(int action) const;
   int choose_action(int leaf, Rng& rng) const;
   int draw_generations(int action, Rng& rng) const;
   // The SARSA(lambda) update on <s, a, r, s', a'>, then the transition into s's leaf.
