@@ -189,14 +189,18 @@ int command_experiment(const ExperimentArgs& a) {
                spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
   auto last = std::make_shared<double>(-1.0);
   auto last_line = std::make_shared<std::string>();
-  const ExperimentCallback progress = [&a, tty, last, last_line](const ExperimentProgress& p) {
+  auto last_decile = std::make_shared<int>(0);
+  const ExperimentCallback progress = [&a, tty, last, last_line, last_decile](const ExperimentProgress& p) {
     if (a.quiet) return;
     const double overall = (p.run - 1 + p.run_fraction) / p.runs;
     const std::string head = fmt::format("[{}/{}] {} seed {}: {}", p.run, p.runs, p.condition, p.replicate, p.phase);
-    const bool due = tty ? p.wall_seconds - *last >= 0.25 : head != *last_line;  // a line per phase off a terminal
+    // Off a terminal (a log file, a batch job): a line per phase and per 10% of a run.
+    const int decile = static_cast<int>(p.run_fraction * 10);
+    const bool due = tty ? p.wall_seconds - *last >= 0.25 : head != *last_line || decile > *last_decile;
     if (!due) return;
     *last = p.wall_seconds;
     *last_line = head;
+    *last_decile = decile;
     const double eta = overall > 0 ? p.wall_seconds * (1 - overall) / overall : 0;
     const std::string line = fmt::format("{} {:5.1f}%  overall {:5.1f}%  {:.0f} s elapsed, ETA {:.0f} s", head,
                                          100 * p.run_fraction, 100 * overall, p.wall_seconds, eta);

@@ -1,0 +1,56 @@
+"""What every peer runner shares: the task of SPEC.md section 4 and one result line.
+
+The task: genotype g in [0,1]^20, x = -5.12 + 10.24 g, objective
+f = -[10 N + sum(x^2 - 10 cos 2 pi x)] (maximum 0), measures (g0, g1) on a 100 x 100 grid or
+all 20 genes for CVT. The operator: each gene mutated with probability 0.10 by a Gaussian of
+SD 0.05, clamped to [0, 1]. QD-score offset -2000 for everyone.
+"""
+import json
+import sys
+
+import numpy as np
+
+DIMENSIONS = 20
+GRID = (100, 100)
+BATCH = 400
+INITIAL = 2000
+MUTATION_RATE = 0.10
+MUTATION_SD = 0.05
+QD_OFFSET = -2000.0
+
+
+def rastrigin(genotypes):
+    """Objective of each row of a (n, 20) array in [0,1]."""
+    x = -5.12 + 10.24 * np.asarray(genotypes, dtype=np.float64)
+    return -(10.0 * x.shape[1] + np.sum(x * x - 10.0 * np.cos(2.0 * np.pi * x), axis=1))
+
+
+def mutate(parents, rng):
+    """The paper's operator on a (n, 20) array of parents."""
+    mask = rng.random(parents.shape) < MUTATION_RATE
+    noise = rng.normal(0.0, MUTATION_SD, parents.shape)
+    return np.clip(parents + mask * noise, 0.0, 1.0)
+
+
+def batches(evals):
+    """Batch sizes of one run: the initial random solutions, then batches of 400."""
+    if evals < INITIAL:
+        raise SystemExit(f"--evals must be at least {INITIAL} (the initial random solutions)")
+    sizes = [INITIAL]
+    left = evals - INITIAL
+    while left > 0:
+        sizes.append(min(BATCH, left))
+        left -= sizes[-1]
+    return sizes
+
+
+def qd_score(objectives):
+    """Sum over elites of (objective - offset): the same formula for every library."""
+    return float(np.sum(np.asarray(objectives, dtype=np.float64) - QD_OFFSET))
+
+
+def emit(**fields):
+    """The runner's one result line for the driver."""
+    json.dump(fields, sys.stdout)
+    sys.stdout.write("\n")
+    sys.stdout.flush()
