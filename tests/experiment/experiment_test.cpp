@@ -51,6 +51,22 @@ set = { budget = { evaluations = 1234 } }
   EXPECT_EQ(o.evaluations, 777);
 }
 
+TEST(Experiment, ShippedExperimentFilesLoad) {
+  const fs::path dir = fs::path(QDMETA_SOURCE_DIR) / "configs/rastrigin";
+  const ExperimentSpec paper = load_experiment(dir / "experiment.toml", std::nullopt, std::nullopt);
+  EXPECT_EQ(paper.replicates, 20);
+  EXPECT_EQ(paper.conditions.size(), 4u);
+  EXPECT_EQ(load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt).conditions.size(), 5u);
+  // The authors' effective mutation SD, for every condition of the paper's study.
+  const ExperimentSpec sigma = load_experiment(dir / "experiment-sigma.toml", std::nullopt, std::nullopt);
+  ASSERT_EQ(sigma.conditions.size(), paper.conditions.size());
+  for (std::size_t i = 0; i < sigma.conditions.size(); ++i) {
+    EXPECT_EQ(sigma.conditions[i].slug, paper.conditions[i].slug);
+    EXPECT_EQ(sigma.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.0025);
+    EXPECT_EQ(paper.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.05);
+  }
+}
+
 TEST(Experiment, BadFilesAreOneLineErrors) {
   const auto error_of = [](const fs::path& f) {
     try {
