@@ -173,6 +173,7 @@ int command_report(const std::string& dir, bool quiet) {
   const fs::path script = tools_dir() / "report.py";
   if (!fs::exists(script)) throw InputError(fmt::format("report script {} not found (set QDMETA_TOOLS_DIR)", script.string()));
   const std::string command = fmt::format("'{}' '{}' '{}'{}", python, script.string(), dir, quiet ? " --quiet" : "");
+  std::fflush(stdout);  // our lines first, then the script's
   const int status = std::system(command.c_str());
   if (status != 0) throw Error(fmt::format("the report script failed (exit status {}): {}", status, command));
   return 0;

@@ -137,6 +137,17 @@ def figure_qd_statistics(conditions, out):
     return out
 
 
+G_WINDOW = 50
+
+
+def trailing_mean(values, window):
+    """Mean of each value and the up to window - 1 before it."""
+    sums = np.cumsum(np.insert(np.asarray(values, dtype=float), 0, 0.0))
+    n = np.arange(1, len(values) + 1)
+    lo = np.maximum(n - window, 0)
+    return (sums[n] - sums[lo]) / (n - lo)
+
+
 def figure_meta(conditions, out):
     meta = [c for c in conditions if any(r.meta for r in c["runs"])]
     if not meta:
@@ -144,14 +155,17 @@ def figure_meta(conditions, out):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
     panels = [("meta_fitness_mean", "meta-fitness (mean over the meta-population)"),
               ("meta_fitness_best", "meta-fitness (best of the meta-population)"),
-              ("generations", "generations per meta-generation (G)")]
+              ("generations", f"G per meta-generation (mean of the last {G_WINDOW})")]
     for c in meta:
         runs = [r for r in c["runs"] if r.meta]
         length = max(len(r.meta["meta_generation"]) for r in runs)
         for ax, (column, label) in zip(axes, panels):
             padded = np.full((len(runs), length), np.nan)
             for i, r in enumerate(runs):
-                padded[i, : len(r.meta[column])] = r.meta[column]
+                values = r.meta[column]
+                if column == "generations":  # G is drawn anew each meta-generation: show its trend
+                    values = trailing_mean(values, G_WINDOW)
+                padded[i, : len(values)] = values
             mean, se = mean_se(padded)
             x = np.arange(1, length + 1)
             plot_band(ax, x, mean, se, f'{c["name"]} (n={len(runs)})', linewidth=0.8)
