@@ -62,6 +62,12 @@ std::string unavailable() {
   return "qdmeta was built without MPI (QDMETA_WITH_MPI=OFF)";
 #else
   if (!fs::exists(QDMETA_MPIEXEC)) return std::string("no MPI launcher at ") + QDMETA_MPIEXEC + " (install openmpi-bin)";
+#ifdef QDMETA_SANITIZED
+  // Not yet verified under AddressSanitizer (OpenMPI's memory hooks and shared-memory transport
+  // are not instrumented); opt in with QDMETA_MPI_SANITIZER_TESTS=1 (LSan suppressions are wired).
+  if (const char* opt = std::getenv("QDMETA_MPI_SANITIZER_TESTS"); opt == nullptr || std::string(opt) != "1")
+    return "sanitizer build: MPI tests are opt-in (QDMETA_MPI_SANITIZER_TESTS=1), see tests/lsan-openmpi.supp";
+#endif
   return "";
 #endif
 }
@@ -71,7 +77,9 @@ std::string unavailable() {
 Outcome mpirun(int ranks, const std::string& args, const std::string& env = "") {
 #ifdef QDMETA_MPIEXEC
   const std::string root = geteuid() == 0 ? "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " : "";
-  return shell(root + env + " " + QDMETA_MPIEXEC + " --oversubscribe --mca btl self,vader -np " + std::to_string(ranks) +
+  // LeakSanitizer would report OpenMPI's own allocations (sanitizer builds only).
+  const std::string lsan = "LSAN_OPTIONS=suppressions=" + std::string(QDMETA_SOURCE_DIR) + "/tests/lsan-openmpi.supp ";
+  return shell(root + lsan + env + " " + QDMETA_MPIEXEC + " --oversubscribe --mca btl self,vader -np " + std::to_string(ranks) +
                " " + QDMETA_BINARY + " " + args);
 #else
   (void)ranks, (void)args, (void)env;
@@ -153,16 +161,18 @@ TEST(Mpi, AKilledWorkerCanBeResumedUnderMpirunToo) {
 
 // The RHex QD-Meta smoke run: unshareable DART tasks, and a meta-fitness whose episodes over six
 // damaged-leg environments go to the workers as one request (tasks named by index).
-TEST(Mpi, RhexQdMetaGivesTheBitsOfAThreadRunOnTwoAndThreeRanks) {
+TEST(Mpi, RhexQdMetaGivesTheBitsOfAThreadRunOnThreeRanks) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
 #ifndef QDMETA_TEST_RHEX
   GTEST_SKIP() << "qdmeta was built without the RHex task (DART)";
 #endif
+  // The initial population and one meta-generation: about 300 one-second episodes a run.
   const std::string run = "run --config " + std::string(QDMETA_SOURCE_DIR) +
-                          "/configs/rhex/smoke-damage.toml --evals 250 --quiet --out ";
+                          "/configs/rhex/smoke-damage.toml --evals 100 --quiet --out ";
   const fs::path threads = fresh_dir("rhex-threads");
   ASSERT_EQ(qdmeta_cli(run + threads.string() + " --threads 2").status, 0);
-  for (int ranks : {2, 3}) {
+  ASSERT_NE(slurp(threads / "meta.csv").find('\n'), std::string::npos);
+  for (int ranks : {3}) {
     const fs::path dir = fresh_dir("rhex-ranks" + std::to_string(ranks));
     const Outcome o = mpirun(ranks, run + dir.string());
     ASSERT_EQ(o.status, 0) << o.output;

@@ -189,13 +189,19 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     }
     total += j.genotypes.count;
   }
+  // Guided self-scheduling: each piece takes 1/(2 ranks) of the rows still unassigned, so pieces
+  // start large (few messages) and shrink to single rows at the end (ranks finish together).
   const Index ranks = session_.size();
-  const Index piece_rows = std::clamp<Index>((total + 4 * ranks - 1) / (4 * ranks), 1, kMaxPieceRows);
+  Index remaining = total;
   for (const EvaluationJob& j : jobs) {
     const auto it = index_.find(j.task->id());
     if (it == index_.end()) continue;
-    for (Index first = 0; first < j.genotypes.count; first += piece_rows)
-      pieces.push_back({&j, it->second, first, std::min(piece_rows, j.genotypes.count - first)});
+    for (Index first = 0; first < j.genotypes.count;) {
+      const Index rows = std::min({std::clamp<Index>(remaining / (2 * ranks), 1, kMaxPieceRows), j.genotypes.count - first});
+      pieces.push_back({&j, it->second, first, rows});
+      first += rows;
+      remaining -= rows;
+    }
   }
 
   std::vector<std::deque<std::int64_t>> in_flight(static_cast<std::size_t>(ranks));

@@ -1,6 +1,7 @@
 #pragma once
-// Rank 0's evaluator under MPI: batches are cut into pieces handed out dynamically (up to two
-// in flight per worker, so a worker never waits for its next piece; episodes differ in cost),
+// Rank 0's evaluator under MPI: batches are cut into pieces of shrinking size (guided
+// self-scheduling) handed out dynamically (up to two in flight per worker, so a worker never
+// waits for its next piece; episodes differ in cost),
 // rank 0 evaluates pieces too between polls, and every result is written at its batch position.
 // Tasks are deterministic functions of a row, so the bits do not depend on the ranks or on who
 // evaluated what. A task travels as its index in the evaluation-task list (BuiltRun), which each
