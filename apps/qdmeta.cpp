@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <csignal>
 #include <cstdio>
@@ -26,6 +27,11 @@
 #ifdef QDMETA_WITH_RHEX
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #endif
+#ifdef QDMETA_WITH_MPI
+#include "qdmeta/eval/mpi/mpi_evaluator.hpp"
+#include "qdmeta/eval/mpi/mpi_session.hpp"
+#include "qdmeta/eval/mpi/mpi_worker.hpp"
+#endif
 
 namespace fs = std::filesystem;
 using namespace qdmeta;
@@ -36,7 +42,56 @@ std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
 
 constexpr int kExitBadInput = 2;
+constexpr int kExitRankFailed = 3;  // an MPI rank died mid-run; a checkpoint was written
 constexpr int kExitInterrupted = 130;
+
+#ifdef QDMETA_WITH_MPI
+MpiSession* g_mpi = nullptr;  // set in main when built with MPI
+#endif
+
+int mpi_ranks() {
+#ifdef QDMETA_WITH_MPI
+  if (g_mpi != nullptr) return g_mpi->size();
+#endif
+  return 1;
+}
+
+// Under mpirun: the ranks that did not say goodbye when the job was stopped (the dead ones),
+// as "rank 2 stopped answering (crashed or killed); ", or "" when there are none.
+std::string silent_ranks() {
+  std::string who;
+#ifdef QDMETA_WITH_MPI
+  if (g_mpi == nullptr || g_mpi->size() < 2) return who;
+  const std::vector<int> silent = g_mpi->silent_workers(std::chrono::milliseconds(300));
+  g_mpi->abandon();  // some rank is gone or going: MPI_Finalize could wait for it forever
+  for (int r : silent) who += fmt::format("{}{}", who.empty() ? "" : ", ", r);
+  if (!who.empty()) who = fmt::format("MPI rank{} {} stopped answering (crashed or killed); ", silent.size() > 1 ? "s" : "", who);
+#endif
+  return who;
+}
+
+// After the last word of a stopped MPI run: lets the surviving workers exit.
+void release_survivors() {
+#ifdef QDMETA_WITH_MPI
+  if (g_mpi != nullptr) g_mpi->release_survivors();
+#endif
+}
+
+// The evaluator of a run: MPI ranks when launched by mpirun with more than one rank (where
+// `--threads 0` means one thread per rank, since ranks usually fill the cores), else threads.
+std::unique_ptr<Evaluator> make_run_evaluator(const BuiltRun& built, int& threads) {
+#ifdef QDMETA_WITH_MPI
+  if (mpi_ranks() > 1) {
+    if (threads == 0) threads = 1;
+    std::ostringstream config;
+    config << built.resolved;
+    return make_mpi_evaluator(*g_mpi, built.evaluation_tasks, config.str(), threads, &g_stop);
+  }
+#else
+  (void)built;
+#endif
+  return make_evaluator(threads);
+}
 
 std::string human(double x) {
   if (x >= 1e9) return fmt::format("{:.2f}G", x / 1e9);
@@ -71,15 +126,38 @@ ProgressCallback make_progress(bool quiet) {
 
 // Runs (or continues) a built run to its budget with progress and a closing summary.
 int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const RunCursor* resume) {
-  auto evaluator = make_evaluator(threads);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  auto evaluator = make_run_evaluator(built, threads);
   const bool tty = isatty(fileno(stdout)) != 0;
+  const std::string where = mpi_ranks() > 1 ? fmt::format("{} MPI ranks x {} thread{}", mpi_ranks(), threads,
+                                                           threads > 1 ? "s" : "")
+                                            : fmt::format("{} threads", evaluator->workers());
   if (!quiet)
-    fmt::print("qdmeta {}: {} on {} threads, seed {}, budget {} evaluations -> {}\n", kVersion, built.settings.algorithm,
-               evaluator->workers(), built.settings.seed, built.settings.budget, out.string());
-  const RunResult r =
-      run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(quiet), &g_stop, resume);
+    fmt::print("qdmeta {}: {} on {}, seed {}, budget {} evaluations -> {}\n", kVersion, built.settings.algorithm, where,
+               built.settings.seed, built.settings.budget, out.string());
+  RunResult r;
+  try {
+    r = run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(quiet), &g_stop, resume);
+  } catch (const EvaluationAborted& e) {
+    // Printed here, not by main: this path must stay one line and finish before mpirun's SIGKILL.
+    const std::string who = silent_ranks();
+    if (tty && !quiet) fmt::print("\n");
+    std::fflush(stdout);
+    fmt::print(stderr, "qdmeta: error: {}{}: continue it with: qdmeta resume --out {}\n", who, e.what(), out.string());
+    release_survivors();
+    return who.empty() ? kExitInterrupted : kExitRankFailed;
+  }
+  if (r.reason == StopReason::kInterrupted) {
+    if (const std::string who = silent_ranks(); !who.empty()) {
+      if (tty && !quiet) fmt::print("\n");
+      std::fflush(stdout);
+      fmt::print(stderr, "qdmeta: error: {}the run stopped after {} evaluations with a checkpoint: continue it with: "
+                         "qdmeta resume --out {}\n", who, r.evals, out.string());
+      release_survivors();
+      return kExitRankFailed;
+    }
+  }
   if (!quiet) {
     if (tty) fmt::print("\n");
     fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, "
@@ -90,6 +168,7 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
     if (r.reason == StopReason::kInterrupted && built.algorithm->checkpointable())
       fmt::print("continue it with: qdmeta resume --out {}\n", out.string());
   }
+  release_survivors();
   return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
 }
 
@@ -231,6 +310,16 @@ int main(int argc, char** argv) {
 #ifdef QDMETA_WITH_RHEX
   register_rhex_task();  // [task] name = "rhex"
 #endif
+#ifdef QDMETA_WITH_MPI
+  // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command
+  // line (rank 0 sends them its resolved config), so messages come from rank 0 alone.
+  MpiSession mpi(argc, argv);
+  if (mpi.rank() > 0)
+    return run_mpi_worker(mpi, [](const std::string& config) {
+      return build_run(toml::parse(config), "the config from MPI rank 0", {}, BuildScope::kTasksOnly).evaluation_tasks;
+    });
+  g_mpi = &mpi;
+#endif
   CLI::App app{"qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites and AURORA"};
   app.set_version_flag("--version", std::string(kVersion));
   app.require_subcommand(1);
@@ -297,6 +386,9 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
 
+  if (mpi_ranks() > 1 && !*run_cmd && !*resume_cmd)
+    fmt::print(stderr, "qdmeta: warning: under MPI only run and resume use the other {} ranks; this command runs on rank 0\n",
+               mpi_ranks() - 1);
   try {
     if (*run_cmd) return command_run(run);
     if (*resume_cmd) return command_resume(resume);

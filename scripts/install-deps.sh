@@ -12,7 +12,9 @@ core=(
 )
 # Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
 # DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
-optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev)
+# OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test.
+optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev
+          openmpi-bin libopenmpi-dev)
 
 packages=("${core[@]}")
 if [ "${QDMETA_DEPS:-all}" != core ]; then packages+=("${optional[@]}"); fi

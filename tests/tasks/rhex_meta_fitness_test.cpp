@@ -64,7 +64,7 @@ TEST(RhexMetaFitness, IsTheMeanDistanceOverSolutionsAndEnvironments) {
   for (Index s = 0; s < 2; ++s)
     for (const auto& e : envs) {
       const auto r = task.episode(elites.row(s).data(), e);
-      expected += r.dead ? 0.0 : r.fitness;
+      expected += r.dead ? 0.0 : static_cast<double>(static_cast<Real>(r.fitness));  // the task's float fitness
     }
   expected /= 4.0;
   Rng rng(1);

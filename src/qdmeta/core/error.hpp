@@ -17,4 +17,12 @@ class InputError : public Error {
   explicit InputError(const std::string& message) : Error(message) {}
 };
 
+// Raised by an evaluator that cannot finish a batch: a distributed worker died, or the job was
+// stopped (SIGTERM) while results were outstanding. The batch's outputs are incomplete, so the
+// run driver discards the step and checkpoints the state before it.
+class EvaluationAborted : public Error {
+ public:
+  explicit EvaluationAborted(const std::string& message) : Error(message) {}
+};
+
 }  // namespace qdmeta

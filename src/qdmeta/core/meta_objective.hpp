@@ -3,8 +3,10 @@
 // perturbed Rastrigin functions, or a robot's archive under damages. Higher is better.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "qdmeta/core/rng.hpp"
+#include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
@@ -23,6 +25,10 @@ class MetaObjective {
   // `elites`: the archive's genotypes, one per row (any order). `rng`: this evaluation's own
   // stream (sampling, perturbations). `evaluator` runs any simulations the objective needs.
   virtual MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const = 0;
+  // The tasks evaluate() hands to the evaluator (e.g. one per environment), in a fixed order.
+  // A distributed evaluator ships only an index into this list, so every rank, building the
+  // objective from the same config, must list the same tasks.
+  virtual std::vector<Task> tasks() const { return {}; }
 };
 
 }  // namespace qdmeta

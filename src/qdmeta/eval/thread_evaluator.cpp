@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <optional>
+#include <vector>
 
 #include "qdmeta/eval/evaluator.hpp"
 
@@ -45,6 +46,42 @@ class ThreadEvaluator final : public Evaluator {
               const Index first = c * chunk_rows_;
               const Index n = std::min(chunk_rows_, genotypes.count - first);
               worker_task->evaluate(genotypes.rows(first, n), out.rows(first, n));
+            }
+          },
+          tbb::simple_partitioner());
+    });
+  }
+  // All jobs' chunks in one pool, so a request of many small batches (a meta-fitness's
+  // environments) keeps every thread busy. Copies of unshareable tasks live for this call.
+  void evaluate_jobs(std::span<const EvaluationJob> jobs) override {
+    struct Piece {
+      std::size_t job;
+      Index first, rows;
+    };
+    std::vector<Piece> pieces;
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+      for (Index first = 0; first < jobs[j].genotypes.count; first += chunk_rows_)
+        pieces.push_back({j, first, std::min(chunk_rows_, jobs[j].genotypes.count - first)});
+    if (pieces.size() <= 1 || threads_ == 1) {
+      Evaluator::evaluate_jobs(jobs);
+      return;
+    }
+    tbb::enumerable_thread_specific<std::vector<std::optional<Task>>> copies(
+        [&] { return std::vector<std::optional<Task>>(jobs.size()); });
+    arena_.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pieces.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            auto& local = copies.local();
+            for (std::size_t i = range.begin(); i < range.end(); ++i) {
+              const Piece& p = pieces[i];
+              const EvaluationJob& job = jobs[p.job];
+              const Task* task = job.task;
+              if (!task->shareable()) {
+                if (!local[p.job]) local[p.job].emplace(task->clone());
+                task = &*local[p.job];
+              }
+              task->evaluate(job.genotypes.rows(p.first, p.rows), job.out.rows(p.first, p.rows));
             }
           },
           tbb::simple_partitioner());

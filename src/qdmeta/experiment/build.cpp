@@ -246,7 +246,8 @@ AuroraParams read_aurora(ConfigReader& a) {
 
 }  // namespace
 
-BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides) {
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
+                   BuildScope scope) {
   toml::table effective = config;
   // A run's own config.toml carries a [provenance] table; it describes, it does not configure,
   // so a resolved config can be run again as it is.
@@ -277,6 +278,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   Task task = read_task(task_table);
   ConfigReader mutation_table = root.table("mutation");
   const MutationParams mutation = read_mutation(mutation_table);
+  built.evaluation_tasks.push_back(task);
+  const bool make = scope == BuildScope::kRun;
 
   switch (kind) {
     case AlgorithmKind::kMapElites: {
@@ -288,7 +291,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       auto feature_map = std::make_unique<SelectFeatureMap>(task.base_feature_size(), measures);
       me.finish();
       archive_table.finish();
-      built.algorithm = std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid),
+      if (make)
+        built.algorithm = std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid),
                                                     mutation, s.seed);
       break;
     }
@@ -299,7 +303,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       p.map_elites = read_map_elites(me);
       me.finish();
       cvt.finish();
-      built.algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
+      if (make) built.algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
       break;
     }
     case AlgorithmKind::kQdMeta: {
@@ -320,10 +324,12 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       auto controller = read_control(control);
       ConfigReader meta_fitness = root.table("meta_fitness");
       auto objective = read_meta_fitness(meta_fitness, task, s.seed);
+      for (Task& t : objective->tasks()) built.evaluation_tasks.push_back(std::move(t));
       ConfigReader archive_table = root.table("archive");
       GridArchiveParams grid = read_grid(archive_table, nullptr, task.base_feature_size());
       for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
-      built.algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
+      if (make)
+        built.algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
                                                  std::move(controller), s.seed);
       break;
     }
@@ -332,7 +338,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       const AuroraParams p = read_aurora(a);
       a.finish();
       try {
-        built.algorithm = std::make_unique<Aurora>(p, std::move(task), mutation, s.seed);
+        if (make) built.algorithm = std::make_unique<Aurora>(p, std::move(task), mutation, s.seed);
       } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", a.source(), e.what()));
       }

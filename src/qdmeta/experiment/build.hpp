@@ -36,12 +36,21 @@ struct Overrides {
 
 struct BuiltRun {
   RunSettings settings;
-  std::unique_ptr<Algorithm> algorithm;
+  std::unique_ptr<Algorithm> algorithm;  // null when built with BuildScope::kTasksOnly
   toml::table resolved;  // every key in force, defaults included
+  // Every task the algorithm hands to its evaluator, in a fixed order: the run's task, then
+  // the meta-objective's (QD-Meta). The algorithm holds copies of these very instances (same
+  // Task::id()), so an MPI evaluator can name a task by its place in this list.
+  std::vector<Task> evaluation_tasks;
 };
 
+// kTasksOnly reads and checks the whole config but builds no algorithm: what an MPI worker
+// needs (the evaluation tasks) without the algorithm's memory (e.g. QD-Meta's database).
+enum class BuildScope { kRun, kTasksOnly };
+
 // Throws InputError naming the file and key for anything wrong in the config.
-BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides);
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
+                   BuildScope scope = BuildScope::kRun);
 
 // The unseen test functions named `test` for the task of a run's config (`qdmeta adapt`):
 // Rastrigin "dimension" (120 distinct pairs drawn from `seed`) or "translation" (the 120-point

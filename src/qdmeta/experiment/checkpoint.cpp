@@ -24,31 +24,43 @@ std::uint64_t config_fingerprint(const toml::table& resolved) {
   return fnv1a64(text.str());
 }
 
+RunSnapshot take_snapshot(const RunCursor& cursor, const Algorithm& algorithm) {
+  BinaryWriter state;
+  algorithm.save(state);
+  return {cursor, algorithm.name(), state.bytes()};
+}
+
 void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunCursor& cursor,
                       const Algorithm& algorithm) {
-  BinaryWriter payload;
-  payload.tag("run");
-  payload.value(cursor.next_log);
-  payload.value(cursor.last_logged_generation);
-  payload.value(cursor.metrics_bytes);
-  payload.value(cursor.meta_bytes);
-  payload.value(cursor.wall_seconds);
-  payload.value(cursor.checkpoints);
-  algorithm.save(payload);
-  payload.tag("end");
+  write_checkpoint(dir, fingerprint, take_snapshot(cursor, algorithm));
+}
+
+void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunSnapshot& snapshot) {
+  const RunCursor& cursor = snapshot.cursor;
+  BinaryWriter head;
+  head.tag("run");
+  head.value(cursor.next_log);
+  head.value(cursor.last_logged_generation);
+  head.value(cursor.metrics_bytes);
+  head.value(cursor.meta_bytes);
+  head.value(cursor.wall_seconds);
+  head.value(cursor.checkpoints);
+  BinaryWriter tail;
+  tail.tag("end");
+  const std::string payload = head.bytes() + snapshot.algorithm_state + tail.bytes();
 
   BinaryWriter header;
   header.value<std::uint32_t>(kCheckpointFormat);
   header.string(kVersion);
-  header.string(algorithm.name());
+  header.string(snapshot.algorithm_name);
   header.value(fingerprint);
-  header.value<std::uint64_t>(payload.bytes().size());
-  header.value(fnv1a64(payload.bytes()));
+  header.value<std::uint64_t>(payload.size());
+  header.value(fnv1a64(payload));
 
   AtomicFile file(dir / kCheckpointFile);
   file.stream().write(kMagic.data(), static_cast<std::streamsize>(kMagic.size()));
   file.stream().write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
-  file.stream().write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
+  file.stream().write(payload.data(), static_cast<std::streamsize>(payload.size()));
   file.commit();
 }
 

@@ -31,9 +31,19 @@ struct RunCursor {
 // continues the run it was written for.
 std::uint64_t config_fingerprint(const toml::table& resolved);
 
+// A run's state between two steps, in memory: a distributed run takes one before every step,
+// so that when a step cannot finish (a worker died) the state before it can still be written.
+struct RunSnapshot {
+  RunCursor cursor;
+  std::string algorithm_name;
+  std::string algorithm_state;  // Algorithm::save's bytes
+};
+RunSnapshot take_snapshot(const RunCursor& cursor, const Algorithm& algorithm);
+
 // Writes <dir>/checkpoint.bin atomically. The algorithm must be checkpointable.
 void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunCursor& cursor,
                       const Algorithm& algorithm);
+void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunSnapshot& snapshot);
 
 // Restores `algorithm` (freshly built from the same config) and returns the cursor.
 RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, Algorithm& algorithm);

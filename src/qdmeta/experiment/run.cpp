@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 
@@ -107,6 +108,7 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
   };
   double last_checkpoint = elapsed();
 
+  const bool guard = evaluator.may_abort() && algorithm.checkpointable();
   RunResult result;
   std::int64_t evals = settings.evals(algorithm.counters());
   while (evals < settings.budget) {
@@ -114,7 +116,25 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
       result.reason = StopReason::kInterrupted;
       break;
     }
-    algorithm.step(evaluator);
+    // A distributed evaluator can lose a worker midway through a step, leaving the algorithm
+    // half-stepped: keep the state before the step, and on failure checkpoint that instead.
+    std::optional<RunSnapshot> before;
+    if (guard) {
+      RunCursor c = cursor;
+      c.metrics_bytes = metrics.bytes();
+      c.meta_bytes = meta ? meta->bytes() : 0;
+      c.wall_seconds = elapsed();
+      c.checkpoints = cursor.checkpoints + 1;
+      before = take_snapshot(c, algorithm);
+    }
+    try {
+      algorithm.step(evaluator);
+    } catch (const EvaluationAborted& e) {
+      if (!guard) throw;
+      write_checkpoint(out_dir, settings.fingerprint, *before);
+      throw EvaluationAborted(fmt::format("{}; checkpoint written at {} evaluations (the last finished step)", e.what(),
+                                          evals));
+    }
     evals = settings.evals(algorithm.counters());
     if (const MetaGenerationRecord* record = algorithm.last_meta_record()) {
       if (!meta) meta.emplace(out_dir / "meta.csv", meta_columns());

@@ -16,10 +16,15 @@ void RhexMetaParams::validate() const {
 
 RhexMetaFitness::RhexMetaFitness(std::string name, RhexMetaParams params, RhexTask task,
                                  std::vector<rhex::RhexEnvironment> environments)
-    : name_(std::move(name)), params_(params), task_(std::move(task)), environments_(std::move(environments)) {
+    : name_(std::move(name)), params_(params), environments_(std::move(environments)) {
   params_.validate();
   if (environments_.empty()) throw InputError(fmt::format("{}: needs at least one environment", name_));
-  for (const auto& e : environments_) e.validate();
+  for (const auto& e : environments_) {
+    e.validate();
+    RhexParams p = task.params();
+    p.environment = e;
+    env_tasks_.emplace_back(RhexTask(p));
+  }
 }
 
 MetaFitnessResult RhexMetaFitness::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const {
@@ -27,16 +32,25 @@ MetaFitnessResult RhexMetaFitness::evaluate(const RowMatrix& elites, Rng& rng, E
   if (n == 0) return {};
   const std::vector<Index> sample = sample_elites(elites.rows(), n, rng);
   const Index env_count = static_cast<Index>(environments_.size());
-  std::vector<double> distance(static_cast<std::size_t>(n * env_count), 0.0);
-  // Each episode builds its own world from a const task, so episodes may run concurrently.
-  evaluator.parallel_for(n * env_count, [&](Index job) {
-    const Index s = job / env_count;
-    const auto& env = environments_[static_cast<std::size_t>(job % env_count)];
-    const rhex::EpisodeResult r = task_.episode(elites.row(sample[static_cast<std::size_t>(s)]).data(), env);
-    distance[static_cast<std::size_t>(job)] = r.dead ? 0.0 : r.fitness;
-  });
+  const Index genes = elites.cols();
+  RowMatrix sampled(n, genes);
+  for (Index s = 0; s < n; ++s) sampled.row(s) = elites.row(sample[static_cast<std::size_t>(s)]);
+  std::vector<EvaluationBatch> results(static_cast<std::size_t>(env_count));
+  std::vector<EvaluationJob> jobs;
+  for (Index e = 0; e < env_count; ++e) {
+    EvaluationBatch& r = results[static_cast<std::size_t>(e)];
+    const Task& task = env_tasks_[static_cast<std::size_t>(e)];
+    r.resize(n, task.base_feature_size());
+    jobs.push_back({&task, {sampled.data(), n, genes}, r.view()});
+  }
+  evaluator.evaluate_jobs(jobs);
+  // Solution-major, as the episodes are listed: the sum's order is fixed.
   double sum = 0.0;
-  for (double d : distance) sum += d;
+  for (Index s = 0; s < n; ++s)
+    for (Index e = 0; e < env_count; ++e) {
+      const EvaluationBatch& r = results[static_cast<std::size_t>(e)];
+      sum += r.valid[static_cast<std::size_t>(s)] ? static_cast<double>(r.fitness[s]) : 0.0;
+    }
   return {sum / static_cast<double>(n * env_count), n * env_count};
 }
 

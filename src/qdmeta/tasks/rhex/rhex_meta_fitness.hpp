@@ -26,16 +26,20 @@ class RhexMetaFitness final : public MetaObjective {
   // `name`: "rhex-damage" or "rhex-obstacle"; `environments`: where each sampled solution walks.
   RhexMetaFitness(std::string name, RhexMetaParams params, RhexTask task, std::vector<rhex::RhexEnvironment> environments);
   std::string name() const override { return name_; }
-  // F = (1 / (n E)) sum_s sum_e f(g_s; e), dead = 0; evaluations = n E. Episodes run through
-  // evaluator.parallel_for and are summed in a fixed order, so F does not depend on the threads.
+  // F = (1 / (n E)) sum_s sum_e f(g_s; e), dead = 0; evaluations = n E. Episodes run as one
+  // evaluate_jobs request (a job per environment, so MPI ranks can share them) and are summed
+  // in a fixed order, so F does not depend on the threads or ranks. f is the task's fitness
+  // (Real, float), as stored in archives.
   MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const override;
+  // One RHex task per environment, in environments() order.
+  std::vector<Task> tasks() const override { return env_tasks_; }
   const std::vector<rhex::RhexEnvironment>& environments() const { return environments_; }
 
  private:
   std::string name_;
   RhexMetaParams params_;
-  RhexTask task_;
   std::vector<rhex::RhexEnvironment> environments_;
+  std::vector<Task> env_tasks_;
 };
 
 // The paper's training sets, drawn once per replicate from `rng`.

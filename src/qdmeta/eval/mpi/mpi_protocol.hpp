@@ -1,0 +1,120 @@
+#pragma once
+// Messages between rank 0 and the workers. Everything goes as MPI_BYTE in one packed buffer
+// per message, so a message is one send whatever its size. Internal to eval/mpi.
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace qdmeta::mpi {
+
+enum Tag : int {
+  kConfig = 1,  // 0 -> w: worker threads (int64) + the resolved config (TOML text)
+  kReady = 2,   // w -> 0: description of the tasks the worker built
+  kWork = 3,    // 0 -> w: WorkHeader + genotypes (rows x genes Real)
+  kResult = 4,  // w -> 0: ResultHeader + fitness + base features + valid
+  kFailed = 5,  // w -> 0: ResultHeader (the piece, or -1) + a one-line error; the worker carries on
+  kBye = 6,     // w -> 0: the worker got SIGTERM/SIGINT and exits
+  kStop = 7,    // 0 -> w: exit
+};
+
+struct WorkHeader {
+  std::int64_t request = 0;  // serial number of the evaluate call on rank 0
+  std::int64_t piece = 0;    // index of the piece within the request
+  std::int64_t task = 0;     // index into the evaluation-task list
+  std::int64_t rows = 0;
+  std::int64_t genes = 0;
+};
+
+struct ResultHeader {
+  std::int64_t request = 0;
+  std::int64_t piece = 0;
+  std::int64_t rows = 0;
+  std::int64_t base_features = 0;
+};
+
+// Appends raw bytes; reads them back in the same order.
+class Packer {
+ public:
+  template <class T>
+  void put(const T* data, std::size_t count) {
+    const auto* p = reinterpret_cast<const char*>(data);
+    bytes_.insert(bytes_.end(), p, p + count * sizeof(T));
+  }
+  template <class T>
+  void put(const T& x) { put(&x, 1); }
+  std::vector<char>& bytes() { return bytes_; }
+
+ private:
+  std::vector<char> bytes_;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(std::string_view bytes) : bytes_(bytes) {}
+  // Throws std::runtime_error on a short message (a protocol bug, not user input).
+  template <class T>
+  void get(T* out, std::size_t count) {
+    const std::size_t n = count * sizeof(T);
+    if (pos_ + n > bytes_.size()) throw std::runtime_error("MPI message shorter than its header says");
+    std::memcpy(out, bytes_.data() + pos_, n);
+    pos_ += n;
+  }
+  template <class T>
+  T get() {
+    T x;
+    get(&x, 1);
+    return x;
+  }
+  std::string_view rest() const { return bytes_.substr(pos_); }
+
+ private:
+  std::string_view bytes_;
+  std::size_t pos_ = 0;
+};
+
+// Receives the message that MPI_Iprobe/MPI_Probe announced in `status`.
+inline std::vector<char> receive(const MPI_Status& status, MPI_Comm comm) {
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  std::vector<char> buffer(static_cast<std::size_t>(count));
+  MPI_Recv(buffer.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, comm, MPI_STATUS_IGNORE);
+  return buffer;
+}
+
+}  // namespace qdmeta::mpi
+
+namespace qdmeta::mpi {
+
+// Non-blocking sends whose buffers live until MPI is done with them: a blocking send to a
+// rank that died would never return, and a process must be able to notice signals meanwhile.
+class Outbox {
+ public:
+  void send(std::vector<char> bytes, int dest, int tag, MPI_Comm comm) {
+    Pending p{MPI_REQUEST_NULL, std::move(bytes)};
+    MPI_Isend(p.bytes.data(), static_cast<int>(p.bytes.size()), MPI_BYTE, dest, tag, comm, &p.request);
+    pending_.push_back(std::move(p));
+  }
+  // Forgets the sends that completed.
+  void progress() {
+    std::erase_if(pending_, [](Pending& p) {
+      int done = 0;
+      MPI_Test(&p.request, &done, MPI_STATUS_IGNORE);
+      return done != 0;
+    });
+  }
+  bool empty() const { return pending_.empty(); }
+
+ private:
+  struct Pending {
+    MPI_Request request;
+    std::vector<char> bytes;
+  };
+  std::vector<Pending> pending_;
+};
+
+}  // namespace qdmeta::mpi
