@@ -216,6 +216,18 @@ struct AdaptArgs {
 // The test phase on a finished run: random search over its archive under unseen test functions.
 int command_adapt(const AdaptArgs& a) {
   auto evaluator = make_evaluator(a.threads);
+  if (a.test == "generalisation") {
+    if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
+    const GeneralisationReport g = generalise_run(a.run, a.seed, *evaluator);
+    if (!a.quiet) {
+      fmt::print("test 'generalisation': {} archive solutions, mean score per group (+- SE over environments):\n",
+                 g.archive_size);
+      for (const auto& row : g.rows)
+        fmt::print("  {:<18} {:>3} environments: {:.6g} +- {:.3g}\n", row.group, row.environments, row.mean, row.se);
+      fmt::print("results: {}\n", g.file.string());
+    }
+    return 0;
+  }
   const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
                                        *evaluator);
   if (!a.quiet)
@@ -366,8 +378,13 @@ int main(int argc, char** argv) {
   AdaptArgs adapt;
   CLI::App* adapt_cmd = app.add_subcommand("adapt", "Test phase: random search over a finished run's archive on unseen test functions");
   adapt_cmd->add_option("--run", adapt.run, "Directory of a finished run")->required();
-  adapt_cmd->add_option("--test", adapt.test, "Test family (Rastrigin: dimension, translation)")->required();
-  adapt_cmd->add_option("--budget", adapt.budget, "Evaluations per test function (default: the task's, 100 on Rastrigin)")
+  adapt_cmd->add_option("--test", adapt.test,
+                        "Test family (Rastrigin: dimension, translation; RHex: damage, obstacle, damage-training, "
+                        "obstacle-training: writes adapt-NAME.csv), or generalisation (RHex: the whole archive's mean "
+                        "distance on training/test damages and obstacles: writes generalisation.csv)")
+      ->required();
+  adapt_cmd->add_option("--budget", adapt.budget,
+                        "Evaluations per test function (default: the task's, 100 on Rastrigin, 50 on RHex)")
       ->check(CLI::PositiveNumber);
   adapt_cmd->add_option("--seed", adapt.seed, "Seed of the search orders and test draws (default: the run's seed)");
   adapt_cmd->add_option("--threads", adapt.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);

@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <unistd.h>
 
+#include <cmath>
+#include <filesystem>
+
+#include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
@@ -175,6 +179,54 @@ TEST(CvtMapElites, ACheckpointBeforeTheFirstStepLoads) {
   other.load(in);
   EXPECT_FALSE(other.prepared());
   EXPECT_EQ(other.generation(), 0);
+}
+
+}  // namespace
+}  // namespace qdmeta
+
+namespace qdmeta {
+namespace {
+
+// `points = "random-descriptors"`: k-means over the base features of valid random genotypes only.
+TEST(CvtMapElites, RandomDescriptorPointsAreTheValidGenotypesFeatures) {
+  const Task task(HalfDeadTask{});
+  SerialEvaluator serial;
+  const DescriptorPoints d = feasible_random_descriptors(task, 500, 3, serial, 100'000, 64);
+  ASSERT_EQ(d.points.rows(), 500);
+  ASSERT_EQ(d.points.cols(), 3);
+  for (Index i = 0; i < d.points.rows(); ++i) EXPECT_GE(d.points(i, 0), 0.3f);  // only the valid
+  EXPECT_GT(d.attempts, 600);  // 30% of uniform genotypes are invalid: ~714 attempts
+  EXPECT_LT(d.attempts, 900);
+  auto threads = make_evaluator(2);
+  EXPECT_TRUE(feasible_random_descriptors(task, 500, 3, *threads, 100'000, 64).points == d.points);
+  EXPECT_THROW(feasible_random_descriptors(task, 500, 3, serial, 300, 64), Error);  // too few valid
+
+  const auto dir = std::filesystem::temp_directory_path() / ("qdmeta_cvt_desc_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  CvtMapElitesParams p;
+  p.points = CvtPoints::kRandomDescriptors;
+  p.task_key = "half-dead";
+  p.kmeans.centroids = 20;
+  p.kmeans.samples = 400;
+  p.kmeans.init_samples = 400;
+  p.kmeans.iterations = 3;
+  p.neighbours = 8;
+  p.cache_dir = dir;
+  CvtMapElites first(p, task, {}, 1);
+  first.prepare(serial);
+  EXPECT_EQ(first.cache_outcome(), CacheOutcome::kMiss);
+  const RowMatrix& c = first.archive().centroids();
+  for (Index i = 0; i < c.rows(); ++i) EXPECT_GE(c(i, 0), 0.3f);  // means of valid points
+  CvtMapElites second(p, task, {}, 2);
+  second.prepare(*threads);
+  EXPECT_EQ(second.cache_outcome(), CacheOutcome::kHit);
+  EXPECT_TRUE(second.archive().centroids() == c);
+  p.points = CvtPoints::kUniform;  // the uniform points reach below 0.3, under another key
+  CvtMapElites uniform(p, task, {}, 1);
+  uniform.prepare(serial);
+  EXPECT_EQ(uniform.cache_outcome(), CacheOutcome::kMiss);
+  EXPECT_LT(uniform.archive().centroids().col(0).minCoeff(), 0.3f);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

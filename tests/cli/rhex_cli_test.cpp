@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
@@ -37,7 +39,7 @@ std::string slurp(const fs::path& path) {
 }
 
 // smoke-damage.toml made smaller still: 0.5 s episodes, 8 random genotypes, 4 offspring, 1 generation.
-fs::path tiny_config() {
+fs::path tiny_config(const std::string& name = "tiny") {
   std::string text = slurp(std::string(QDMETA_SOURCE_DIR) + "/configs/rhex/smoke-damage.toml");
   auto set = [&](const std::string& from, const std::string& to) {
     const auto at = text.find(from);
@@ -50,7 +52,7 @@ fs::path tiny_config() {
   set("batch_size = 16", "batch_size = 4");
   set("initial_population = 64", "initial_population = 8");
   set("generations = 2", "generations = 1");
-  const fs::path path = fs::temp_directory_path() / "qdmeta_rhex_cli_tiny.toml";
+  const fs::path path = fs::temp_directory_path() / ("qdmeta_rhex_cli_" + name + ".toml");
   std::ofstream(path) << text;
   return path;
 }
@@ -90,6 +92,54 @@ TEST(RhexCli, TinyQdMetaDamageRun) {
     ASSERT_FALSE(r.dead);
     EXPECT_NEAR(t.objective[i], r.fitness, 1e-3 + 1e-5 * std::abs(r.fitness));
   }
+}
+
+// The test phase from the command line: the tiny run trained on 1 damage type, so its damage
+// test is the other 3 types x 6 legs; 2 evaluations each (36 half-second episodes). Then the
+// generalisation table on a one-solution archive (33 episodes).
+TEST(RhexCli, AdaptWritesTheDamageCurveAndTheGeneralisationTable) {
+  const fs::path config = tiny_config("adapt");
+  const fs::path out = fs::temp_directory_path() / "qdmeta_rhex_cli_adapt";
+  fs::remove_all(out);
+  std::string output;
+  ASSERT_EQ(run_cli("run --config " + config.string() + " --out " + out.string() + " --quiet --threads 2", &output), 0)
+      << output;
+  ASSERT_EQ(run_cli("adapt --run " + out.string() + " --test damage --budget 2 --threads 2", &output), 0) << output;
+  EXPECT_NE(output.find("18 functions x 2 evaluations"), std::string::npos) << output;
+  std::istringstream curve(slurp(out / "adapt-damage.csv"));
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(curve, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0], "evaluations,best_mean,best_se");
+  EXPECT_TRUE(rows[1].starts_with("1,")) << rows[1];
+  EXPECT_TRUE(rows[2].starts_with("2,")) << rows[2];
+  const double first = std::stod(rows[1].substr(2)), last = std::stod(rows[2].substr(2));
+  EXPECT_GE(last, first);  // best so far
+  EXPECT_LT(last, 5.0);    // metres in half a second: a distance, not a sum
+
+  ASSERT_EQ(run_cli("adapt --run " + out.string() + " --test walk", &output), 2);
+  EXPECT_NE(output.find("valid tests are damage, obstacle, damage-training, obstacle-training, generalisation"),
+            std::string::npos)
+      << output;
+
+  // Keep one solution so that the whole-archive table stays cheap.
+  std::istringstream archive(slurp(out / "archive.csv"));
+  std::string header, first_row;
+  std::getline(archive, header);
+  std::getline(archive, first_row);
+  std::ofstream(out / "archive.csv") << header << "\n" << first_row << "\n";
+  ASSERT_EQ(run_cli("adapt --run " + out.string() + " --test generalisation --threads 2 --quiet", &output), 0) << output;
+  std::istringstream table(slurp(out / "generalisation.csv"));
+  rows.clear();
+  while (std::getline(table, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[0], "group,environments,solutions,mean,se");
+  EXPECT_TRUE(rows[1].starts_with("damage-training,6,1,")) << rows[1];
+  EXPECT_TRUE(rows[2].starts_with("obstacle-training,5,1,")) << rows[2];
+  EXPECT_TRUE(rows[3].starts_with("damage,18,1,")) << rows[3];
+  EXPECT_TRUE(rows[4].starts_with("obstacle,4,1,")) << rows[4];
+  EXPECT_EQ(run_cli("adapt --run " + out.string() + " --test generalisation --budget 3", &output), 2) << output;
 }
 
 }  // namespace

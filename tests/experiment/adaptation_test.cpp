@@ -106,6 +106,20 @@ TEST(Adaptation, RejectsAnEmptyArchiveOrBudget) {
                      "test 'shifted': budget 0 must be at least 1");
 }
 
+TEST(Generalisation, IsTheMeanOverSolutionsAndEnvironmentsWithSeOverEnvironments) {
+  SerialEvaluator evaluator;
+  ShiftedFirstGene tests(3);  // environment t scores gene 0 + t
+  const GeneralisationRow row = whole_archive_mean(ladder(4), tests, evaluator);  // genes 1..4: mean 2.5
+  EXPECT_EQ(row.group, "shifted");
+  EXPECT_EQ(row.environments, 3);
+  EXPECT_EQ(row.solutions, 4);
+  EXPECT_DOUBLE_EQ(row.mean, 2.5 + 1.0);  // environment means 2.5, 3.5, 4.5
+  EXPECT_DOUBLE_EQ(row.se, 1.0 / std::sqrt(3.0));  // SD 1 over 3 environments
+  ASSERT_EQ(tests.seen.size(), 3u);
+  for (const auto& seen : tests.seen) EXPECT_EQ(seen.size(), 4u);  // every solution, no search
+  EXPECT_INPUT_ERROR(whole_archive_mean(RowMatrix(0, 2), tests, evaluator), "test 'shifted': the archive is empty");
+}
+
 TEST(RastriginTests, DimensionTestsUse120DistinctPairsAndClipAtMinusM) {
   Rng rng(5);
   RastriginDimensionTests tests(20, 120, rng);

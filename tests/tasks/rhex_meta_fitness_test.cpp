@@ -100,6 +100,26 @@ TEST(RhexConfig, SmokeConfigsBuildAndRecordTheDrawnSets) {
   }
 }
 
+TEST(RhexConfig, BaselineConfigsBuildWithThePapersSettings) {
+  register_rhex_task();
+  for (const char* name : {"cvt-map-elites", "smoke-cvt", "aurora", "smoke-aurora"}) {
+    const std::string path = std::string(QDMETA_SOURCE_DIR) + "/configs/rhex/" + name + ".toml";
+    const BuiltRun built = build_run(toml::parse_file(path), path, {});  // builds; runs nothing
+    EXPECT_EQ(built.settings.counts, BudgetCount::kAll) << name;
+    const bool smoke = std::string(name).starts_with("smoke");
+    EXPECT_EQ(built.settings.budget, smoke ? 1'000 : 12'000'000) << name;
+    EXPECT_EQ(built.resolved["task"]["features"].value_or<std::string>(""), "trajectory") << name;
+    if (std::string(name).find("cvt") != std::string::npos) {
+      EXPECT_EQ(built.resolved["cvt"]["points"].value_or<std::string>(""), "random-descriptors") << name;
+      EXPECT_EQ(built.resolved["cvt"]["centroids"].value_or<std::int64_t>(0), smoke ? 16 : 4096) << name;
+      EXPECT_EQ(built.resolved["cvt"]["samples"].value_or<std::int64_t>(0), smoke ? 256 : 100'000) << name;
+    } else {
+      EXPECT_EQ(built.resolved["aurora"]["latent_size"].value_or<std::int64_t>(0), 4) << name;
+      EXPECT_EQ(built.resolved["aurora"]["target_size"].value_or<std::int64_t>(0), smoke ? 32 : 4096) << name;
+    }
+  }
+}
+
 TEST(RhexConfig, BadKeysAreNamed) {
   register_rhex_task();
   const char* cases[][2] = {
@@ -110,6 +130,8 @@ TEST(RhexConfig, BadKeysAreNamed) {
        "meta_fitness.kind = \"dimension\" is not a valid choice: use one of \"damage\", \"obstacle\""},
       {"algorithm = \"qd-meta\"\n[task]\nname = \"rhex\"\n[meta_fitness]\ncourse_count = 2\nkind = \"obstacle\"\ncourses = [1, 10]\n",
        "meta_fitness.courses holds 10, out of range"},
+      {"algorithm = \"cvt-map-elites\"\n[task]\nname = \"rhex\"\n[cvt]\npoints = \"trajectories\"\n",
+       "cvt.points = \"trajectories\" is not a valid choice: use one of \"uniform\", \"random-descriptors\""},
   };
   for (const auto& c : cases) {
     const toml::table cfg = toml::parse(c[0]);

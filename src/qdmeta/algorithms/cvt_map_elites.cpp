@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/params.hpp"
 
@@ -14,6 +15,7 @@ void CvtMapElitesParams::validate() const {
   kmeans.validate();
   require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
   require_range("cvt.neighbours", neighbours, Index{1}, Index{100'000});
+  require_range("cvt.max_attempts", max_attempts, Index{0}, Index{1'000'000'000'000});
 }
 
 CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
@@ -24,8 +26,28 @@ CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams 
 void CvtMapElites::prepare(Evaluator& evaluator) {
   if (archive_) return;
   CachedCentroids made;
-  evaluator.within_workers(
-      [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
+  if (params_.points == CvtPoints::kUniform) {
+    evaluator.within_workers(
+        [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
+  } else {
+    // Drawn only on a cache miss; the attempts say how many random genotypes were not valid.
+    const Index samples = params_.kmeans.samples;
+    const Index max_attempts = params_.max_attempts > 0 ? params_.max_attempts : 10 * samples;
+    const std::string task_key = params_.task_key.empty() ? task_.name() : params_.task_key;
+    const CentroidPoints points{fmt::format("desc-{}", task_key), [&] {
+                                  const DescriptorPoints d = feasible_random_descriptors(
+                                      task_, samples, params_.kmeans.seed, evaluator, max_attempts);
+                                  std::fprintf(stderr,
+                                               "qdmeta: CVT points: %lld valid of %lld random genotypes (%.2f%% invalid)\n",
+                                               static_cast<long long>(samples), static_cast<long long>(d.attempts),
+                                               100.0 * static_cast<double>(d.attempts - samples) /
+                                                   static_cast<double>(d.attempts));
+                                  return d.points;
+                                }};
+    evaluator.within_workers([&] {
+      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, &points);
+    });
+  }
   if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());
   cache_outcome_ = made.outcome;
   const Index lists = params_.search == CvtSearch::kParentBound ? params_.neighbours : 0;

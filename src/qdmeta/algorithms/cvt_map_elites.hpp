@@ -22,6 +22,12 @@ enum class CvtSearch { kParentBound, kBruteForce };
 inline constexpr EnumNames<CvtSearch, 2> kCvtSearchNames{
     {{CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
 
+// Where k-means takes its points: uniform in [0,1]^d, or the base features of feasible random
+// genotypes of the task (SPEC.md section 6 for RHex).
+enum class CvtPoints { kUniform, kRandomDescriptors };
+inline constexpr EnumNames<CvtPoints, 2> kCvtPointsNames{
+    {{CvtPoints::kUniform, "uniform"}, {CvtPoints::kRandomDescriptors, "random-descriptors"}}};
+
 struct CvtMapElitesParams {
   MapElitesParams map_elites;        // batch size and initial population
   KMeansParams kmeans;               // how the centroids are made
@@ -29,6 +35,11 @@ struct CvtMapElitesParams {
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
   CvtSearch search = CvtSearch::kParentBound;  // settle offspring from the parent's neighbours, or always search
   Index neighbours = 256;            // parent-bound: neighbour list length per elite, >= 1
+  CvtPoints points = CvtPoints::kUniform;  // k-means over kmeans.samples points of this kind
+  Index max_attempts = 0;            // random-descriptors: give up after this many genotypes (0: 10 x samples)
+  // random-descriptors: names the task settings that determine its descriptors, in the cache key
+  // (the config reader uses a hash of the resolved [task] table); empty: the task's name only.
+  std::string task_key;
   void validate() const;
 };
 

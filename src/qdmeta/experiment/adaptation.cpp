@@ -68,4 +68,35 @@ void write_adaptation_csv(const std::filesystem::path& path, const AdaptationCur
   write_file_atomic(path, text);
 }
 
+GeneralisationRow whole_archive_mean(const RowMatrix& archive, const AdaptationTests& tests, Evaluator& evaluator) {
+  if (archive.rows() < 1) throw InputError(fmt::format("test '{}': the archive is empty", tests.name()));
+  const Index envs = tests.count();
+  if (envs < 1) throw InputError(fmt::format("test '{}' has no test functions", tests.name()));
+  std::vector<double> scores(static_cast<std::size_t>(archive.rows()));
+  std::vector<double> env_means;
+  for (Index t = 0; t < envs; ++t) {
+    tests.score(t, archive, evaluator, scores);
+    double sum = 0.0;
+    for (double v : scores) {
+      if (!std::isfinite(v))
+        throw Error(fmt::format("test '{}' function {} scored {} for an archive solution", tests.name(), t, v));
+      sum += v;
+    }
+    env_means.push_back(sum / static_cast<double>(archive.rows()));
+  }
+  const auto n = static_cast<double>(envs);
+  double mean = 0.0;
+  for (double m : env_means) mean += m;
+  mean /= n;
+  double sq = 0.0;
+  for (double m : env_means) sq += (m - mean) * (m - mean);
+  return {tests.name(), envs, archive.rows(), mean, envs > 1 ? std::sqrt(sq / (n - 1.0)) / std::sqrt(n) : 0.0};
+}
+
+void write_generalisation_csv(const std::filesystem::path& path, const std::vector<GeneralisationRow>& rows) {
+  std::string text = "group,environments,solutions,mean,se\n";
+  for (const auto& r : rows) text += fmt::format("{},{},{},{},{}\n", r.group, r.environments, r.solutions, r.mean, r.se);
+  write_file_atomic(path, text);
+}
+
 }  // namespace qdmeta

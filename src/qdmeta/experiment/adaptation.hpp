@@ -5,6 +5,7 @@
 // functions. An archive smaller than the budget is exhausted and its best carried forward.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "qdmeta/core/adaptation_tests.hpp"
@@ -25,5 +26,20 @@ AdaptationCurve random_search_adaptation(const RowMatrix& archive, const Adaptat
 
 // adapt-NAME.csv: `evaluations,best_mean,best_se`, one row per evaluation 1..budget. Atomic.
 void write_adaptation_csv(const std::filesystem::path& path, const AdaptationCurve& curve);
+
+// The generalisation test (SPEC.md section 5, the paper's generalisation table): every archive
+// solution in every environment of a group, no search. mean = over solutions x environments
+// (dead = 0 is the task's business); se = SD over environments of their archive means / sqrt(E).
+struct GeneralisationRow {
+  std::string group;
+  Index environments = 0;
+  Index solutions = 0;
+  double mean = 0.0;
+  double se = 0.0;
+};
+GeneralisationRow whole_archive_mean(const RowMatrix& archive, const AdaptationTests& tests, Evaluator& evaluator);
+
+// generalisation.csv: `group,environments,solutions,mean,se`, one row per group. Atomic.
+void write_generalisation_csv(const std::filesystem::path& path, const std::vector<GeneralisationRow>& rows);
 
 }  // namespace qdmeta

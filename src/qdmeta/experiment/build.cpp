@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "qdmeta/algorithms/aurora.hpp"
@@ -156,6 +157,9 @@ CvtMapElitesParams read_cvt(ConfigReader& c) {
   p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
   p.search = c.choice("search", p.search, kCvtSearchNames);
   p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
+  p.points = c.choice("points", p.points, kCvtPointsNames);
+  if (p.points == CvtPoints::kRandomDescriptors)
+    p.max_attempts = c.integer("max_attempts", p.max_attempts, 0, 1'000'000'000'000);
   try {
     p.kmeans.validate();
   } catch (const InputError& e) {
@@ -301,6 +305,9 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       ConfigReader cvt = root.table("cvt");
       CvtMapElitesParams p = read_cvt(cvt);
       p.map_elites = read_map_elites(me);
+      // The descriptors' centroids depend on every task setting (episode length, features ...).
+      if (const auto* task_resolved = built.resolved["task"].as_table())
+        p.task_key = fmt::format("{}-{:016x}", task.name(), config_fingerprint(*task_resolved));
       me.finish();
       cvt.finish();
       if (make) built.algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
@@ -355,12 +362,37 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   return built;
 }
 
+namespace {
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += fmt::format("{}{}", out.empty() ? "" : ", ", n);
+  return out.empty() ? "none" : out;
+}
+
+const std::vector<std::string>& rastrigin_tests() {
+  static const std::vector<std::string> names{"dimension", "translation"};
+  return names;
+}
+
+}  // namespace
+
 std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& config, const std::string& source,
                                                         std::string_view test, std::uint64_t seed) {
   toml::table resolved;
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");
   const Task task = read_task(task_table);
+  if (const TaskPlugin* plugin = find_task_plugin(task.name())) {
+    const auto& names = plugin->adaptation_tests;
+    if (!plugin->read_adaptation_tests || names.empty())
+      throw InputError(fmt::format("task '{}' has no test phase", task.name()));
+    if (std::find(names.begin(), names.end(), test) == names.end())
+      throw InputError(fmt::format("unknown test '{}' for task '{}': valid tests are {}{}", test, task.name(),
+                                   quoted_list(names),
+                                   plugin->generalisation_groups.empty() ? "" : ", generalisation"));
+    return plugin->read_adaptation_tests(config, source, task, test, seed);
+  }
   if (task.name() != "rastrigin")
     throw InputError(fmt::format("task '{}' has no test phase yet (qdmeta adapt knows Rastrigin's)", task.name()));
   const auto n = static_cast<int>(task.genotype_size());
@@ -371,7 +403,24 @@ std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& confi
     return std::make_unique<RastriginDimensionTests>(n, 120, rng, m);
   }
   if (test == "translation") return std::make_unique<RastriginTranslationTests>(n, m);
-  throw InputError(fmt::format("unknown test '{}' for task '{}': valid tests are dimension, translation", test, task.name()));
+  throw InputError(fmt::format("unknown test '{}' for task '{}': valid tests are {}", test, task.name(),
+                               quoted_list(rastrigin_tests())));
+}
+
+std::vector<std::unique_ptr<AdaptationTests>> build_generalisation_groups(const toml::table& config,
+                                                                         const std::string& source, std::uint64_t seed) {
+  toml::table resolved;
+  ConfigReader root(config, source, resolved);
+  ConfigReader task_table = root.table("task");
+  const Task task = read_task(task_table);
+  const TaskPlugin* plugin = find_task_plugin(task.name());
+  if (plugin == nullptr || plugin->generalisation_groups.empty())
+    throw InputError(fmt::format("task '{}' has no generalisation test: valid tests are {}", task.name(),
+                                 quoted_list(plugin ? plugin->adaptation_tests : rastrigin_tests())));
+  std::vector<std::unique_ptr<AdaptationTests>> groups;
+  for (const auto& name : plugin->generalisation_groups)
+    groups.push_back(plugin->read_adaptation_tests(config, source, task, name, seed));
+  return groups;
 }
 
 }  // namespace qdmeta

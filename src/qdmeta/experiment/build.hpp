@@ -5,6 +5,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -54,8 +56,14 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
 
 // The unseen test functions named `test` for the task of a run's config (`qdmeta adapt`):
 // Rastrigin "dimension" (120 distinct pairs drawn from `seed`) or "translation" (the 120-point
-// grid). An unknown name lists the valid ones.
+// grid); a registered task's families (task_registry.hpp; RHex: damage, obstacle,
+// damage-training, obstacle-training). An unknown name lists the valid ones.
 std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& config, const std::string& source,
                                                         std::string_view test, std::uint64_t seed);
+
+// The groups of the generalisation test (`qdmeta adapt --test generalisation`): the task's
+// generalisation families in report order. InputError for a task without one.
+std::vector<std::unique_ptr<AdaptationTests>> build_generalisation_groups(const toml::table& config,
+                                                                         const std::string& source, std::uint64_t seed);
 
 }  // namespace qdmeta

@@ -205,11 +205,14 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         ++result.runs_done;
       }
       for (const auto& test : spec.tests) {
-        if (fs::exists(dir / fmt::format("adapt-{}.csv", test))) continue;
+        const bool generalisation = test == "generalisation";  // a table, not a curve
+        if (fs::exists(dir / (generalisation ? std::string("generalisation.csv") : fmt::format("adapt-{}.csv", test))))
+          continue;
         p.phase = "test " + test;
         p.wall_seconds = wall();
         if (progress) progress(p);
-        adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
+        if (generalisation) generalise_run(dir, std::nullopt, *evaluator);
+        else adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
         ++result.tests_done;
       }
     }

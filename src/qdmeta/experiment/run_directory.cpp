@@ -32,7 +32,8 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
   if (holds_run) {
     for (const auto& f : run_files()) fs::remove(out / f);
     for (const auto& entry : fs::directory_iterator(out))  // the old run's test-phase curves
-      if (entry.path().filename().string().starts_with("adapt-")) fs::remove(entry.path());
+      if (const auto name = entry.path().filename().string(); name.starts_with("adapt-") || name == "generalisation.csv")
+        fs::remove(entry.path());
   }
   std::error_code ec;
   fs::create_directories(out, ec);
@@ -62,14 +63,37 @@ ResumableRun open_for_resume(const fs::path& dir) {
   return r;
 }
 
-AdaptationReport adapt_run(const fs::path& dir, std::string_view test, std::optional<Index> budget,
-                           std::optional<std::uint64_t> seed, Evaluator& evaluator) {
+namespace {
+
+// The config of the finished run in `dir`; InputError when there is none or it has not finished.
+toml::table finished_run_config(const fs::path& dir) {
   const fs::path config_path = dir / "config.toml";
   if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
   if (stop_reason_of(dir) != StopReason::kBudget)
     throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
                                  dir.string(), dir.string()));
-  const toml::table config = load_toml(config_path);
+  return load_toml(config_path);
+}
+
+}  // namespace
+
+GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint64_t> seed, Evaluator& evaluator) {
+  const toml::table config = finished_run_config(dir);
+  const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const auto groups = build_generalisation_groups(config, (dir / "config.toml").string(), s);
+  const EliteTable elites = read_elites_csv(dir / "archive.csv");
+  GeneralisationReport r;
+  r.archive_size = elites.size();
+  for (const auto& g : groups) r.rows.push_back(whole_archive_mean(elites.solutions, *g, evaluator));
+  r.file = dir / "generalisation.csv";
+  write_generalisation_csv(r.file, r.rows);
+  return r;
+}
+
+AdaptationReport adapt_run(const fs::path& dir, std::string_view test, std::optional<Index> budget,
+                           std::optional<std::uint64_t> seed, Evaluator& evaluator) {
+  const fs::path config_path = dir / "config.toml";
+  const toml::table config = finished_run_config(dir);
   // Same default seed as the run: every condition of a replicate then meets the same tests.
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
   const auto tests = build_adaptation_tests(config, config_path.string(), test, s);

@@ -43,4 +43,15 @@ struct AdaptationReport {
 AdaptationReport adapt_run(const std::filesystem::path& dir, std::string_view test, std::optional<Index> budget,
                            std::optional<std::uint64_t> seed, Evaluator& evaluator);
 
+struct GeneralisationReport {
+  std::vector<GeneralisationRow> rows;
+  Index archive_size = 0;
+  std::filesystem::path file;  // the generalisation.csv written
+};
+
+// The generalisation test on the finished run in `dir` (`qdmeta adapt --test generalisation`):
+// the mean score of its whole archive.csv over each of the task's generalisation groups.
+GeneralisationReport generalise_run(const std::filesystem::path& dir, std::optional<std::uint64_t> seed,
+                                    Evaluator& evaluator);
+
 }  // namespace qdmeta

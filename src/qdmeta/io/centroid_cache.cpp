@@ -79,10 +79,10 @@ void write_centroid_file(const std::filesystem::path& path, const std::string& k
 }
 
 CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& params,
-                                       const std::filesystem::path& cache_dir) {
+                                       const std::filesystem::path& cache_dir, const CentroidPoints* points) {
   params.validate();
   CachedCentroids out;
-  const std::string key = centroid_cache_key(dimensions, params);
+  const std::string key = centroid_cache_key(dimensions, params) + (points ? "-" + points->key : std::string());
   if (!cache_dir.empty()) {
     out.path = cache_dir / (key + ".bin");
     out.outcome = CacheOutcome::kMiss;
@@ -97,7 +97,16 @@ CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& par
       }
     }
   }
-  KMeansResult made = cvt_centroids(dimensions, params);
+  KMeansResult made;
+  if (points) {
+    const RowMatrix drawn = points->make();
+    if (drawn.cols() != dimensions || drawn.rows() < params.centroids)
+      throw Error(fmt::format("centroid points {}: {} x {} given, need at least {} rows of {}", points->key, drawn.rows(),
+                              drawn.cols(), params.centroids, dimensions));
+    made = kmeans(drawn, params);
+  } else {
+    made = cvt_centroids(dimensions, params);
+  }
   out.centroids = std::move(made.centroids);
   out.cost = std::move(made.cost);
   if (!cache_dir.empty()) {

@@ -5,6 +5,7 @@
 // written atomically. A file that does not read back whole and matching is never used: it is
 // regenerated and a warning says why.
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,18 @@ RowMatrix read_centroid_file(const std::filesystem::path& path, const std::strin
                              Index dimensions);
 void write_centroid_file(const std::filesystem::path& path, const std::string& key, const RowMatrix& centroids);
 
-// The centroids from `cache_dir` when there, else k-means (then stored). An empty cache_dir
-// disables the cache. The directory is created when missing.
+// Points for k-means other than params.samples uniform ones (e.g. a task's descriptors):
+// `key` names everything that determines them besides `params` (it is appended to the cache
+// key, so keep it to file-name characters), `make` draws them (only on a cache miss).
+struct CentroidPoints {
+  std::string key;
+  std::function<RowMatrix()> make;
+};
+
+// The centroids from `cache_dir` when there, else k-means (then stored): over `points` when
+// given, else over uniform points. An empty cache_dir disables the cache. The directory is
+// created when missing.
 CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& params,
-                                       const std::filesystem::path& cache_dir);
+                                       const std::filesystem::path& cache_dir, const CentroidPoints* points = nullptr);
 
 }  // namespace qdmeta

@@ -4,6 +4,7 @@
 
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/tasks/rhex/rhex_adaptation.hpp"
 #include "qdmeta/tasks/rhex/rhex_meta_fitness.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
@@ -76,8 +77,52 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
   throw InputError("unreachable RHex meta-fitness kind");
 }
 
+// The training environments of `kind` for the run of `config`: a QD-Meta run trained on that
+// kind uses its own [meta_fitness] (the resolved config holds the drawn set); any other run
+// (the other meta-fitness, a baseline) gets the paper's default draw from its seed, the same
+// one a QD-Meta run of that kind and seed makes.
+std::vector<rhex::RhexEnvironment> trained_environments(const toml::table& config, const std::string& source,
+                                                        const Task& task, RhexMetaKind kind) {
+  const auto seed = static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const bool qd_meta = config["algorithm"].value_or<std::string>("") == "qd-meta";
+  const auto* own = config["meta_fitness"].as_table();
+  toml::table table;
+  if (qd_meta && own && (*own)["kind"].value_or<std::string>("damage") == enum_to_string(kRhexMetaNames, kind))
+    table = *own;
+  else
+    table.insert("kind", std::string(enum_to_string(kRhexMetaNames, kind)));
+  toml::table resolved;
+  ConfigReader reader(table, source, resolved, "meta_fitness");
+  const auto meta = read_rhex_meta_fitness(reader, task, seed);
+  return dynamic_cast<const RhexMetaFitness&>(*meta).environments();
+}
+
+// `qdmeta adapt` families. The --seed of adapt changes only the search orders: the partition
+// into training and test environments belongs to the run.
+std::unique_ptr<AdaptationTests> read_rhex_adaptation_tests(const toml::table& config, const std::string& source,
+                                                            const Task& task, std::string_view test, std::uint64_t) {
+  const RhexTask* rhex_task = task.target<RhexTask>();
+  if (rhex_task == nullptr) throw InputError(fmt::format("{}: the RHex tests need the RHex task", source));
+  RhexParams params = rhex_task->params();
+  params.environment = {};
+  const bool damage = test.starts_with("damage");
+  const bool training = test.ends_with("-training");
+  auto envs = trained_environments(config, source, task, damage ? RhexMetaKind::kDamage : RhexMetaKind::kObstacle);
+  if (!training) envs = damage ? untrained_damage_environments(envs) : untrained_course_environments(envs);
+  try {
+    return std::make_unique<RhexAdaptationTests>(std::string(test), RhexTask(params), std::move(envs));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()));
+  }
+}
+
 }  // namespace
 
-void register_rhex_task() { register_task_plugin("rhex", {read_rhex_task, read_rhex_meta_fitness}); }
+void register_rhex_task() {
+  TaskPlugin plugin{read_rhex_task, read_rhex_meta_fitness, read_rhex_adaptation_tests,
+                    {"damage", "obstacle", "damage-training", "obstacle-training"},
+                    {"damage-training", "obstacle-training", "damage", "obstacle"}};
+  register_task_plugin("rhex", std::move(plugin));
+}
 
 }  // namespace qdmeta
