@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_helpers.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 
@@ -18,35 +19,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Outcome shell(const std::string& command_line) {
-  const std::string command = command_line + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return o;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) o.output += buffer;
-  const int raw = pclose(pipe);
-  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return o;
-}
+using cli_test::Outcome;
+using cli_test::shell;
+using cli_test::slurp;
 
 Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BINARY) + " " + args); }
 
 // This process's own scratch folder: ctest runs tests as parallel processes (and a Release
 // and a sanitizer suite may run at once), so no two of them may share a path.
-fs::path scratch() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("qdmeta_cli_test_" + std::to_string(getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+fs::path scratch() { return cli_test::process_scratch("cli_test"); }
 
 // Starts `command` in the background, waits until `file` exists (at most a minute), lets it
 // run `extra_seconds` more, then sends `signal`. Returns the command's exit status.
@@ -63,13 +44,6 @@ fs::path fresh_dir(const std::string& name) {
   const fs::path dir = scratch() / name;
   fs::remove_all(dir);
   return dir;
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 fs::path write_config(const std::string& name, const std::string& text) {

@@ -13,47 +13,22 @@
 #include <sstream>
 #include <string>
 
+#include "cli_helpers.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
+using qdmeta::cli_test::Outcome;
+using qdmeta::cli_test::shell;
+using qdmeta::cli_test::slurp;
 
-Outcome shell(const std::string& command_line) {
-  const std::string command = command_line + " 2>&1";
-  Outcome o;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return o;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) o.output += buffer;
-  const int raw = pclose(pipe);
-  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return o;
-}
-
-fs::path scratch() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("qdmeta_mpi_test_" + std::to_string(getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+fs::path scratch() { return qdmeta::cli_test::process_scratch("mpi_test"); }
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = scratch() / name;
   fs::remove_all(dir);
   return dir;
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // Why MPI tests cannot run here, or "" when they can.

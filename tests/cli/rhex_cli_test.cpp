@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_helpers.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
@@ -31,12 +32,7 @@ int run_cli(const std::string& args, std::string* output = nullptr) {
   return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using cli_test::slurp;
 
 // smoke-damage.toml made smaller still: 0.5 s episodes, 8 random genotypes, 4 offspring, 1 generation.
 fs::path tiny_config(const std::string& name = "tiny") {
