@@ -85,11 +85,20 @@ TEST(RhexMetaFitness, IsTheMeanDistanceOverSolutionsAndEnvironments) {
 
 TEST(RhexConfig, SmokeConfigsBuildAndRecordTheDrawnSets) {
   register_rhex_task();
-  for (const char* name : {"smoke-damage", "smoke-obstacle", "qdmeta-damage-trajectory", "qdmeta-obstacle-feature-sets",
-                           "qdmeta-damage-feature-sets", "qdmeta-obstacle-trajectory"}) {
+  for (const char* name :
+       {"smoke-damage", "smoke-obstacle", "qdmeta-damage-trajectory", "qdmeta-obstacle-feature-sets",
+        "qdmeta-damage-feature-sets", "qdmeta-obstacle-trajectory", "qdmeta-damage-trajectory-static",
+        "qdmeta-obstacle-feature-sets-static", "qdmeta-damage-feature-sets-static", "qdmeta-obstacle-trajectory-static"}) {
     const std::string path = std::string(QDMETA_SOURCE_DIR) + "/configs/rhex/" + name + ".toml";
     const BuiltRun built = build_run(toml::parse_file(path), path, {});
     EXPECT_EQ(built.settings.counts, BudgetCount::kAll) << name;
+    // The paper's conditions: SARSA(lambda) with RHex's reward scale by default, G = 5 for "-static".
+    if (std::string(name).starts_with("qdmeta-")) {
+      const bool fixed = std::string(name).ends_with("-static");
+      EXPECT_EQ(built.resolved["control"]["kind"].value<std::string>(), fixed ? "static" : "sarsa") << name;
+      if (fixed) EXPECT_EQ(built.resolved["control"]["generations"].value<std::int64_t>(), 5) << name;
+      else EXPECT_EQ(built.resolved["control"]["reward_scale"].value<double>(), 24'096.0) << name;
+    }
     const auto* meta = built.resolved["meta_fitness"].as_table();
     ASSERT_NE(meta, nullptr);
     const bool damage = std::string(name).find("damage") != std::string::npos;
