@@ -11,23 +11,13 @@
 namespace qdmeta {
 namespace {
 
-// Alternating tripods (legs 0, 2, 4 and 1, 3, 5), T = 0.665 s, duty 0.5, stance angle 0.35 pi.
-std::array<Real, rhex::kGenes> tripod_genes() {
-  std::array<Real, rhex::kGenes> g{};
-  g[0] = 0.5f;
-  for (int i = 1; i <= 6; ++i) g[i] = 0.5f;
-  for (int i = 7; i <= 12; ++i) g[i] = 0.35f;
-  for (int i = 13; i <= 18; ++i) g[i] = 0.5f;
-  g[19] = 1.0f, g[20] = 0.0f, g[21] = 1.0f, g[22] = 0.0f, g[23] = 1.0f;
-  return g;
-}
 
 void BM_RhexEpisode(benchmark::State& state) {
   RhexParams params;
   params.episode.collision = static_cast<rhex::CollisionKind>(state.range(0));
   params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
   const RhexTask task(params);
-  const auto genes = tripod_genes();
+  const auto genes = rhex::tripod_genes();
   rhex::EpisodeResult result;
   for (auto _ : state) {
     result = task.episode(genes.data(), {});

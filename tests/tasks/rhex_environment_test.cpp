@@ -13,21 +13,12 @@ namespace {
 
 using std::numbers::pi;
 
-std::array<Real, kGenes> tripod_genes() {
-  std::array<Real, kGenes> g{};
-  g[0] = 1.0f;
-  for (int i = 1; i <= 6; ++i) g[i] = 0.5f;
-  for (int i = 7; i <= 12; ++i) g[i] = 0.35f;
-  for (int i = 13; i <= 18; ++i) g[i] = 0.5f;
-  g[19] = 1.0f, g[20] = 0.0f, g[21] = 1.0f, g[22] = 0.0f, g[23] = 1.0f;
-  return g;
-}
 
 EpisodeResult walk(const RhexEnvironment& env, double seconds = 5.0, LegModel legs = LegModel::kRigid) {
   RhexParams p;
   p.episode.duration = seconds;
   p.episode.legs = legs;
-  const auto g = tripod_genes();
+  const auto g = tripod_genes(1.0f);
   return RhexTask(p).episode(g.data(), env);
 }
 

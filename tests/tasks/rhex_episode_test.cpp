@@ -18,16 +18,6 @@ namespace {
 using rhex::RhexEnvironment;
 constexpr double kBodyHeight = 0.139;  // SPEC.md: body 0.54 x 0.39 x 0.139 m
 
-// Alternating tripods (legs 0, 2, 4 and 1, 3, 5), T = 0.665 s, duty 0.5, stance angle 0.35 pi.
-std::array<Real, rhex::kGenes> tripod_genes() {
-  std::array<Real, rhex::kGenes> g{};
-  g[0] = 0.5f;
-  for (int i = 1; i <= 6; ++i) g[i] = 0.5f;
-  for (int i = 7; i <= 12; ++i) g[i] = 0.35f;
-  for (int i = 13; i <= 18; ++i) g[i] = 0.5f;
-  g[19] = 1.0f, g[20] = 0.0f, g[21] = 1.0f, g[22] = 0.0f, g[23] = 1.0f;
-  return g;
-}
 
 RhexParams short_params(double seconds, RhexFeatures features = RhexFeatures::kTrajectory) {
   RhexParams p;
@@ -102,7 +92,7 @@ TEST(RhexTask, BaseFeaturesHaveTheRightSizeAndRange) {
 
 TEST(RhexEpisode, TripodGaitWalksForward) {
   const RhexTask task;  // the full 5 s episode
-  const auto genes = tripod_genes();
+  const auto genes = rhex::tripod_genes();
   const rhex::EpisodeResult r = task.episode(genes.data(), {});
   ASSERT_FALSE(r.dead);
   EXPECT_EQ(r.walk_steps, 1000);

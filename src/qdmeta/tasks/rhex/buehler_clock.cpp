@@ -8,6 +8,16 @@ namespace qdmeta::rhex {
 
 using std::numbers::pi;
 
+std::array<Real, kGenes> tripod_genes(Real period_gene) {
+  std::array<Real, kGenes> g{};
+  g[0] = period_gene;
+  for (int i = 1; i <= 6; ++i) g[i] = 0.5f;    // duty
+  for (int i = 7; i <= 12; ++i) g[i] = 0.35f;  // stance angle
+  for (int i = 13; i <= 18; ++i) g[i] = 0.5f;  // no stance offset
+  g[19] = 1.0f, g[20] = 0.0f, g[21] = 1.0f, g[22] = 0.0f, g[23] = 1.0f;  // legs 1, 3, 5 half a period later
+  return g;
+}
+
 double discretise_gene(double gene, double step) {
   const double steps = std::round(1.0 / step);
   return std::clamp(std::round(gene * steps) / steps, 0.0, 1.0);

@@ -4,6 +4,8 @@
 // against hand-computed values without a simulator.
 #include <array>
 
+#include "qdmeta/core/types.hpp"
+
 namespace qdmeta::rhex {
 
 inline constexpr int kLegs = 6;
@@ -17,6 +19,11 @@ struct GaitParams {
   std::array<double, kLegs> stance_offset{};// (g_{13+i} - 0.5) pi / 2, added once
   std::array<double, kLegs> phase_offset{}; // 0 for leg 0, g_{18+i} T / 2 for legs 1..5
 };
+
+// A hand-set reference gait: alternating tripods (legs 0, 2, 4 and 1, 3, 5), duty 0.5, stance
+// angle 0.35 pi, no stance offset; `period_gene` is g0 (T = 1 - 0.67 g0). For the tests, the
+// benchmarks and the physics sanity checks.
+std::array<Real, kGenes> tripod_genes(Real period_gene = 0.5f);
 
 // Snaps a gene to the grid {0, step, ..., 1} (the paper's discretisation, step 0.025).
 double discretise_gene(double gene, double step);
