@@ -5,6 +5,7 @@ f = -[10 N + sum(x^2 - 10 cos 2 pi x)] (maximum 0), measures (g0, g1) on a 100 x
 all 20 genes for CVT. The operator: each gene mutated with probability 0.10 by a Gaussian of
 SD 0.05, clamped to [0, 1]. QD-score offset -2000 for everyone.
 """
+import argparse
 import json
 import sys
 
@@ -54,3 +55,21 @@ def emit(**fields):
     json.dump(fields, sys.stdout)
     sys.stdout.write("\n")
     sys.stdout.flush()
+
+
+def main(description, library, make_centroids, run, kmeans_iterations=False):
+    """A runner's command line: --algorithm cvt-centroids builds and saves centroids, else runs."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--algorithm", choices=["map-elites", "cvt", "cvt-centroids"], required=True)
+    p.add_argument("--evals", type=int, default=1_000_000)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--centroids", type=int, default=10_000)
+    p.add_argument("--samples", type=int, default=100_000)
+    if kmeans_iterations:
+        p.add_argument("--kmeans-iterations", type=int, default=10)
+    p.add_argument("--centroids-file", default=f"centroids-{library}.npy")
+    args = p.parse_args()
+    if args.algorithm == "cvt-centroids":
+        make_centroids(args)
+    else:
+        run(args)

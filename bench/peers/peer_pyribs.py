@@ -5,7 +5,6 @@ pyribs's GaussianEmitter perturbs every gene, so PaperEmitter below implements t
 operator through the documented EmitterBase interface: uniform parents from the archive,
 each gene mutated with probability 0.10 by N(0, 0.05^2), clamped to [0, 1].
 """
-import argparse
 import time
 
 import numpy as np
@@ -73,21 +72,5 @@ def run(args):
                 note=f"CVTArchive nearest_neighbors=scipy_kd_tree (default)" if args.algorithm == "cvt" else "")
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--algorithm", choices=["map-elites", "cvt", "cvt-centroids"], required=True)
-    p.add_argument("--evals", type=int, default=1_000_000)
-    p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--centroids", type=int, default=10_000)
-    p.add_argument("--samples", type=int, default=100_000)
-    p.add_argument("--kmeans-iterations", type=int, default=10)
-    p.add_argument("--centroids-file", default="centroids-pyribs.npy")
-    args = p.parse_args()
-    if args.algorithm == "cvt-centroids":
-        make_centroids(args)
-    else:
-        run(args)
-
-
 if __name__ == "__main__":
-    main()
+    common.main(__doc__, "pyribs", make_centroids, run, kmeans_iterations=True)

@@ -8,7 +8,6 @@ grid is the grid's 10,000 cell centres (the same cells as a grid archive). The r
 jit-compiled lax.scan over the batches; its wall time includes compilation, which a user
 pays too (reported separately in the note).
 """
-import argparse
 import functools
 import time
 
@@ -86,20 +85,5 @@ def run(args):
                      "initialisation and jit compilation")
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--algorithm", choices=["map-elites", "cvt", "cvt-centroids"], required=True)
-    p.add_argument("--evals", type=int, default=1_000_000)
-    p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--centroids", type=int, default=10_000)
-    p.add_argument("--samples", type=int, default=100_000)
-    p.add_argument("--centroids-file", default="centroids-qdax.npy")
-    args = p.parse_args()
-    if args.algorithm == "cvt-centroids":
-        make_centroids(args)
-    else:
-        run(args)
-
-
 if __name__ == "__main__":
-    main()
+    common.main(__doc__, "qdax", make_centroids, run)
