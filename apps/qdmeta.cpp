@@ -24,6 +24,8 @@
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
+#include "qdmeta/io/run_lock.hpp"
+#include "qdmeta/io/subprocess.hpp"
 #ifdef QDMETA_WITH_RHEX
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #endif
@@ -184,6 +186,7 @@ struct RunArgs {
 
 int command_run(const RunArgs& a) {
   BuiltRun built = build_run(load_toml(a.config), a.config, {a.seed, a.evals});
+  const RunLock lock(a.out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
   start_run_directory(a.out, built, a.config, a.threads, a.overwrite);
   return execute(built, a.out, a.threads, a.quiet, nullptr);
 }
@@ -197,6 +200,7 @@ struct ResumeArgs {
 // Continues a run from its checkpoint with the resolved config it wrote: to the same result
 // as if it had never stopped.
 int command_resume(const ResumeArgs& a) {
+  const RunLock lock(a.out, RunLock::Mode::kExclusive);
   ResumableRun r = open_for_resume(a.out);
   if (!a.quiet)
     fmt::print("resuming from checkpoint {} at {} evaluations, {:.1f} s into the run\n", r.cursor.checkpoints,
@@ -215,6 +219,7 @@ struct AdaptArgs {
 
 // The test phase on a finished run: random search over its archive under unseen test functions.
 int command_adapt(const AdaptArgs& a) {
+  const RunLock lock(a.run, RunLock::Mode::kShared);  // test phases may run side by side, not beside a writer
   auto evaluator = make_evaluator(a.threads);
   if (a.test == "generalisation") {
     if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
@@ -263,10 +268,13 @@ int command_report(const std::string& dir, bool quiet) {
   const std::string python = env ? env : "/usr/bin/python3";
   const fs::path script = tools_dir() / "report.py";
   if (!fs::exists(script)) throw InputError(fmt::format("report script {} not found (set QDMETA_TOOLS_DIR)", script.string()));
-  const std::string command = fmt::format("'{}' '{}' '{}'{}", python, script.string(), dir, quiet ? " --quiet" : "");
+  // An argument vector, never a shell: the directory may hold any character.
+  std::vector<std::string> argv{python, script.string(), dir};
+  if (quiet) argv.emplace_back("--quiet");
   std::fflush(stdout);  // our lines first, then the script's
-  const int status = std::system(command.c_str());
-  if (status != 0) throw Error(fmt::format("the report script failed (exit status {}): {}", status, command));
+  const int status = run_program(argv);
+  if (status != 0)
+    throw Error(fmt::format("the report script {} failed (exit status {}) on {}", script.string(), status, dir));
   return 0;
 }
 
@@ -412,6 +420,12 @@ int main(int argc, char** argv) {
     if (*adapt_cmd) return command_adapt(adapt);
     if (*experiment_cmd) return command_experiment(experiment);
     if (*report_cmd) return command_report(report_dir, report_quiet);
+  } catch (const std::bad_alloc&) {
+    // The config's memory is estimated before a run starts; this is what the estimate missed.
+    fmt::print(stderr, "qdmeta: error: out of memory (std::bad_alloc): the config asks for more memory than this "
+                       "machine or its ulimit allows: lower its sizes (archive.bins, batch_size, database_capacity, "
+                       "hidden, samples, ...)\n");
+    return kExitBadInput;
   } catch (const std::exception& e) {
     fmt::print(stderr, "qdmeta: error: {}\n", e.what());
     return kExitBadInput;

@@ -33,7 +33,7 @@ std::array<Real, rhex::kGenes> parse_genes(const std::string& text) {
 }
 
 std::array<Real, rhex::kGenes> archive_genes(const std::string& archive, Index row) {
-  const EliteTable t = read_elites_csv(archive);
+  const EliteTable t = read_elites_csv(archive, EliteValues::kRunArchive);
   if (t.solutions.cols() != rhex::kGenes)
     throw InputError(fmt::format("--archive {}: solutions have {} genes, RHex needs {}", archive, t.solutions.cols(), rhex::kGenes));
   if (row < 0 || row >= t.size()) throw InputError(fmt::format("--row {} is out of range: the archive has {} rows", row, t.size()));

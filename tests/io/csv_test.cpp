@@ -219,16 +219,16 @@ TEST_F(CsvTest, ReadErrorsNameFileAndLine) {
 
   msg = read_error(write("number.csv", "index,objective,measures_0,solution_0\n0,1,0.5,0.5\n1,2,0.5,0.5\n2,abc,0.5,0.5\n"));
   EXPECT_NE(msg.find("number.csv"), std::string::npos) << msg;
-  EXPECT_NE(msg.find(":4: 'abc' is not a number"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(":4: column 2 (objective): 'abc' is not a number"), std::string::npos) << msg;
 
   msg = read_error(write("trailing.csv", "index,objective,measures_0,solution_0\n0,1.5x,0.5,0.5\n"));
-  EXPECT_NE(msg.find(":2: '1.5x' is not a number"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(":2: column 2 (objective): '1.5x' is not a number"), std::string::npos) << msg;
 
   msg = read_error(write("index.csv", "index,objective,measures_0,solution_0\n0.5,1,0.5,0.5\n"));
-  EXPECT_NE(msg.find(":2: '0.5' is not a number"), std::string::npos) << msg;  // the index is an integer
+  EXPECT_NE(msg.find(":2: column 1 (index): '0.5' is not a number"), std::string::npos) << msg;  // the index is an integer
 
   msg = read_error(write("blank_cell.csv", "index,objective,measures_0,solution_0\n0,1,0.5,\n"));
-  EXPECT_NE(msg.find(":2: '' is not a number"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(":2: column 4 (solution_0): '' is not a number"), std::string::npos) << msg;
 }
 
 TEST_F(CsvTest, AppenderWritesRowsAndChecksWidth) {

@@ -26,9 +26,15 @@ CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams 
 void CvtMapElites::prepare(Evaluator& evaluator) {
   if (archive_) return;
   CachedCentroids made;
+  // k-means on a cache miss can take minutes (about 140 CPU-seconds with the paper's settings).
+  const auto announce = [](const std::string& line) {
+    std::fprintf(stderr, "qdmeta: %s: this can take minutes\n", line.c_str());
+    std::fflush(stderr);
+  };
   if (params_.points == CvtPoints::kUniform) {
-    evaluator.within_workers(
-        [&] { made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir); });
+    evaluator.within_workers([&] {
+      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, nullptr, announce);
+    });
   } else {
     // Drawn only on a cache miss; the attempts say how many random genotypes were not valid.
     const Index samples = params_.kmeans.samples;
@@ -45,7 +51,7 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
                                   return d.points;
                                 }};
     evaluator.within_workers([&] {
-      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, &points);
+      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, &points, announce);
     });
   }
   if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());

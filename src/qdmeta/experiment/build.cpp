@@ -14,6 +14,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
 #include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/memory_estimate.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
@@ -44,6 +45,33 @@ constexpr EnumNames<MetaFitnessKind, 2> kMetaFitnessNames{
 
 enum class TaskKind { kRastrigin };
 constexpr EnumNames<TaskKind, 1> kTaskNames{{{TaskKind::kRastrigin, "rastrigin"}}};
+
+// Memory of the blocks an algorithm allocates (memory_estimate.hpp): floats are 4 bytes.
+constexpr double kFloat = sizeof(Real);
+
+double grid_cells(const GridArchiveParams& g) {
+  double cells = 1;
+  for (auto b : g.bins) cells *= static_cast<double>(b);
+  return cells;
+}
+
+// One grid archive: per cell the objective, the occupied flag, the solution, the measures and
+// the base features it keeps.
+double grid_bytes(const GridArchiveParams& g, const Task& task, bool keeps_base) {
+  const double per_cell = kFloat + 1 + kFloat * static_cast<double>(task.genotype_size() + static_cast<Index>(g.bins.size()) +
+                                                             (keeps_base ? task.base_feature_size() : 0));
+  return grid_cells(g) * per_cell;
+}
+
+// A generation's genotypes and their evaluations (fitness, base features, validity).
+double offspring_bytes(double rows, const Task& task) {
+  return rows * kFloat * static_cast<double>(2 * task.genotype_size() + task.base_feature_size() + 2);
+}
+
+void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Task& task) {
+  m.add("a generation's offspring", "max(map_elites.initial_population, map_elites.batch_size) x genes",
+        offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
+}
 
 Task read_task(ConfigReader& t) {
   // Tasks registered by optional components or users (task_registry.hpp) come first.
@@ -284,6 +312,10 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   const MutationParams mutation = read_mutation(mutation_table);
   built.evaluation_tasks.push_back(task);
   const bool make = scope == BuildScope::kRun;
+  // Before the algorithm allocates anything: a config that cannot fit names its keys.
+  const auto check_memory = [&] {
+    if (make) require_memory(built.memory, memory_limit(), source);
+  };
 
   switch (kind) {
     case AlgorithmKind::kMapElites: {
@@ -295,6 +327,9 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       auto feature_map = std::make_unique<SelectFeatureMap>(task.base_feature_size(), measures);
       me.finish();
       archive_table.finish();
+      built.memory.add("the archive", "archive.bins (cells) x genes", grid_bytes(grid, task, false));
+      add_map_elites_memory(built.memory, p, task);
+      check_memory();
       if (make)
         built.algorithm = std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid),
                                                     mutation, s.seed);
@@ -310,6 +345,20 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
         p.task_key = fmt::format("{}-{:016x}", task.name(), config_fingerprint(*task_resolved));
       me.finish();
       cvt.finish();
+      {
+        const auto cells = static_cast<double>(p.kmeans.centroids);
+        const auto nb = static_cast<double>(task.base_feature_size());
+        const double lists = p.search == CvtSearch::kParentBound
+                                 ? static_cast<double>(std::min(p.neighbours, p.kmeans.centroids)) * sizeof(Index)
+                                 : 0.0;
+        built.memory.add("the archive and its neighbour lists", "cvt.centroids x (genes + base features + cvt.neighbours)",
+                         cells * (kFloat + 1 + kFloat * (static_cast<double>(task.genotype_size()) + 2 * nb) + lists));
+        built.memory.add("k-means's points", "cvt.samples x base features",
+                         static_cast<double>(p.kmeans.samples) * (kFloat * nb + sizeof(Index) + sizeof(float)) +
+                             static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
+        add_map_elites_memory(built.memory, p.map_elites, task);
+      }
+      check_memory();
       if (make) built.algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
       break;
     }
@@ -335,6 +384,29 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       ConfigReader archive_table = root.table("archive");
       GridArchiveParams grid = read_grid(archive_table, nullptr, task.base_feature_size());
       for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
+      {
+        const auto lambda = static_cast<double>(p.meta_population);
+        const auto n = static_cast<double>(task.genotype_size());
+        const auto nb = static_cast<double>(task.base_feature_size());
+        const auto* c = built.resolved["control"].as_table();
+        const double g_max = static_cast<double>(
+            c && (*c)["kind"].value_or<std::string>("") == "static" ? (*c)["generations"].value_or<std::int64_t>(1)
+                                                                    : (c ? (*c)["max_generations"].value_or<std::int64_t>(1) : 1));
+        const auto dims = static_cast<double>(grid.bins.size());
+        const double k = static_cast<double>(p.hidden) * (nb + 1 + dims) + 1;  // the feature-map's weights
+        built.memory.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
+                         (lambda + 1) * grid_bytes(grid, task, true) + lambda * grid_cells(grid) * (16 + kFloat * dims));
+        built.memory.add("the circular database", "qd_meta.database_capacity x (genes + base features)",
+                         static_cast<double>(p.database_capacity) * kFloat * (n + nb + 1));
+        built.memory.add("every map's offspring of one meta-generation",
+                         "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
+                         lambda * offspring_bytes(g_max * static_cast<double>(p.batch_size), task));
+        built.memory.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
+                         4 * k * k * sizeof(double) + lambda * k * sizeof(double));
+        built.memory.add("the initial population", "qd_meta.initial_population x genes",
+                         offspring_bytes(static_cast<double>(p.initial_population), task));
+      }
+      check_memory();
       if (make)
         built.algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
                                                  std::move(controller), s.seed);
@@ -344,6 +416,27 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       ConfigReader a = root.table("aurora");
       const AuroraParams p = read_aurora(a);
       a.finish();
+      {
+        std::vector<double> widths{static_cast<double>(task.base_feature_size())};
+        for (Index h : p.hidden) widths.push_back(static_cast<double>(h));
+        widths.push_back(static_cast<double>(p.latent_size));
+        for (auto h = p.hidden.rbegin(); h != p.hidden.rend(); ++h) widths.push_back(static_cast<double>(*h));
+        widths.push_back(static_cast<double>(task.base_feature_size()));
+        double weights = 0, units = 0;
+        for (std::size_t i = 0; i + 1 < widths.size(); ++i) weights += (widths[i] + 1) * widths[i + 1];
+        for (double w : widths) units += w;
+        const double rows = static_cast<double>(std::min(p.max_training_rows, 2 * p.target_size));
+        built.memory.add("the autoencoder's weights, gradients and Adam moments", "aurora.hidden, aurora.latent_size",
+                         4 * weights * sizeof(double));
+        built.memory.add("the autoencoder's activations over a training set",
+                         "aurora.max_training_rows x (aurora.hidden widths)", 2 * rows * units * sizeof(double));
+        built.memory.add("the archive", "aurora.target_size x (genes + base features)",
+                         2 * static_cast<double>(p.target_size) *
+                             kFloat * static_cast<double>(task.genotype_size() + task.base_feature_size() + p.latent_size + 2));
+        built.memory.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
+                         offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
+      }
+      check_memory();
       try {
         if (make) built.algorithm = std::make_unique<Aurora>(p, std::move(task), mutation, s.seed);
       } catch (const InputError& e) {

@@ -13,6 +13,7 @@
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/core/adaptation_tests.hpp"
 #include "qdmeta/core/params.hpp"
+#include "qdmeta/experiment/memory_estimate.hpp"
 
 namespace qdmeta {
 
@@ -44,6 +45,9 @@ struct BuiltRun {
   // the meta-objective's (QD-Meta). The algorithm holds copies of these very instances (same
   // Task::id()), so an MPI evaluator can name a task by its place in this list.
   std::vector<Task> evaluation_tasks;
+  // What the run will allocate, estimated from the config (checked against the machine's limit
+  // before the algorithm is built).
+  MemoryEstimate memory;
 };
 
 // kTasksOnly reads and checks the whole config but builds no algorithm: what an MPI worker

@@ -55,12 +55,17 @@ void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprin
   header.string(snapshot.algorithm_name);
   header.value(fingerprint);
   header.value<std::uint64_t>(payload.size());
-  header.value(fnv1a64(payload));
+
+  // The checksum closes the file and covers every byte before it, header included.
+  std::string bytes;
+  bytes.reserve(kMagic.size() + header.bytes().size() + payload.size() + sizeof(std::uint64_t));
+  bytes.append(kMagic).append(header.bytes()).append(payload);
+  BinaryWriter checksum;
+  checksum.value(fnv1a64(bytes));
+  bytes.append(checksum.bytes());
 
   AtomicFile file(dir / kCheckpointFile);
-  file.stream().write(kMagic.data(), static_cast<std::streamsize>(kMagic.size()));
-  file.stream().write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
-  file.stream().write(payload.data(), static_cast<std::streamsize>(payload.size()));
+  file.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   file.commit();
 }
 
@@ -71,11 +76,21 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   const std::string source = fmt::format("checkpoint {}", path);
   if (!std::string_view(bytes).starts_with(kMagic)) throw InputError(fmt::format("{} is not a qdmeta checkpoint", source));
-  BinaryReader r(std::string_view(bytes).substr(kMagic.size()), source);
-  const auto format = r.value<std::uint32_t>("format version");
+  constexpr std::size_t kChecksumSize = sizeof(std::uint64_t);
+  if (bytes.size() < kMagic.size() + sizeof(std::uint32_t) + kChecksumSize)
+    throw InputError(fmt::format("{} is damaged: only {} bytes", source, bytes.size()));
+  // The format first (an older file says so rather than "damaged"), then the whole-file checksum
+  // before any other field is trusted.
+  const auto format = BinaryReader(std::string_view(bytes).substr(kMagic.size(), sizeof(std::uint32_t)), source)
+                          .value<std::uint32_t>("format version");
   if (format != kCheckpointFormat)
     throw InputError(fmt::format("{} has format {}, this qdmeta ({}) reads format {}", source, format, kVersion,
                                  kCheckpointFormat));
+  const std::string_view body = std::string_view(bytes).substr(0, bytes.size() - kChecksumSize);
+  const auto stored = BinaryReader(std::string_view(bytes).substr(body.size()), source).value<std::uint64_t>("checksum");
+  if (fnv1a64(body) != stored) throw InputError(fmt::format("{} is damaged: checksum mismatch", source));
+
+  BinaryReader r(body.substr(kMagic.size() + sizeof(std::uint32_t)), source);
   const std::string version = r.string("program version");
   const std::string name = r.string("algorithm name");
   if (name != algorithm.name())
@@ -84,11 +99,9 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   if (r.value<std::uint64_t>("config fingerprint") != fingerprint)
     throw InputError(fmt::format("{} was written for a different configuration: config.toml changed since", source));
   const auto size = r.value<std::uint64_t>("payload size");
-  const auto checksum = r.value<std::uint64_t>("payload checksum");
   if (size != r.remaining())
     throw InputError(fmt::format("{} is damaged: {} payload bytes, the header says {}", source, r.remaining(), size));
-  const std::string_view payload = std::string_view(bytes).substr(bytes.size() - size);
-  if (fnv1a64(payload) != checksum) throw InputError(fmt::format("{} is damaged: checksum mismatch", source));
+  const std::string_view payload = body.substr(body.size() - size);
   (void)version;
 
   BinaryReader p(payload, source);

@@ -1,8 +1,9 @@
 #pragma once
 // A run's checkpoint: everything needed to continue it bit-identically (the algorithm's state
 // and the run driver's place in its logs), in one versioned binary file written atomically.
-// Reading checks the magic, the format version, the config fingerprint and a checksum, so a
-// corrupt or mismatched file stops with a clear InputError, never a silent restart.
+// Reading checks the magic, the format version, a checksum of the whole file and the config
+// fingerprint, so a corrupt or mismatched file stops with a clear InputError, never a silent
+// restart.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -13,7 +14,8 @@
 
 namespace qdmeta {
 
-inline constexpr std::uint32_t kCheckpointFormat = 1;
+// Format 2: the checksum covers the whole file (format 1 left the header outside it).
+inline constexpr std::uint32_t kCheckpointFormat = 2;
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 
 // The run driver's own state between two generations.

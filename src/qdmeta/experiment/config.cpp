@@ -12,6 +12,9 @@ namespace qdmeta {
 
 toml::table load_toml(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw InputError(fmt::format("config file {} does not exist", path.string()));
+  // toml++ reads a directory as an empty file, which would silently run every default.
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(fmt::format("config file {} is not a regular file (a directory?): give a TOML file", path.string()));
   try {
     return toml::parse_file(path.string());
   } catch (const toml::parse_error& e) {

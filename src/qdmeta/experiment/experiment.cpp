@@ -11,6 +11,7 @@
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/run_lock.hpp"
 
 namespace fs = std::filesystem;
 
@@ -148,9 +149,7 @@ std::int64_t finished_budget(const fs::path& dir) {
 
 ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,
                                 const ExperimentCallback& progress, const std::atomic<bool>* stop) {
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
+  const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out
   // Refuse before touching anything when finished runs here had another budget.
   for (const auto& c : spec.conditions) {
     const std::int64_t budget = build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}).settings.budget;
@@ -173,6 +172,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
     for (const auto& c : spec.conditions) {
       ++run;
       const fs::path dir = replicate_dir(out, c, r);
+      const RunLock lock(dir, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // as `run` and `resume` do
       ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
       const auto report = [&](const RunProgress& rp) {
         p.run_fraction = std::min(1.0, static_cast<double>(rp.evals) / static_cast<double>(rp.budget));
@@ -180,6 +180,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         if (progress) progress(p);
       };
       if (stop_reason_of(dir) == StopReason::kBudget) {
+        remove_stray_checkpoint(dir);
         p.phase = "skip";
         p.run_fraction = 1.0;
         if (progress) progress(p);

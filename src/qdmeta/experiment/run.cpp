@@ -145,7 +145,9 @@ RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSet
       cursor.last_logged_generation = algorithm.generation();
       while (cursor.next_log <= evals) cursor.next_log += settings.log_every;
     }
-    if (algorithm.checkpointable() && evals < settings.budget && elapsed() - last_checkpoint >= settings.checkpoint_every) {
+    // The first checkpoint follows the first step, so that a run killed early can be resumed too.
+    const bool due = cursor.checkpoints == 0 || elapsed() - last_checkpoint >= settings.checkpoint_every;
+    if (algorithm.checkpointable() && evals < settings.budget && due) {
       checkpoint();
       last_checkpoint = elapsed();
     }

@@ -53,14 +53,24 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
 ResumableRun open_for_resume(const fs::path& dir) {
   const fs::path config_path = dir / "config.toml";
   if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
-  if (stop_reason_of(dir) == StopReason::kBudget)
+  if (remove_stray_checkpoint(dir) || stop_reason_of(dir) == StopReason::kBudget)
     throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
   ResumableRun r{build_run(load_toml(config_path), config_path.string(), {}), {}};
   if (!r.built.algorithm->checkpointable())
     throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
   r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
+  // Everything is checked before anything changes: a refused resume leaves the directory as it was.
+  CsvAppender::check_continuable(dir / "metrics.csv", metrics_columns(), r.cursor.metrics_bytes);
+  if (r.cursor.meta_bytes > 0) CsvAppender::check_continuable(dir / "meta.csv", meta_columns(), r.cursor.meta_bytes);
   fs::remove(dir / "summary.json");  // the run is unfinished again until it ends
   return r;
+}
+
+bool remove_stray_checkpoint(const fs::path& dir) {
+  // A run killed between writing its final summary and removing its checkpoint leaves both.
+  if (!fs::exists(dir / kCheckpointFile) || stop_reason_of(dir) != StopReason::kBudget) return false;
+  fs::remove(dir / kCheckpointFile);
+  return true;
 }
 
 namespace {
@@ -81,7 +91,7 @@ GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint
   const toml::table config = finished_run_config(dir);
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
   const auto groups = build_generalisation_groups(config, (dir / "config.toml").string(), s);
-  const EliteTable elites = read_elites_csv(dir / "archive.csv");
+  const EliteTable elites = read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive);
   GeneralisationReport r;
   r.archive_size = elites.size();
   for (const auto& g : groups) r.rows.push_back(whole_archive_mean(elites.solutions, *g, evaluator));
@@ -97,7 +107,7 @@ AdaptationReport adapt_run(const fs::path& dir, std::string_view test, std::opti
   // Same default seed as the run: every condition of a replicate then meets the same tests.
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
   const auto tests = build_adaptation_tests(config, config_path.string(), test, s);
-  const EliteTable elites = read_elites_csv(dir / "archive.csv");
+  const EliteTable elites = read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive);
   AdaptationReport r;
   r.functions = tests->count();
   r.budget = budget ? *budget : tests->default_budget();

@@ -30,6 +30,10 @@ struct ResumableRun {
 // run has finished, cannot checkpoint, or its checkpoint is missing, damaged or mismatched.
 ResumableRun open_for_resume(const std::filesystem::path& dir);
 
+// A finished run (summary.json says it reached its budget) that still has a checkpoint was
+// killed between the two last steps of its end: removes the stale checkpoint and returns true.
+bool remove_stray_checkpoint(const std::filesystem::path& dir);
+
 struct AdaptationReport {
   AdaptationCurve curve;
   Index functions = 0;

@@ -79,7 +79,8 @@ void write_centroid_file(const std::filesystem::path& path, const std::string& k
 }
 
 CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& params,
-                                       const std::filesystem::path& cache_dir, const CentroidPoints* points) {
+                                       const std::filesystem::path& cache_dir, const CentroidPoints* points,
+                                       const std::function<void(const std::string&)>& on_make) {
   params.validate();
   CachedCentroids out;
   const std::string key = centroid_cache_key(dimensions, params) + (points ? "-" + points->key : std::string());
@@ -97,6 +98,13 @@ CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& par
       }
     }
   }
+  if (on_make)
+    on_make(fmt::format("making {} CVT centroids in {} dimensions by k-means over {} {}points ({}); they are then cached{}",
+                        params.centroids, dimensions, params.samples, points ? "task " : "uniform ",
+                        cache_dir.empty() ? "cache off"
+                                          : out.outcome == CacheOutcome::kRegenerated ? "the cached file was unusable"
+                                                                                      : "no cache for these settings",
+                        cache_dir.empty() ? " only in memory" : " in " + out.path.string()));
   KMeansResult made;
   if (points) {
     const RowMatrix drawn = points->make();

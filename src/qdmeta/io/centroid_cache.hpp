@@ -49,8 +49,10 @@ struct CentroidPoints {
 
 // The centroids from `cache_dir` when there, else k-means (then stored): over `points` when
 // given, else over uniform points. An empty cache_dir disables the cache. The directory is
-// created when missing.
+// created when missing. `on_make`, when given, hears one line before k-means starts (it can take
+// minutes, so a user should learn why the run seems to stall).
 CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& params,
-                                       const std::filesystem::path& cache_dir, const CentroidPoints* points = nullptr);
+                                       const std::filesystem::path& cache_dir, const CentroidPoints* points = nullptr,
+                                       const std::function<void(const std::string&)>& on_make = {});
 
 }  // namespace qdmeta

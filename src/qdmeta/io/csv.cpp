@@ -4,6 +4,8 @@
 #include <fmt/std.h>
 
 #include <charconv>
+#include <cmath>
+#include <type_traits>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
@@ -42,34 +44,74 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
+// Reads one line, without its line ending (LF or CRLF: a file edited on Windows reads the same).
+bool read_line(std::istream& in, std::string& line) {
+  if (!std::getline(in, line)) return false;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return true;
+}
+
+// One cell of an archive file, named in every message by file, line and column.
+struct CellPlace {
+  const std::filesystem::path& path;
+  std::size_t line;
+  std::size_t column;  // 1-based
+  const std::string& name;
+  std::string where() const { return fmt::format("{}:{}: column {} ({})", path, line, column, name); }
+};
+
 template <class T>
-T parse_number(const std::string& text, const std::filesystem::path& path, std::size_t line) {
+T parse_number(const std::string& text, const CellPlace& at) {
   T value{};
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec == std::errc::result_out_of_range)
+    throw InputError(fmt::format("{}: '{}' is out of range of a {}", at.where(), text,
+                                 std::is_integral_v<T> ? "64-bit integer" : "32-bit float"));
   if (ec != std::errc() || ptr != text.data() + text.size())
-    throw InputError(fmt::format("{}:{}: '{}' is not a number", path, line, text));
+    throw InputError(fmt::format("{}: '{}' is not a number", at.where(), text));
   return value;
+}
+
+// Genes and base features live in [0,1]; fitness and measures need only be finite.
+enum class CellRule { kFinite, kUnit };
+
+Real parse_value(const std::string& text, const CellPlace& at, CellRule rule) {
+  const Real v = parse_number<Real>(text, at);
+  if (!std::isfinite(v)) throw InputError(fmt::format("{}: '{}' is not finite: every value must be", at.where(), text));
+  if (rule == CellRule::kUnit && !(v >= 0 && v <= 1))
+    throw InputError(fmt::format("{}: {} is outside [0, 1], where every gene and base feature must lie", at.where(), text));
+  return v;
 }
 
 }  // namespace
 
-EliteTable read_elites_csv(const std::filesystem::path& path) {
+EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("cannot open {}", path));
   std::string line;
-  if (!std::getline(in, line)) throw InputError(fmt::format("{} is empty", path));
+  if (!read_line(in, line)) throw InputError(fmt::format("{} is empty", path));
   const auto header = split(line);
-  Index nm = 0, ns = 0, nb = 0;
-  for (const auto& h : header) {
-    nm += h.starts_with("measures_");
-    ns += h.starts_with("solution_");
-    nb += h.starts_with("base_");
-  }
   if (header.size() < 2 || header[0] != "index" || header[1] != "objective")
     throw InputError(fmt::format("{}: not an archive file (header must start with index,objective)", path));
+  // The header's order is the writer's: index, objective, measures_*, solution_*, base_*.
+  Index counts[3] = {0, 0, 0};  // measures, solutions, base features
+  static constexpr std::string_view kGroups[3] = {"measures_", "solution_", "base_"};
+  int group = 0;
+  for (std::size_t c = 2; c < header.size(); ++c) {
+    while (group < 3 && !header[c].starts_with(kGroups[group])) ++group;
+    if (group == 3)
+      throw InputError(fmt::format("{}:1: column {} ('{}') is not measures_*, solution_* or base_* in that order", path,
+                                   c + 1, header[c]));
+    ++counts[group];
+  }
+  const Index nm = counts[0], ns = counts[1], nb = counts[2];
   std::vector<std::vector<std::string>> rows;
-  while (std::getline(in, line))
-    if (!line.empty()) rows.push_back(split(line));
+  std::vector<std::size_t> line_numbers;
+  for (std::size_t number = 2; read_line(in, line); ++number)
+    if (!line.empty()) {
+      rows.push_back(split(line));
+      line_numbers.push_back(number);
+    }
   EliteTable t;
   const auto count = static_cast<Index>(rows.size());
   t.measures.resize(count, nm);
@@ -77,15 +119,20 @@ EliteTable read_elites_csv(const std::filesystem::path& path) {
   t.base_features.resize(count, nb);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto& cells = rows[r];
+    const std::size_t number = line_numbers[r];
     if (cells.size() != header.size())
-      throw InputError(fmt::format("{}:{}: {} columns, the header has {}", path, r + 2, cells.size(), header.size()));
-    t.index.push_back(parse_number<std::int64_t>(cells[0], path, r + 2));
-    t.objective.push_back(parse_number<Real>(cells[1], path, r + 2));
+      throw InputError(fmt::format("{}:{}: {} columns, the header has {}", path, number, cells.size(), header.size()));
+    const auto at = [&](std::size_t c) { return CellPlace{path, number, c + 1, header[c]}; };
+    const auto index = parse_number<std::int64_t>(cells[0], at(0));
+    if (index < 0) throw InputError(fmt::format("{}: {} is negative: a cell index must be >= 0", at(0).where(), index));
+    t.index.push_back(index);
+    t.objective.push_back(parse_value(cells[1], at(1), CellRule::kFinite));
     const auto i = static_cast<Index>(r);
     std::size_t c = 2;
-    for (Index j = 0; j < nm; ++j) t.measures(i, j) = parse_number<Real>(cells[c++], path, r + 2);
-    for (Index j = 0; j < ns; ++j) t.solutions(i, j) = parse_number<Real>(cells[c++], path, r + 2);
-    for (Index j = 0; j < nb; ++j) t.base_features(i, j) = parse_number<Real>(cells[c++], path, r + 2);
+    for (Index j = 0; j < nm; ++j, ++c) t.measures(i, j) = parse_value(cells[c], at(c), CellRule::kFinite);
+    const CellRule unit = rules == EliteValues::kRunArchive ? CellRule::kUnit : CellRule::kFinite;
+    for (Index j = 0; j < ns; ++j, ++c) t.solutions(i, j) = parse_value(cells[c], at(c), unit);
+    for (Index j = 0; j < nb; ++j, ++c) t.base_features(i, j) = parse_value(cells[c], at(c), unit);
   }
   return t;
 }
@@ -97,9 +144,8 @@ CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<st
   row(header);
 }
 
-CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header,
-                         std::uint64_t keep_bytes)
-    : path_(path), columns_(header.size()) {
+void CsvAppender::check_continuable(const std::filesystem::path& path, const std::vector<std::string>& header,
+                                    std::uint64_t keep_bytes) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec || size < keep_bytes)
@@ -112,7 +158,13 @@ CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<st
   std::getline(in, first);
   if (first != expected || keep_bytes < expected.size() + 1)
     throw InputError(fmt::format("{} does not start with the expected header: it was changed", path));
-  in.close();
+}
+
+CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header,
+                         std::uint64_t keep_bytes)
+    : path_(path), columns_(header.size()) {
+  check_continuable(path, header, keep_bytes);
+  std::error_code ec;
   std::filesystem::resize_file(path, keep_bytes, ec);
   if (ec) throw Error(fmt::format("cannot cut {} to {} bytes: {}", path, keep_bytes, ec.message()));
   out_.open(path, std::ios::app);
