@@ -1,0 +1,365 @@
+// The command line under hostile or unlucky conditions: paths that a shell would interpret, two
+// writers on one run directory, kills at awkward moments, damaged checkpoints and archives,
+// configs that cannot fit in memory. Each test here failed before its fix.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+
+using cli_test::Outcome;
+using cli_test::shell;
+using cli_test::slurp;
+
+fs::path scratch() { return cli_test::process_scratch("robustness_test"); }
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = scratch() / name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+fs::path write_file(const std::string& name, const std::string& text) {
+  const fs::path path = scratch() / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+// One word for sh, whatever it holds: single quotes, each ' written as '\''.
+std::string quote(const std::string& word) {
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// QDMETA_TEST_BINARY runs the same tests against another build (e.g. an older one, to see them fail).
+const std::string kBinary = quote(std::getenv("QDMETA_TEST_BINARY") ? std::getenv("QDMETA_TEST_BINARY") : QDMETA_BINARY);
+
+Outcome qdmeta_cli(const std::string& args) { return shell(kBinary + " " + args); }
+
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+std::string map_elites_config() { return quote(std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml"); }
+
+// A QD-Meta run of a few seconds with only the first checkpoint (after the first step): the
+// periodic one never comes.
+fs::path first_checkpoint_only_config() {
+  return write_file("first-checkpoint.toml", R"(algorithm = "qd-meta"
+[budget]
+evaluations = 600_000
+[checkpoint]
+every_seconds = 1e9
+[qd_meta]
+database_capacity = 100_000
+)");
+}
+
+void expect_same_run(const fs::path& a, const fs::path& b) {
+  for (const char* f : {"metrics.csv", "meta.csv", "archive.csv"}) EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
+}
+
+// Runs `command` in the background until `file` exists (at most a minute), waits
+// `extra_seconds`, runs `meanwhile` (its output and status go to scratch files), then sends
+// `signal` and waits. Returns the background command's outcome.
+Outcome meanwhile(const std::string& command, const fs::path& file, double extra_seconds, const std::string& during,
+                  const char* signal) {
+  return shell("exec " + command + " & pid=$!; for i in $(seq 1200); do [ -e " + quote(file.string()) +
+               " ] && break; sleep 0.05; done; sleep " + std::to_string(extra_seconds) + "; " + during + "; kill -" +
+               signal + " $pid; wait $pid");
+}
+
+// --- 1. The report is started with an argument vector, never through a shell.
+
+TEST(Robustness, NoPathIsEverInterpretedByAShell) {
+  const fs::path root = fresh_dir("hostile");
+  const fs::path cwd = root / "cwd";
+  fs::create_directories(cwd);
+  const fs::path experiment =
+      write_file("tiny-experiment.toml", "name = \"tiny\"\nreplicates = 1\ntests = []\n[[condition]]\nname = \"MAP-Elites\"\n"
+                                         "config = \"" + std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml\"\n");
+  const std::vector<std::string> names = {"x'; touch PWNED; echo '", "with space", "dollar $(touch PWNED)",
+                                          "semi;touch PWNED", "back`touch PWNED`tick", "new\nline touch PWNED"};
+  for (const std::string& name : names) {
+    const fs::path out = root / name;
+    const Outcome o = shell("cd " + quote(cwd.string()) + " && " + kBinary + " experiment --config " +
+                            quote(experiment.string()) + " --out " + quote(out.string()) + " --evals 20000 --quiet");
+    EXPECT_EQ(o.status, 0) << name << "\n" << o.output;
+    EXPECT_TRUE(fs::exists(out / "report.md")) << name << "\n" << o.output;
+    for (const fs::path& where : {cwd, root, out})
+      EXPECT_FALSE(fs::exists(where / "PWNED")) << "a shell ran part of the path '" << name << "'";
+  }
+}
+
+TEST(Robustness, AFailedReportIsANonZeroExit) {
+  const fs::path dir = fresh_dir("failing-report");
+  fs::create_directories(dir);
+  std::ofstream(dir / "experiment.toml") << "name = \"x\"\n";
+  const Outcome failed = shell("QDMETA_PYTHON=/bin/false " + kBinary + " report " + quote(dir.string()));
+  EXPECT_EQ(failed.status, 2) << failed.output;
+  EXPECT_NE(failed.output.find("failed (exit status 1)"), std::string::npos) << failed.output;
+  const Outcome missing = shell("QDMETA_PYTHON=/no/such/python " + kBinary + " report " + quote(dir.string()));
+  EXPECT_EQ(missing.status, 2) << missing.output;
+  EXPECT_NE(missing.output.find("cannot start /no/such/python"), std::string::npos) << missing.output;
+}
+
+// --- 2. One writer per run directory.
+
+TEST(Robustness, ASecondWriterOnARunDirectoryIsRefused) {
+  const fs::path dir = fresh_dir("locked");
+  const fs::path log = scratch() / "locked-log";
+  fs::remove_all(log);
+  fs::create_directories(log);
+  const std::string d = quote(dir.string());
+  const auto into = [&](const std::string& name) {
+    return " > " + quote((log / name).string()) + " 2>&1; echo $? > " + quote((log / (name + ".status")).string());
+  };
+  // A run long enough to be still writing when the others try.
+  const std::string first = kBinary + " run --config " + map_elites_config() + " --out " + d +
+                            " --evals 100000000000 --seed 1 --quiet --threads 1";
+  const std::string during = kBinary + " run --config " + map_elites_config() + " --out " + d +
+                             " --evals 20000 --seed 2 --overwrite" + into("run") + "; " + kBinary + " resume --out " +
+                             d + into("resume") + "; " + kBinary + " adapt --run " + d + " --test dimension" +
+                             into("adapt");
+  meanwhile(first, dir / "metrics.csv", 0.2, during, "INT");
+  for (const char* who : {"run", "resume", "adapt"}) {
+    const std::string output = slurp(log / who);
+    EXPECT_EQ(slurp(log / (std::string(who) + ".status")), "2\n") << who << ": " << output;
+    EXPECT_NE(output.find("is in use by another qdmeta process"), std::string::npos) << who << ": " << output;
+    EXPECT_EQ(count_lines(output), 1) << who << ": " << output;
+  }
+  EXPECT_NE(slurp(dir / "config.toml").find("seed = 1"), std::string::npos) << "the refused run changed the config";
+  // The lock goes with its process: the directory is free again.
+  const Outcome after = qdmeta_cli("run --config " + map_elites_config() + " --out " + d + " --evals 20000 --overwrite --quiet");
+  EXPECT_EQ(after.status, 0) << after.output;
+}
+
+TEST(Robustness, AnExperimentLocksItsDirectoryAndEachRun) {
+  const fs::path out = fresh_dir("locked-experiment");
+  const fs::path experiment = write_file(
+      "long-experiment.toml", "name = \"long\"\nreplicates = 1\ntests = []\nevaluations = 100_000_000_000\n"
+                              "[[condition]]\nname = \"ME\"\nconfig = \"" +
+                                  std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml\"\n");
+  const fs::path log = scratch() / "locked-experiment-log";
+  fs::remove_all(log);
+  fs::create_directories(log);
+  const std::string during =
+      kBinary + " experiment --config " + quote(experiment.string()) + " --out " + quote(out.string()) + " > " +
+      quote((log / "experiment").string()) + " 2>&1; " + kBinary + " resume --out " + quote((out / "me/seed-1").string()) +
+      " > " + quote((log / "resume").string()) + " 2>&1";
+  meanwhile(kBinary + " experiment --quiet --threads 1 --config " + quote(experiment.string()) + " --out " +
+                quote(out.string()),
+            out / "me/seed-1/metrics.csv", 0.2, during, "INT");
+  EXPECT_NE(slurp(log / "experiment").find("is in use by another qdmeta process"), std::string::npos)
+      << slurp(log / "experiment");
+  EXPECT_NE(slurp(log / "resume").find("is in use by another qdmeta process"), std::string::npos) << slurp(log / "resume");
+}
+
+// --- 7. Leftovers: the first checkpoint, a stray checkpoint, a refused resume.
+
+TEST(Robustness, ARunKilledBeforeItsFirstPeriodicCheckpointResumesToTheSameBits) {
+  const fs::path straight = fresh_dir("first-straight"), killed = fresh_dir("first-killed");
+  const std::string config = quote(first_checkpoint_only_config().string());
+  ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + quote(straight.string()) + " --quiet").status, 0);
+  meanwhile(kBinary + " run --config " + config + " --out " + quote(killed.string()) + " --quiet --threads 1",
+            killed / "checkpoint.bin", 0.3, "true", "KILL");
+  ASSERT_TRUE(fs::exists(killed / "checkpoint.bin"));
+  ASSERT_FALSE(fs::exists(killed / "summary.json")) << "finished before it was killed: raise the budget";
+  const std::string checkpoint = slurp(killed / "checkpoint.bin");
+
+  // 9. Every byte is under the checksum, the program version in the header too.
+  std::string damaged = checkpoint;
+  const auto version = damaged.find(QDMETA_VERSION);
+  ASSERT_NE(version, std::string::npos);
+  ASSERT_LT(version, 64u) << "the version is in the header";
+  damaged[version] = static_cast<char>(damaged[version] ^ 0x01);
+  std::ofstream(killed / "checkpoint.bin", std::ios::binary) << damaged;
+  const Outcome refused = qdmeta_cli("resume --out " + quote(killed.string()) + " --quiet");
+  EXPECT_EQ(refused.status, 2) << refused.output;
+  EXPECT_NE(refused.output.find("damaged: checksum mismatch"), std::string::npos) << refused.output;
+  std::ofstream(killed / "checkpoint.bin", std::ios::binary) << checkpoint;
+
+  const Outcome resumed = qdmeta_cli("resume --out " + quote(killed.string()) + " --quiet --threads 2");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  expect_same_run(straight, killed);
+
+  // A finished run that still has a checkpoint (killed between its summary and the removal).
+  std::ofstream(straight / "checkpoint.bin", std::ios::binary) << checkpoint;
+  const Outcome stray = qdmeta_cli("resume --out " + quote(straight.string()));
+  EXPECT_EQ(stray.status, 2) << stray.output;
+  EXPECT_NE(stray.output.find("already finished"), std::string::npos) << stray.output;
+  EXPECT_FALSE(fs::exists(straight / "checkpoint.bin")) << "the stray checkpoint stays";
+}
+
+TEST(Robustness, ARefusedResumeChangesNothing) {
+  const fs::path dir = fresh_dir("refused-resume");
+  const Outcome stopped =
+      meanwhile(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) + " --out " +
+                    quote(dir.string()) + " --quiet --threads 1",
+                dir / "checkpoint.bin", 0.2, "true", "INT");
+  ASSERT_EQ(stopped.status, 130) << stopped.output;
+  ASSERT_TRUE(fs::exists(dir / "summary.json"));
+  fs::remove(dir / "metrics.csv");
+  const Outcome o = qdmeta_cli("resume --out " + quote(dir.string()));
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("metrics.csv"), std::string::npos) << o.output;
+  EXPECT_TRUE(fs::exists(dir / "summary.json")) << "a refused resume deleted summary.json";
+  EXPECT_TRUE(fs::exists(dir / "checkpoint.bin"));
+}
+
+// --- 5. A directory is not a config.
+
+TEST(Robustness, ADirectoryIsNotAConfig) {
+  const std::string dir = quote(std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin");
+  for (const std::string& command : {"run --config " + dir + " --out " + quote(fresh_dir("dir-config").string()),
+                                     "experiment --config " + dir + " --out " + quote(fresh_dir("dir-exp").string())}) {
+    const Outcome o = qdmeta_cli(command);
+    EXPECT_EQ(o.status, 2) << command << "\n" << o.output;
+    EXPECT_NE(o.output.find("is not a regular file"), std::string::npos) << o.output;
+    EXPECT_EQ(count_lines(o.output), 1) << o.output;
+  }
+}
+
+// --- 6. adapt reads every value of the archive it tests, and CRLF files.
+
+TEST(Robustness, AdaptRefusesBadArchiveValuesNamingLineColumnAndRule) {
+  const fs::path dir = fresh_dir("adapt-values");
+  ASSERT_EQ(qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) + " --evals 20000 --quiet").status, 0);
+  ASSERT_EQ(qdmeta_cli("adapt --run " + quote(dir.string()) + " --test dimension --budget 5 --quiet").status, 0);
+  const std::string good = slurp(dir / "archive.csv");
+  const std::string curve = slurp(dir / "adapt-dimension.csv");
+  const std::size_t line2 = good.find('\n') + 1;
+  const std::size_t line3 = good.find('\n', line2) + 1;
+  std::vector<std::string> cells;
+  {
+    std::string cell;
+    for (char c : good.substr(line2, line3 - line2 - 1)) {
+      if (c != ',') {
+        cell += c;
+        continue;
+      }
+      cells.push_back(cell);
+      cell.clear();
+    }
+    cells.push_back(cell);
+  }
+  // column (1-based), value, what the message must say
+  struct Case {
+    std::size_t column;
+    std::string value, says;
+  };
+  const std::vector<Case> cases = {
+      {2, "nan", "column 2 (objective): 'nan' is not finite"},
+      {2, "inf", "column 2 (objective): 'inf' is not finite"},
+      {2, "-1e300", "column 2 (objective): '-1e300' is out of range of a 32-bit float"},
+      {3, "-inf", "column 3 (measures_0): '-inf' is not finite"},
+      {5, "1.5", "column 5 (solution_0): 1.5 is outside [0, 1]"},
+      {6, "-0.25", "column 6 (solution_1): -0.25 is outside [0, 1]"},
+      {1, "-1", "column 1 (index): -1 is negative"},
+      {1, "0.5", "column 1 (index): '0.5' is not a number"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> row = cells;
+    row[c.column - 1] = c.value;
+    std::string line;
+    for (std::size_t i = 0; i < row.size(); ++i) line += (i ? "," : "") + row[i];
+    std::ofstream(dir / "archive.csv", std::ios::binary) << good.substr(0, line2) + line + "\n" + good.substr(line3);
+    const Outcome o = qdmeta_cli("adapt --run " + quote(dir.string()) + " --test dimension --budget 5 --quiet");
+    EXPECT_EQ(o.status, 2) << c.value << "\n" << o.output;
+    EXPECT_NE(o.output.find("archive.csv\":2: " + c.says), std::string::npos) << o.output;
+    EXPECT_EQ(count_lines(o.output), 1) << o.output;
+  }
+  // A file saved with Windows line endings reads the same.
+  std::string crlf;
+  for (char ch : good) crlf += ch == '\n' ? std::string("\r\n") : std::string(1, ch);
+  std::ofstream(dir / "archive.csv", std::ios::binary) << crlf;
+  fs::remove(dir / "adapt-dimension.csv");
+  const Outcome o = qdmeta_cli("adapt --run " + quote(dir.string()) + " --test dimension --budget 5 --quiet");
+  ASSERT_EQ(o.status, 0) << o.output;
+  EXPECT_EQ(slurp(dir / "adapt-dimension.csv"), curve);
+}
+
+// --- 4. Memory is estimated before anything is allocated.
+
+struct TooLarge {
+  std::string config, key;
+  bool terabytes;  // beyond any machine: refused without a ulimit too
+};
+
+std::vector<TooLarge> too_large_configs() {
+  const std::string qd = "algorithm = \"qd-meta\"\n";
+  return {
+      {qd + "[control]\nkind = \"static\"\ngenerations = 1_000_000\n", "control.max_generations (or generations)", true},
+      {qd + "[control]\nmax_generations = 1_000_000\n", "control.max_generations", true},
+      {qd + "[qd_meta]\nhidden = 10_000\n", "qd_meta.hidden", true},
+      {qd + "[qd_meta]\ndatabase_capacity = 1_000_000_000\n", "qd_meta.database_capacity", false},
+      {qd + "[qd_meta]\nmeta_population = 10_000\n", "qd_meta.meta_population", false},
+      {"[archive]\nbins = [10_000, 10_000]\n", "archive.bins", false},
+      {"[map_elites]\nbatch_size = 10_000_000\n", "map_elites.batch_size", false},
+      {"[map_elites]\ninitial_population = 100_000_000\n", "map_elites.initial_population", false},
+      {"algorithm = \"cvt-map-elites\"\n[cvt]\nsamples = 1_000_000_000\ncache = false\n", "cvt.samples", false},
+      {"algorithm = \"aurora\"\n[aurora]\nhidden = [100_000, 100_000]\n", "aurora.hidden", true},
+  };
+}
+
+void expect_refused_for_memory(const std::string& prefix, const TooLarge& c, int i) {
+  const fs::path config = write_file("memory-" + std::to_string(i) + ".toml", c.config);
+  const Outcome o = shell(prefix + kBinary + " run --config " + quote(config.string()) + " --out " +
+                          quote(fresh_dir("memory-" + std::to_string(i)).string()));
+  EXPECT_EQ(o.status, 2) << c.config << "\n" << o.output;
+  EXPECT_NE(o.output.find("of memory but"), std::string::npos) << c.config << "\n" << o.output;
+  EXPECT_NE(o.output.find(c.key), std::string::npos) << c.config << "\n" << o.output;
+  EXPECT_EQ(o.output.find("bad_alloc"), std::string::npos) << o.output;
+  EXPECT_EQ(count_lines(o.output), 1) << o.output;
+}
+
+TEST(Robustness, AConfigBeyondAnyMachineIsRefusedBeforeAllocating) {
+  int i = 0;
+  for (const TooLarge& c : too_large_configs())
+    if (c.terabytes) expect_refused_for_memory("", c, i++);
+}
+
+TEST(Robustness, AConfigBeyondTheUlimitIsRefusedNamingItsKeys) {
+#ifdef QDMETA_SANITIZED
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no ulimit -v under it";
+#else
+  int i = 100;
+  for (const TooLarge& c : too_large_configs()) expect_refused_for_memory("ulimit -v 2000000; ", c, i++);
+  // What fits still runs under the same limit.
+  const Outcome fits = shell("ulimit -v 2000000; " + kBinary + " run --config " + map_elites_config() + " --out " +
+                             quote(fresh_dir("memory-fits").string()) + " --evals 20000 --quiet");
+  EXPECT_EQ(fits.status, 0) << fits.output;
+#endif
+}
+
+// --- 4. A cache miss that costs minutes of k-means says so.
+
+TEST(Robustness, KMeansOnACacheMissIsAnnounced) {
+  const fs::path cache = fresh_dir("kmeans-cache");
+  const fs::path config = write_file("kmeans.toml", "algorithm = \"cvt-map-elites\"\n[cvt]\ncentroids = 50\nsamples = 5000\n"
+                                                    "init_samples = 1000\ncache_dir = \"" + cache.string() + "\"\n");
+  const auto run = [&](const std::string& name) {
+    return qdmeta_cli("run --config " + quote(config.string()) + " --out " + quote(fresh_dir(name).string()) +
+                      " --evals 4000 --quiet");
+  };
+  const Outcome miss = run("kmeans-1");
+  ASSERT_EQ(miss.status, 0) << miss.output;
+  EXPECT_NE(miss.output.find("qdmeta: making 50 CVT centroids in 20 dimensions by k-means over 5000 uniform points (no "
+                             "cache for these settings)"),
+            std::string::npos)
+      << miss.output;
+  const Outcome hit = run("kmeans-2");
+  ASSERT_EQ(hit.status, 0) << hit.output;
+  EXPECT_EQ(hit.output.find("k-means"), std::string::npos) << hit.output;
+}
+
+}  // namespace
+}  // namespace qdmeta
