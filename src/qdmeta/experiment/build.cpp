@@ -75,10 +75,10 @@ void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Ta
 
 Task read_task(ConfigReader& t) {
   // Tasks registered by optional components or users (task_registry.hpp) come first.
-  const std::string name = t.string("name", enum_to_string(kTaskNames, TaskKind::kRastrigin));
-  if (const TaskPlugin* plugin = find_task_plugin(name)) return plugin->read_task(t);
   std::string valid = "\"rastrigin\"";
   for (const auto& n : registered_task_names()) valid += fmt::format(", \"{}\"", n);
+  const std::string name = t.string("name", enum_to_string(kTaskNames, TaskKind::kRastrigin), valid);
+  if (const TaskPlugin* plugin = find_task_plugin(name)) return plugin->read_task(t);
   if (name != enum_to_string(kTaskNames, TaskKind::kRastrigin))
     throw InputError(fmt::format("{}: task.name = \"{}\" is not a valid choice: use one of {}{}", t.source(), name, valid,
                                  name == "rhex" ? " (this build has no RHex task: it needs DART)" : ""));
@@ -86,7 +86,7 @@ Task read_task(ConfigReader& t) {
     case TaskKind::kRastrigin: {
       RastriginParams p;
       p.dimensions = static_cast<int>(t.integer("dimensions", p.dimensions, 1, 10000));
-      p.score_m = t.number("score_m", p.score_m, 1e-9, 1e300);
+      p.score_m = t.number("score_m", p.score_m, 0.0, kNoUpper, Open::kLower);
       return Task(RastriginTask(p));
     }
   }
@@ -97,8 +97,8 @@ MutationParams read_mutation(ConfigReader& m) {
   MutationParams p;
   p.kind = m.choice("kind", p.kind, kMutationKindNames);
   p.rate = m.number("rate", p.rate, 0.0, 1.0);
-  p.sigma = m.number("sigma", p.sigma, 1e-12, 1e6);
-  p.step = m.number("step", p.step, 1e-6, 1.0);
+  p.sigma = m.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
+  p.step = m.number("step", p.step, 0.0, 1.0, Open::kLower);
   try {
     p.validate();
   } catch (const InputError& e) {
@@ -113,12 +113,13 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>* measures, Index b
   GridArchiveParams p;
   const auto bins = a.integers("bins", {100, 100}, 1, 100'000'000, 1, 16);
   p.bins.assign(bins.begin(), bins.end());
-  p.lower = a.number("lower", p.lower, -1e300, 1e300);
-  p.upper = a.number("upper", p.upper, -1e300, 1e300);
+  p.lower = a.number("lower", p.lower, -kNoUpper, kNoUpper);
+  p.upper = a.number("upper", p.upper, -kNoUpper, kNoUpper);
   if (measures) {
     std::vector<std::int64_t> fallback;
     for (std::size_t i = 0; i < bins.size(); ++i) fallback.push_back(static_cast<std::int64_t>(i));
-    const auto m = a.integers("measures", fallback, 0, std::max<Index>(base_features - 1, 0), bins.size(), bins.size());
+    const auto m = a.integers("measures", fallback, 0, std::max<Index>(base_features - 1, 0), bins.size(), bins.size(),
+                              "one per entry of bins, each a base-feature index");
     measures->assign(m.begin(), m.end());
   }
   p.solution_size = 1;  // completed by the algorithm from the task
@@ -141,17 +142,17 @@ SarsaParams read_sarsa(ConfigReader& c) {
   p.alpha_zero_reward = c.number("alpha_zero_reward", p.alpha_zero_reward, 0.0, 1.0);
   p.trace_decay = c.number("trace_decay", p.trace_decay, 0.0, 1.0);
   p.trace_min = c.number("trace_min", p.trace_min, 0.0, 1.0);
-  p.reward_scale = c.number("reward_scale", p.reward_scale, 1e-300, 1e300);
-  p.reward_max = c.number("reward_max", p.reward_max, 1e-300, 1e300);
+  p.reward_scale = c.number("reward_scale", p.reward_scale, 0.0, kNoUpper, Open::kLower);
+  p.reward_max = c.number("reward_max", p.reward_max, 0.0, kNoUpper, Open::kLower);
   StateTreeParams& t = p.tree;
   t.split_min_transitions = static_cast<std::size_t>(
       c.integer("split_min_transitions", static_cast<std::int64_t>(t.split_min_transitions), 2, 1'000'000'000));
   t.split_probability = c.number("split_probability", t.split_probability, 0.0, 1.0);
-  t.split_min_fraction = c.number("split_min_fraction", t.split_min_fraction, 1e-9, 0.499999);
+  t.split_min_fraction = c.number("split_min_fraction", t.split_min_fraction, 0.0, 0.5, Open::kBoth);
   t.max_candidates =
       static_cast<std::size_t>(c.integer("max_candidates", static_cast<std::int64_t>(t.max_candidates), 1, 1'000'000));
-  t.min_value_gap = c.number("min_value_gap", t.min_value_gap, 0.0, 1e300);
-  t.ks_alpha = c.number("ks_alpha", t.ks_alpha, 1e-12, 0.999999);
+  t.min_value_gap = c.number("min_value_gap", t.min_value_gap, 0.0, kNoUpper);
+  t.ks_alpha = c.number("ks_alpha", t.ks_alpha, 0.0, 1.0, Open::kBoth);
   return p;
 }
 
@@ -221,17 +222,18 @@ std::unique_ptr<MetaObjective> read_meta_fitness(ConfigReader& m, const Task& ta
     throw InputError(fmt::format("{}: task '{}' has no meta-fitness yet", m.source(), task.name()));
   RastriginMetaParams p;
   const MetaFitnessKind kind = m.choice("kind", MetaFitnessKind::kTranslation, kMetaFitnessNames);
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 1e-9, 1.0);
+  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
   p.score_m = task.qd_offset() < 0 ? -task.qd_offset() : p.score_m;
   const auto n = task.genotype_size();
   switch (kind) {
     case MetaFitnessKind::kDimension: {
-      p.dimension_count = static_cast<int>(m.integer("dimension_count", p.dimension_count, 1, n));
+      p.dimension_count = static_cast<int>(m.integer("dimension_count", p.dimension_count, 1, n, "1 to N (task.dimensions)"));
       std::vector<std::int64_t> drawn;
       Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), 0xD1D1});
       for (int d : rastrigin::sample_dimensions(rng, static_cast<int>(n), p.dimension_count)) drawn.push_back(d);
       const auto given = m.integers("dimensions", drawn, 0, n - 1, static_cast<std::size_t>(p.dimension_count),
-                                    static_cast<std::size_t>(p.dimension_count));
+                                    static_cast<std::size_t>(p.dimension_count),
+                                    "dimension_count distinct entries in [0, N)");
       std::vector<int> dims(given.begin(), given.end());
       try {
         p.validate();
@@ -262,14 +264,14 @@ AuroraParams read_aurora(ConfigReader& a) {
   p.latent_size = a.integer("latent_size", p.latent_size, 1, 1'000);
   const auto hidden = a.integers("hidden", std::vector<std::int64_t>(p.hidden.begin(), p.hidden.end()), 1, 100'000, 1, 16);
   p.hidden.assign(hidden.begin(), hidden.end());
-  p.learning_rate = a.number("learning_rate", p.learning_rate, 1e-12, 1e3);
+  p.learning_rate = a.number("learning_rate", p.learning_rate, 0.0, kNoUpper, Open::kLower);
   p.max_epochs = static_cast<int>(a.integer("max_epochs", p.max_epochs, 1, 100'000'000));
   p.max_training_rows = a.integer("max_training_rows", p.max_training_rows, 1, 100'000'000);
   p.target_size = a.integer("target_size", p.target_size, 1, 100'000'000);
   p.eps = a.number("eps", p.eps, 0.0, 0.999);
   p.novelty_neighbours = static_cast<int>(a.integer("novelty_neighbours", p.novelty_neighbours, 1, 1'000'000));
   p.size_control_gain = a.number("size_control_gain", p.size_control_gain, 0.0, 1.0);
-  p.threshold_factor = a.number("threshold_factor", p.threshold_factor, 1e-12, 1e12);
+  p.threshold_factor = a.number("threshold_factor", p.threshold_factor, 0.0, kNoUpper, Open::kLower);
   p.rebuild_every = static_cast<int>(a.integer("rebuild_every", p.rebuild_every, 1, 100'000'000));
   p.retrain_period_step = static_cast<int>(a.integer("retrain_period_step", p.retrain_period_step, 1, 100'000'000));
   p.retrain_period_max = static_cast<int>(a.integer("retrain_period_max", p.retrain_period_max, 1, 100'000'000));
@@ -370,9 +372,9 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
       p.initial_population = q.integer("initial_population", p.initial_population, 1, 100'000'000);
       p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
       p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
-      p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 1e-9, 1e9);
+      p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 0.0, kNoUpper, Open::kLower);
       ConfigReader cma = root.table("cma_es");
-      p.cma_sigma = cma.number("sigma", p.cma_sigma, 1e-12, 1e6);
+      p.cma_sigma = cma.number("sigma", p.cma_sigma, 0.0, kNoUpper, Open::kLower);
       p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
       p.frozen = cma.boolean("frozen", p.frozen);
       p.count_meta_evaluations = s.counts == BudgetCount::kAll;

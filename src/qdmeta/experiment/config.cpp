@@ -1,6 +1,7 @@
 #include "qdmeta/experiment/config.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fmt/std.h>
 
 #include <cmath>
@@ -23,6 +24,44 @@ toml::table load_toml(const std::filesystem::path& path) {
   }
 }
 
+namespace {
+
+thread_local std::vector<ConfigKeyRecord>* t_key_log = nullptr;
+
+// 10^7 for exact powers of ten from 10^4 on (as docs/config.md writes them), else the digits.
+template <class T>
+std::string range_number(T x) {
+  for (int e = 4; e <= 18; ++e) {
+    const double p = std::pow(10.0, e);
+    if (static_cast<double>(x) == p) return fmt::format("10^{}", e);
+  }
+  return fmt::format("{}", x);
+}
+
+std::string integer_range(std::int64_t lo, std::int64_t hi) {
+  if (hi == std::numeric_limits<std::int64_t>::max()) return fmt::format(">= {}", lo);
+  return fmt::format("{} to {}", range_number(lo), range_number(hi));
+}
+
+std::string number_range(double lo, double hi, Open open) {
+  const bool open_lo = open == Open::kLower || open == Open::kBoth;
+  const bool open_hi = open == Open::kUpper || open == Open::kBoth;
+  if (hi == kNoUpper) {
+    if (lo == -kNoUpper) return "finite";
+    return fmt::format("{} {}", open_lo ? ">" : ">=", range_number(lo));
+  }
+  return fmt::format("{}{}, {}{}", open_lo ? "(" : "[", range_number(lo), range_number(hi), open_hi ? ")" : "]");
+}
+
+}  // namespace
+
+ScopedConfigKeyLog::ScopedConfigKeyLog(std::vector<ConfigKeyRecord>& log) : previous_(t_key_log) { t_key_log = &log; }
+ScopedConfigKeyLog::~ScopedConfigKeyLog() { t_key_log = previous_; }
+
+void ConfigReader::record(std::string_view key, std::string type, std::string fallback, std::string range) const {
+  if (t_key_log) t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range)});
+}
+
 ConfigReader::ConfigReader(const toml::table& table, std::string source, toml::table& resolved, std::string prefix)
     : table_(table), source_(std::move(source)), resolved_(resolved), prefix_(std::move(prefix)) {}
 
@@ -42,27 +81,35 @@ const toml::node* ConfigReader::lookup(std::string_view key) {
   return table_.get(key);
 }
 
-std::int64_t ConfigReader::integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi) {
+std::int64_t ConfigReader::integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
+                                   std::string_view range_doc) {
   std::int64_t value = fallback;
   if (const toml::node* node = lookup(key)) {
     if (!node->is_integer()) type_error(key, "an integer");
     value = node->as_integer()->get();
   }
+  record(key, "integer", fmt::format("{}", fallback), range_doc.empty() ? integer_range(lo, hi) : std::string(range_doc));
   if (value < lo || value > hi)
     throw InputError(fmt::format("{}: {} = {} is out of range: must be in [{}, {}]", source_, qualified(key), value, lo, hi));
   resolved_.insert_or_assign(key, value);
   return value;
 }
 
-double ConfigReader::number(std::string_view key, double fallback, double lo, double hi) {
+double ConfigReader::number(std::string_view key, double fallback, double lo, double hi, Open open) {
   double value = fallback;
   if (const toml::node* node = lookup(key)) {
     if (node->is_integer()) value = static_cast<double>(node->as_integer()->get());
     else if (node->is_floating_point()) value = node->as_floating_point()->get();
     else type_error(key, "a number");
   }
-  if (!(value >= lo && value <= hi))
-    throw InputError(fmt::format("{}: {} = {} is out of range: must be in [{}, {}]", source_, qualified(key), value, lo, hi));
+  record(key, "number", fmt::format("{}", fallback), number_range(lo, hi, open));
+  const bool open_lo = open == Open::kLower || open == Open::kBoth;
+  const bool open_hi = open == Open::kUpper || open == Open::kBoth;
+  const bool inside = std::isfinite(value) && (open_lo ? value > lo : value >= lo) && (open_hi ? value < hi : value <= hi);
+  if (!inside)
+    throw InputError(fmt::format("{}: {} = {} is out of range: must be {}", source_, qualified(key), value,
+                                 open == Open::kNone && hi != kNoUpper ? fmt::format("in [{}, {}]", lo, hi)
+                                                                       : number_range(lo, hi, open)));
   resolved_.insert_or_assign(key, value);
   return value;
 }
@@ -73,11 +120,17 @@ bool ConfigReader::boolean(std::string_view key, bool fallback) {
     if (!node->is_boolean()) type_error(key, "true or false");
     value = node->as_boolean()->get();
   }
+  record(key, "boolean", fallback ? "true" : "false", "");
   resolved_.insert_or_assign(key, value);
   return value;
 }
 
-std::string ConfigReader::string(std::string_view key, std::string_view fallback) {
+std::string ConfigReader::string(std::string_view key, std::string_view fallback, std::string_view range_doc) {
+  record(key, "string", fmt::format("\"{}\"", fallback), std::string(range_doc));
+  return read_string(key, fallback);
+}
+
+std::string ConfigReader::read_string(std::string_view key, std::string_view fallback) {
   std::string value(fallback);
   if (const toml::node* node = lookup(key)) {
     if (!node->is_string()) type_error(key, "a string");
@@ -89,8 +142,14 @@ std::string ConfigReader::string(std::string_view key, std::string_view fallback
 
 std::vector<std::int64_t> ConfigReader::integers(std::string_view key, const std::vector<std::int64_t>& fallback,
                                                  std::int64_t lo, std::int64_t hi, std::size_t min_size,
-                                                 std::size_t max_size) {
+                                                 std::size_t max_size, std::string_view range_doc) {
   std::vector<std::int64_t> values = fallback;
+  record(key, "array of integers", fmt::format("[{}]", fmt::join(fallback, ", ")),
+         !range_doc.empty() ? std::string(range_doc)
+                            : fmt::format("{} entries, each {}",
+                                          min_size == max_size ? fmt::format("{}", min_size)
+                                                               : fmt::format("{} to {}", min_size, max_size),
+                                          integer_range(lo, hi)));
   if (const toml::node* node = lookup(key)) {
     const toml::array* array = node->as_array();
     if (!array) type_error(key, "an array of integers");

@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -18,20 +19,52 @@ namespace qdmeta {
 // Parses a file; a missing file or a syntax error throws InputError naming file, line, column.
 toml::table load_toml(const std::filesystem::path& path);
 
+// Every key a ConfigReader reads, with its type, default and range as the checks enforce them:
+// docs/config.md's tables are tested against this log, so the reference cannot drift from the code.
+struct ConfigKeyRecord {
+  std::string key;       // qualified: "qd_meta.batch_size"
+  std::string type;      // "integer", "number", "boolean", "string", "array of integers"
+  std::string fallback;  // the default, as TOML: 400, 0.05, "gaussian", [100, 100]
+  std::string range;     // e.g. "1 to 10^7", "> 0", "[0, 1]", "\"lloyd\", \"mini-batch\""
+};
+// While one is alive, every ConfigReader on this thread appends what it reads to `log`.
+class ScopedConfigKeyLog {
+ public:
+  explicit ScopedConfigKeyLog(std::vector<ConfigKeyRecord>& log);
+  ~ScopedConfigKeyLog();
+  ScopedConfigKeyLog(const ScopedConfigKeyLog&) = delete;
+  ScopedConfigKeyLog& operator=(const ScopedConfigKeyLog&) = delete;
+
+ private:
+  std::vector<ConfigKeyRecord>* previous_;
+};
+
+// Which ends of a number's range are open: number("sigma", 0.05, 0, kNoUpper, Open::kLower) is
+// "> 0". Every number must be finite besides.
+enum class Open { kNone, kLower, kUpper, kBoth };
+inline constexpr double kNoUpper = std::numeric_limits<double>::max();
+
 class ConfigReader {
  public:
   // `source` names the file in messages; `resolved` receives every value in force.
   ConfigReader(const toml::table& table, std::string source, toml::table& resolved, std::string prefix = "");
 
-  std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi);
-  double number(std::string_view key, double fallback, double lo, double hi);  // integers accepted
+  // `range_doc`, where given, is the range as docs/config.md states it when the bounds depend on
+  // other settings (e.g. "1 to N (task.dimensions)"); it only changes what the key log records.
+  std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
+                       std::string_view range_doc = {});
+  double number(std::string_view key, double fallback, double lo, double hi, Open open = Open::kNone);  // integers accepted
   bool boolean(std::string_view key, bool fallback);
-  std::string string(std::string_view key, std::string_view fallback);
+  std::string string(std::string_view key, std::string_view fallback, std::string_view range_doc = {});
   std::vector<std::int64_t> integers(std::string_view key, const std::vector<std::int64_t>& fallback, std::int64_t lo,
-                                     std::int64_t hi, std::size_t min_size, std::size_t max_size);
+                                     std::int64_t hi, std::size_t min_size, std::size_t max_size,
+                                     std::string_view range_doc = {});
   template <class E, std::size_t N>
   E choice(std::string_view key, E fallback, const EnumNames<E, N>& names) {
-    const std::string text = string(key, enum_to_string(names, fallback));
+    const std::string text = read_string(key, enum_to_string(names, fallback));
+    std::string valid;
+    for (const auto& [e, name] : names) valid += fmt::format("{}\"{}\"", valid.empty() ? "" : ", ", name);
+    record(key, "string", fmt::format("\"{}\"", enum_to_string(names, fallback)), valid);
     try {
       return enum_from_string(names, qualified(key), text);
     } catch (const InputError& e) {
@@ -47,6 +80,8 @@ class ConfigReader {
 
  private:
   std::string qualified(std::string_view key) const;
+  std::string read_string(std::string_view key, std::string_view fallback);
+  void record(std::string_view key, std::string type, std::string fallback, std::string range) const;
   [[noreturn]] void type_error(std::string_view key, std::string_view expected) const;
   const toml::node* lookup(std::string_view key);
 

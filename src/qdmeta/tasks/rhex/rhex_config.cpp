@@ -29,10 +29,10 @@ auto naming_file(const ConfigReader& r, F&& f) {
 Task read_rhex_task(ConfigReader& t) {
   RhexParams p;
   p.features = t.choice("features", p.features, kRhexFeaturesNames);
-  p.episode.duration = t.number("episode_seconds", p.episode.duration, 1e-3, 600.0);
-  p.episode.time_step = t.number("time_step", p.episode.time_step, 1e-5, 0.1);
+  p.episode.duration = t.number("episode_seconds", p.episode.duration, 0.0, 600.0, Open::kLower);
+  p.episode.time_step = t.number("time_step", p.episode.time_step, 0.0, 0.1, Open::kLower);
   p.episode.settle_steps = static_cast<int>(t.integer("settle_steps", p.episode.settle_steps, 0, 1'000'000));
-  p.gene_step = t.number("gene_step", p.gene_step, 1e-6, 1.0);
+  p.gene_step = t.number("gene_step", p.gene_step, 0.0, 1.0, Open::kLower);
   p.episode.legs = t.choice("legs", p.episode.legs, rhex::kLegModelNames);
   p.episode.collision = t.choice("collision", p.episode.collision, rhex::kCollisionKindNames);
   p.episode.lcp = t.choice("lcp", p.episode.lcp, rhex::kLcpSolverNames);
@@ -49,14 +49,15 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
   params.environment = {};
   RhexMetaParams p;
   const RhexMetaKind kind = m.choice("kind", RhexMetaKind::kDamage, kRhexMetaNames);
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 1e-9, 1.0);
+  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
   switch (kind) {
     case RhexMetaKind::kDamage: {
       const auto count = m.integer("damage_type_count", 2, 1, 4);
       Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), kDamageDraw});
       std::vector<std::int64_t> drawn;  // the paper's numbering: 1 removal, 2 shortening, 3 blocked, 4 passive
       for (rhex::DamageType d : draw_damage_types(rng, static_cast<int>(count))) drawn.push_back(static_cast<int>(d));
-      const auto given = m.integers("damage_types", drawn, 1, 4, static_cast<std::size_t>(count), static_cast<std::size_t>(count));
+      const auto given = m.integers("damage_types", drawn, 1, 4, static_cast<std::size_t>(count),
+                                    static_cast<std::size_t>(count), "damage_type_count entries in 1..4");
       std::vector<rhex::DamageType> types;
       for (auto d : given) types.push_back(static_cast<rhex::DamageType>(d));
       return naming_file(m, [&] {
@@ -68,7 +69,8 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
       Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), kCourseDraw});
       std::vector<std::int64_t> drawn;  // SPEC.md's numbering 1..9
       for (rhex::ObstacleCourse c : draw_courses(rng, static_cast<int>(count))) drawn.push_back(static_cast<int>(c));
-      const auto given = m.integers("courses", drawn, 1, 9, static_cast<std::size_t>(count), static_cast<std::size_t>(count));
+      const auto given = m.integers("courses", drawn, 1, 9, static_cast<std::size_t>(count),
+                                    static_cast<std::size_t>(count), "course_count entries in 1..9");
       std::vector<rhex::RhexEnvironment> envs;
       for (auto c : given) envs.push_back(rhex::RhexEnvironment::obstacle(static_cast<rhex::ObstacleCourse>(c)));
       return naming_file(m, [&] { return std::make_unique<RhexMetaFitness>("rhex-obstacle", p, RhexTask(params), envs); });
