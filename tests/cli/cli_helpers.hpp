@@ -1,6 +1,7 @@
 #pragma once
 // What the command-line tests share: running a shell command with its output, a scratch folder
 // per test process (ctest runs a file's tests as parallel processes), reading a whole file.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -42,6 +43,18 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A QD-Meta run of a few seconds (a small database) that checkpoints every `every_seconds`.
+inline std::string small_qd_meta_config(const std::string& evaluations, const std::string& every_seconds) {
+  return "algorithm = \"qd-meta\"\n[budget]\nevaluations = " + evaluations + "\n[checkpoint]\nevery_seconds = " +
+         every_seconds + "\n[qd_meta]\ndatabase_capacity = 100_000\n";
+}
+
+// Two finished runs gave the same results, byte for byte, and the second kept no checkpoint.
+inline void expect_same_run(const std::filesystem::path& a, const std::filesystem::path& b) {
+  for (const char* f : {"metrics.csv", "meta.csv", "archive.csv"}) EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
+  EXPECT_FALSE(std::filesystem::exists(b / "checkpoint.bin"));  // removed once the budget is reached
 }
 
 }  // namespace qdmeta::cli_test

@@ -233,20 +233,10 @@ TEST(Cli, AdaptWritesTheTestPhaseCurveOfAFinishedRun) {
 
 // A small QD-Meta run (SARSA control) that checkpoints often and takes a few seconds.
 fs::path checkpointing_config() {
-  return write_config("resume", R"(algorithm = "qd-meta"
-[budget]
-evaluations = 500_000
-[checkpoint]
-every_seconds = 0.1
-[qd_meta]
-database_capacity = 100_000
-)");
+  return write_config("resume", cli_test::small_qd_meta_config("500_000", "0.1"));
 }
 
-void expect_same_run(const fs::path& a, const fs::path& b) {
-  for (const char* f : {"metrics.csv", "meta.csv", "archive.csv"}) EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
-  EXPECT_FALSE(fs::exists(b / "checkpoint.bin"));  // removed once the budget is reached
-}
+using cli_test::expect_same_run;
 
 TEST(Cli, AKilledRunResumesToTheSameBits) {
   const fs::path straight = fresh_dir("straight"), killed = fresh_dir("killed");

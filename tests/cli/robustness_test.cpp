@@ -53,19 +53,10 @@ std::string map_elites_config() { return quote(std::string(QDMETA_SOURCE_DIR) + 
 // A QD-Meta run of a few seconds with only the first checkpoint (after the first step): the
 // periodic one never comes.
 fs::path first_checkpoint_only_config() {
-  return write_file("first-checkpoint.toml", R"(algorithm = "qd-meta"
-[budget]
-evaluations = 600_000
-[checkpoint]
-every_seconds = 1e9
-[qd_meta]
-database_capacity = 100_000
-)");
+  return write_file("first-checkpoint.toml", cli_test::small_qd_meta_config("600_000", "1e9"));
 }
 
-void expect_same_run(const fs::path& a, const fs::path& b) {
-  for (const char* f : {"metrics.csv", "meta.csv", "archive.csv"}) EXPECT_EQ(slurp(a / f), slurp(b / f)) << f;
-}
+using cli_test::expect_same_run;
 
 // Runs `command` in the background until `file` exists (at most a minute), waits
 // `extra_seconds`, runs `meanwhile` (its output and status go to scratch files), then sends
