@@ -5,8 +5,14 @@
 #include <string>
 
 #include "config_fuzzer.hpp"
+#ifdef QDMETA_FUZZ_RHEX
+#include "qdmeta/tasks/rhex/rhex_config.hpp"
+#endif
 
 int main(int argc, char** argv) {
+#ifdef QDMETA_FUZZ_RHEX
+  qdmeta::register_rhex_task();  // the RHex configs are then read as the CLI reads them
+#endif
   const int cases = argc > 1 ? std::atoi(argv[1]) : 100'000;
   const auto seed = static_cast<std::uint64_t>(argc > 2 ? std::atoll(argv[2]) : 7);
   const auto seeds = qdmeta::fuzz::seed_configs(std::string(QDMETA_SOURCE_DIR) + "/configs");
