@@ -154,6 +154,29 @@ TEST(Mpi, AKilledWorkerCanBeResumedUnderMpirunToo) {
   expect_same_files(straight, killed);
 }
 
+// `mpirun` started in the background; until `deadline` s, times (s from the start) when
+// dir/file appears and then when no rank of the job is left; then the outcome.
+struct Watched {
+  Outcome outcome;
+  double appeared = -1, exited = -1;
+};
+Watched watch(const std::string& command, const fs::path& dir, const char* file, double deadline) {
+  Watched w;
+  const auto start = Clock::now();
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return w;
+  while (since(start) < deadline && w.exited < 0) {
+    if (w.appeared < 0 && fs::exists(dir / file)) w.appeared = since(start);
+    if (w.appeared >= 0 && !ranks_alive(dir)) w.exited = since(start);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) w.outcome.output += buffer;
+  const int raw = pclose(pipe);
+  w.outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return w;
+}
+
 // With a long launcher timeout OpenMPI signals the survivors only T s after the death (and
 // mpirun itself stays for about 2 T, its output held meanwhile): rank 0 must find the dead rank
 // by itself, write the checkpoint at once, and every rank must exit without waiting for signals.
@@ -163,26 +186,13 @@ TEST(Mpi, RankZeroFindsADeadWorkerItselfUnderALongLauncherTimeout) {
   const fs::path straight = fresh_dir("straight3"), killed = fresh_dir("killed3");
   ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
   constexpr double kLauncherTimeout = 4;  // s: SIGTERM 4 s after the death, SIGKILL 4 s after that
-  const auto start = Clock::now();
-  FILE* pipe = popen((mpirun_command(3, run + killed.string(),
-                                     "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30") +
-                      " 2>&1")
-                         .c_str(),
-                     "r");
-  ASSERT_NE(pipe, nullptr);
   // The death comes well within a second of the start (30 pieces); the launcher's SIGTERM would
   // come kLauncherTimeout later.
-  double checkpointed = -1, exited = -1;
-  while (since(start) < 3 * kLauncherTimeout && exited < 0) {
-    if (checkpointed < 0 && fs::exists(killed / "checkpoint.bin")) checkpointed = since(start);
-    if (checkpointed >= 0 && !ranks_alive(killed)) exited = since(start);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  Outcome o;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) o.output += buffer;
-  const int raw = pclose(pipe);
-  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  const Watched w = watch(mpirun_command(3, run + killed.string(),
+                                         "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30"),
+                          killed, "checkpoint.bin", 3 * kLauncherTimeout);
+  const Outcome& o = w.outcome;
+  const double checkpointed = w.appeared, exited = w.exited;
   ASSERT_GE(checkpointed, 0) << o.output;
   EXPECT_LT(checkpointed, kLauncherTimeout - 1) << "rank 0 waited for the launcher's SIGTERM\n" << o.output;
   EXPECT_GE(exited, 0) << "ranks still running";
@@ -195,6 +205,28 @@ TEST(Mpi, RankZeroFindsADeadWorkerItselfUnderALongLauncherTimeout) {
   const Outcome r = qdmeta_cli("resume --out " + killed.string() + " --threads 2");
   ASSERT_EQ(r.status, 0) << r.output;
   expect_same_files(straight, killed);
+}
+
+// A worker that dies after the last evaluation: the run is complete, and rank 0 must not wait in
+// MPI_Finalize for it (until the launcher's SIGKILL, 2 x its timeout later).
+TEST(Mpi, AWorkerDeadAtTheEndDoesNotHoldRankZeroInFinalize) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + config() + " --evals 20000 --seed 7 --quiet --out ";
+  const fs::path straight = fresh_dir("straight5"), dir = fresh_dir("dead-at-end");
+  ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
+  const Watched w = watch(mpirun_command(3, run + dir.string(),
+                                         "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
+                          dir, "summary.json", 12);
+  const Outcome& o = w.outcome;
+  ASSERT_GE(w.appeared, 0) << o.output;
+  EXPECT_GE(w.exited, 0) << "ranks still running";
+  EXPECT_LT(w.exited - w.appeared, 2.0) << "rank 0 waited for the dead rank\n" << o.output;
+  EXPECT_EQ(o.status, 137) << o.output;
+  EXPECT_NE(o.output.find("qdmeta: warning: MPI rank 1 stopped answering (crashed or killed) after rank 0's last "
+                          "evaluation"),
+            std::string::npos)
+      << o.output;
+  expect_same_files(straight, dir);
 }
 
 // A rank that hangs (SIGSTOP: alive, silent) is found by its missing heartbeat

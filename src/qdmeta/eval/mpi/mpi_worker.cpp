@@ -23,11 +23,14 @@ struct Work {
   std::vector<Real> genes;
 };
 
-// The test hook's piece count, or -1 when it is not aimed at this rank.
+constexpr long kKillAtStop = -2;
+
+// The test hook's piece count, kKillAtStop, or -1 when it is not aimed at this rank.
 long kill_after(int rank) {
   const char* who = std::getenv("QDMETA_TEST_KILL_RANK");
   const char* after = std::getenv("QDMETA_TEST_KILL_AFTER");
   if (who == nullptr || after == nullptr || std::atoi(who) != rank) return -1;
+  if (std::string(after) == "stop") return kKillAtStop;
   return std::atol(after);
 }
 
@@ -133,6 +136,7 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
       mpi::Unpacker in({bytes.data(), bytes.size()});
       if (status.MPI_TAG == mpi::kAbort) std::quick_exit(mpi::kExitAbandoned);
       if (status.MPI_TAG == mpi::kStop) {
+        if (kill_at == kKillAtStop) std::raise(kill_with);
         if (running.valid()) running.wait();
         outbox.send({}, 0, mpi::kStopped, MPI_COMM_WORLD);
         // MPI_Finalize waits for every rank: only when rank 0 says that all are there.
