@@ -215,7 +215,7 @@ TEST(Mpi, AWorkerDeadAtTheEndDoesNotHoldRankZeroInFinalize) {
   const fs::path straight = fresh_dir("straight5"), dir = fresh_dir("dead-at-end");
   ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
   const Watched w = watch(mpirun_command(3, run + dir.string(),
-                                         "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
+                                         "OMPI_MCA_odls_base_sigkill_timeout=2 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
                           dir, "summary.json", 12);
   const Outcome& o = w.outcome;
   ASSERT_GE(w.appeared, 0) << o.output;
