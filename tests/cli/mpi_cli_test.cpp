@@ -208,7 +208,7 @@ TEST(Mpi, RankZeroFindsADeadWorkerItselfUnderALongLauncherTimeout) {
 }
 
 // A worker that dies after the last evaluation: the run is complete, and rank 0 must not wait in
-// MPI_Finalize for it (until the launcher's SIGKILL, 2 x its timeout later).
+// MPI_Finalize for it: it checks that every rank is there first, and warns.
 TEST(Mpi, AWorkerDeadAtTheEndDoesNotHoldRankZeroInFinalize) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
   const std::string run = "run --config " + config() + " --evals 20000 --seed 7 --quiet --out ";
