@@ -58,8 +58,8 @@ int mpi_ranks() {
   return 1;
 }
 
-// Under mpirun: the ranks that did not say goodbye when the job was stopped (the dead ones),
-// as "rank 2 stopped answering (crashed or killed); ", or "" when there are none.
+// Under mpirun: the ranks that rank 0 found dead, else those that did not say goodbye when the
+// job was stopped, as "MPI rank 2 stopped answering (crashed or killed); ", or "" when none.
 std::string silent_ranks() {
   std::string who;
 #ifdef QDMETA_WITH_MPI

@@ -1,14 +1,17 @@
 // The MPI evaluator end to end, through `mpirun -np N qdmeta run ...` on localhost: the same
-// bits with 1, 2 and 3 ranks as with threads, and a worker killed mid-run stops the run with a
-// one-line error naming it and a checkpoint that `qdmeta resume` finishes to the same bits.
+// bits with 1, 2 and 3 ranks as with threads, and a worker killed (or hung) mid-run stops the
+// run with a one-line error naming it and a checkpoint that `qdmeta resume` finishes to the same
+// bits, found by rank 0 itself whatever the launcher's kill timeout.
 // Skipped (with the reason) when qdmeta was built without MPI or mpirun is missing.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <thread>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -49,17 +52,31 @@ std::string unavailable() {
 
 // `mpirun -np N qdmeta ARGS` on this machine: shared memory between ranks, more ranks than
 // cores allowed, and OpenMPI's consent to run as root (CI containers run as root).
-Outcome mpirun(int ranks, const std::string& args, const std::string& env = "") {
+std::string mpirun_command(int ranks, const std::string& args, const std::string& env) {
 #ifdef QDMETA_MPIEXEC
   const std::string root = geteuid() == 0 ? "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " : "";
   // LeakSanitizer would report OpenMPI's own allocations (sanitizer builds only).
   const std::string lsan = "LSAN_OPTIONS=suppressions=" + std::string(QDMETA_SOURCE_DIR) + "/tests/lsan-openmpi.supp ";
-  return shell(root + lsan + env + " " + QDMETA_MPIEXEC + " --oversubscribe --mca btl self,vader -np " + std::to_string(ranks) +
-               " " + QDMETA_BINARY + " " + args);
+  // `timeout`: a rank 0 that waits for a dead rank must fail the test, not hang it.
+  return root + lsan + env + " timeout -k 5 120 " + QDMETA_MPIEXEC + " --oversubscribe --mca btl self,vader -np " +
+         std::to_string(ranks) + " " + QDMETA_BINARY + " " + args;
 #else
   (void)ranks, (void)args, (void)env;
-  return {};
+  return "false";
 #endif
+}
+
+Outcome mpirun(int ranks, const std::string& args, const std::string& env = "") {
+  return shell(mpirun_command(ranks, args, env));
+}
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// Whether a qdmeta rank whose command line names `dir` is still running (mpirun's own command
+// line starts with mpirun, the shell's with sh, so the anchor leaves them out).
+bool ranks_alive(const fs::path& dir) {
+  return shell("pgrep -f -- '^" + std::string(QDMETA_BINARY) + " run .*" + dir.string() + "'").status == 0;
 }
 
 Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BINARY) + " " + args); }
@@ -103,9 +120,12 @@ TEST(Mpi, AKilledWorkerStopsTheRunWithACheckpointThatResumesToTheSameBits) {
   const std::string run = "run --config " + config() + " --evals 60000 --seed 3 --quiet --out ";
   const fs::path straight = fresh_dir("straight"), killed = fresh_dir("killed");
   ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
-  // Rank 2 vanishes (SIGKILL) when its 31st piece arrives, a few generations in.
+  // Rank 2 vanishes (SIGKILL) when its 31st piece arrives, a few generations in. The launcher's
+  // default settings: OpenMPI signals the survivors 1 s (SIGTERM) and 2 s (SIGKILL) later.
   const Outcome o = mpirun(3, run + killed.string(), "QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30");
-  EXPECT_NE(o.status, 0) << o.output;
+  // OpenMPI's mpirun exits with the status of the first rank that failed: 128 + SIGKILL here,
+  // whatever rank 0 returns (3) afterwards.
+  EXPECT_EQ(o.status, 137) << o.output;
   EXPECT_NE(o.output.find("qdmeta: error: MPI rank 2 stopped answering (crashed or killed)"), std::string::npos)
       << o.output;
   EXPECT_NE(o.output.find("continue it with: qdmeta resume --out " + killed.string()), std::string::npos) << o.output;
@@ -132,6 +152,101 @@ TEST(Mpi, AKilledWorkerCanBeResumedUnderMpirunToo) {
   const Outcome r = mpirun(3, "resume --quiet --out " + killed.string());
   ASSERT_EQ(r.status, 0) << r.output;
   expect_same_files(straight, killed);
+}
+
+// `mpirun` started in the background; until `deadline` s, times (s from the start) when
+// dir/file appears and then when no rank of the job is left; then the outcome.
+struct Watched {
+  Outcome outcome;
+  double appeared = -1, exited = -1;
+};
+Watched watch(const std::string& command, const fs::path& dir, const char* file, double deadline) {
+  Watched w;
+  const auto start = Clock::now();
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return w;
+  while (since(start) < deadline && w.exited < 0) {
+    if (w.appeared < 0 && fs::exists(dir / file)) w.appeared = since(start);
+    if (w.appeared >= 0 && !ranks_alive(dir)) w.exited = since(start);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) w.outcome.output += buffer;
+  const int raw = pclose(pipe);
+  w.outcome.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return w;
+}
+
+// With a long launcher timeout OpenMPI signals the survivors only T s after the death (and
+// mpirun itself stays for about 2 T, its output held meanwhile): rank 0 must find the dead rank
+// by itself, write the checkpoint at once, and every rank must exit without waiting for signals.
+TEST(Mpi, RankZeroFindsADeadWorkerItselfUnderALongLauncherTimeout) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + config() + " --evals 60000 --seed 3 --quiet --out ";
+  const fs::path straight = fresh_dir("straight3"), killed = fresh_dir("killed3");
+  ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
+  constexpr double kLauncherTimeout = 4;  // s: SIGTERM 4 s after the death, SIGKILL 4 s after that
+  // The death comes well within a second of the start (30 pieces); the launcher's SIGTERM would
+  // come kLauncherTimeout later.
+  const Watched w = watch(mpirun_command(3, run + killed.string(),
+                                         "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30"),
+                          killed, "checkpoint.bin", 3 * kLauncherTimeout);
+  const Outcome& o = w.outcome;
+  const double checkpointed = w.appeared, exited = w.exited;
+  ASSERT_GE(checkpointed, 0) << o.output;
+  EXPECT_LT(checkpointed, kLauncherTimeout - 1) << "rank 0 waited for the launcher's SIGTERM\n" << o.output;
+  EXPECT_GE(exited, 0) << "ranks still running";
+  EXPECT_LT(exited - checkpointed, 2.0) << "the ranks waited for the launcher's signals";
+  EXPECT_EQ(o.status, 137) << o.output;  // the dead rank's status, as with the default timeout
+  EXPECT_NE(o.output.find("qdmeta: error: MPI rank 2 stopped answering (crashed or killed)"), std::string::npos)
+      << o.output;
+  EXPECT_NE(o.output.find("continue it with: qdmeta resume --out " + killed.string()), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(killed / "summary.json"));
+  const Outcome r = qdmeta_cli("resume --out " + killed.string() + " --threads 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  expect_same_files(straight, killed);
+}
+
+// A worker that dies after the last evaluation: the run is complete, and rank 0 must not wait in
+// MPI_Finalize for it: it checks that every rank is there first, and warns.
+TEST(Mpi, AWorkerDeadAtTheEndDoesNotHoldRankZeroInFinalize) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + config() + " --evals 20000 --seed 7 --quiet --out ";
+  const fs::path straight = fresh_dir("straight5"), dir = fresh_dir("dead-at-end");
+  ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
+  const Watched w = watch(mpirun_command(3, run + dir.string(),
+                                         "OMPI_MCA_odls_base_sigkill_timeout=2 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
+                          dir, "summary.json", 12);
+  const Outcome& o = w.outcome;
+  ASSERT_GE(w.appeared, 0) << o.output;
+  EXPECT_GE(w.exited, 0) << "ranks still running";
+  EXPECT_LT(w.exited - w.appeared, 2.0) << "rank 0 waited for the dead rank\n" << o.output;
+  EXPECT_EQ(o.status, 137) << o.output;
+  EXPECT_NE(o.output.find("qdmeta: warning: MPI rank 1 stopped answering (crashed or killed) after rank 0's last "
+                          "evaluation"),
+            std::string::npos)
+      << o.output;
+  expect_same_files(straight, dir);
+}
+
+// A rank that hangs (SIGSTOP: alive, silent) is found by its missing heartbeat
+// (QDMETA_MPI_TIMEOUT); no rank died, so mpirun exits with the status 3 of the ranks.
+TEST(Mpi, AHungWorkerIsFoundByItsMissingHeartbeat) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + config() + " --evals 40000 --seed 5 --quiet --out ";
+  const fs::path straight = fresh_dir("straight4"), hung = fresh_dir("hung");
+  ASSERT_EQ(qdmeta_cli(run + straight.string() + " --threads 1").status, 0);
+  const auto start = Clock::now();
+  const Outcome o = mpirun(3, run + hung.string(),
+                           "QDMETA_MPI_TIMEOUT=1 QDMETA_TEST_KILL_SIGNAL=STOP QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=12");
+  EXPECT_EQ(o.status, 3) << o.output;
+  EXPECT_LT(since(start), 20.0) << o.output;
+  EXPECT_NE(o.output.find("qdmeta: error: MPI rank 1 stopped answering (crashed or killed)"), std::string::npos)
+      << o.output;
+  ASSERT_TRUE(fs::exists(hung / "checkpoint.bin")) << o.output;
+  const Outcome r = mpirun(2, "resume --quiet --out " + hung.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  expect_same_files(straight, hung);
 }
 
 // The RHex QD-Meta smoke run: unshareable DART tasks, and a meta-fitness whose episodes over six

@@ -42,7 +42,12 @@ class MpiEvaluator final : public Evaluator {
  public:
   MpiEvaluator(MpiSession& session, std::vector<Task> tasks, const std::string& config, int threads,
                const std::atomic<bool>* stop)
-      : session_(session), tasks_(std::move(tasks)), local_(make_evaluator(threads)), stop_(stop) {
+      : session_(session),
+        tasks_(std::move(tasks)),
+        local_(make_evaluator(threads)),
+        stop_(stop),
+        timeout_(heartbeat_timeout()),
+        heard_(static_cast<std::size_t>(session.size()), Clock::now()) {
     for (std::size_t i = 0; i < tasks_.size(); ++i) index_.emplace(tasks_[i].id(), static_cast<std::int64_t>(i));
     handshake(config, threads);
   }
@@ -72,12 +77,20 @@ class MpiEvaluator final : public Evaluator {
     if (stop_ && stop_->load())
       throw EvaluationAborted("the MPI job was stopped (SIGTERM or SIGINT) while a batch was being evaluated");
   }
+  // Throws EvaluationAborted (Error while starting: in_flight null) when a worker is found dead:
+  // its process is gone (same machine), or it holds pieces and has not been heard from for the
+  // heartbeat timeout. Rank 0 finds out by itself: the launcher's signals may come late (after
+  // odls_base_sigkill_timeout with OpenMPI) or never.
+  void abort_if_dead(const std::vector<std::deque<std::int64_t>>* in_flight);
 
   MpiSession& session_;
   std::vector<Task> tasks_;
   std::unordered_map<const void*, std::int64_t> index_;
   std::unique_ptr<Evaluator> local_;
   const std::atomic<bool>* stop_;
+  const std::chrono::milliseconds timeout_;
+  std::vector<Clock::time_point> heard_;  // per rank: the last message, or the first piece after a quiet spell
+  Clock::time_point next_check_ = Clock::now();
   mpi::Outbox outbox_;
   std::mutex mutex_;
   std::int64_t request_ = 0;
@@ -85,9 +98,33 @@ class MpiEvaluator final : public Evaluator {
   bool warned_ = false;
 };
 
+void MpiEvaluator::abort_if_dead(const std::vector<std::deque<std::int64_t>>* in_flight) {
+  const auto now = Clock::now();
+  if (now < next_check_) return;
+  next_check_ = now + std::chrono::milliseconds(10);
+  std::string who;
+  for (int r = 1; r < session_.size(); ++r) {
+    const auto i = static_cast<std::size_t>(r);
+    const bool silent = in_flight != nullptr && !(*in_flight)[i].empty() && now - heard_[i] > timeout_;
+    // A rank that said goodbye holds its pieces until its signal reaches rank 0 too, unless
+    // it has already exited.
+    if ((silent && !session_.farewells()[i]) || (!session_.dead(r) && session_.gone(r))) {
+      session_.mark_dead(r);
+      who += fmt::format("{}{}", who.empty() ? "" : ", ", r);
+    }
+  }
+  if (who.empty()) return;
+  if (in_flight == nullptr)
+    throw Error(fmt::format("MPI rank{} {} stopped answering (crashed or killed) while starting",
+                            who.find(',') != std::string::npos ? "s" : "", who));
+  // Mid-run the ranks are named by the CLI (MpiSession::silent_workers), as for a signal.
+  throw EvaluationAborted("the batch being evaluated was left unfinished");
+}
+
 void MpiEvaluator::handshake(const std::string& config, int threads) {
   mpi::Packer p;
   p.put<std::int64_t>(threads);
+  p.put(session_.identity());
   p.put(config.data(), config.size());
   for (int r = 1; r < session_.size(); ++r) outbox_.send(p.bytes(), r, mpi::kConfig, MPI_COMM_WORLD);
   const std::string expected = describe_tasks(tasks_);
@@ -95,6 +132,7 @@ void MpiEvaluator::handshake(const std::string& config, int threads) {
   int waiting = session_.size() - 1;
   while (waiting > 0) {
     abort_if_stopped();
+    abort_if_dead(nullptr);
     outbox_.progress();
     int flag = 0;
     MPI_Status status;
@@ -104,8 +142,13 @@ void MpiEvaluator::handshake(const std::string& config, int threads) {
       continue;
     }
     const std::vector<char> bytes = mpi::receive(status, MPI_COMM_WORLD);
-    const std::string text(bytes.begin(), bytes.end());
     const int from = status.MPI_SOURCE;
+    std::string text(bytes.begin(), bytes.end());
+    if (status.MPI_TAG == mpi::kReady) {
+      mpi::Unpacker in({bytes.data(), bytes.size()});
+      session_.meet(from, in.get<PeerIdentity>());
+      text = std::string(in.rest());
+    }
     if (status.MPI_TAG == mpi::kBye) {
       session_.farewells()[static_cast<std::size_t>(from)] = true;
       throw EvaluationAborted(fmt::format("rank {} was stopped by a signal while starting", from));
@@ -140,6 +183,7 @@ bool MpiEvaluator::poll(std::vector<Piece>& pieces, std::vector<std::deque<std::
     any = true;
     const std::vector<char> bytes = mpi::receive(status, MPI_COMM_WORLD);
     const int from = status.MPI_SOURCE;
+    heard_[static_cast<std::size_t>(from)] = Clock::now();
     auto& mine = in_flight[static_cast<std::size_t>(from)];
     if (status.MPI_TAG == mpi::kBye) {
       session_.farewells()[static_cast<std::size_t>(from)] = true;
@@ -218,6 +262,8 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     if (failure.empty())
       for (int w = 1; w < ranks; ++w) {
         auto& q = in_flight[static_cast<std::size_t>(w)];
+        // A worker with nothing to do sends no heartbeat: its silence counts from now.
+        if (q.empty() && next < pieces.size()) heard_[static_cast<std::size_t>(w)] = Clock::now();
         while (static_cast<int>(q.size()) < kInFlight && next < pieces.size()) {
           send_piece(pieces[next], static_cast<std::int64_t>(next), w);
           q.push_back(static_cast<std::int64_t>(next++));
@@ -226,6 +272,7 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     outbox_.progress();
     bool busy = poll(pieces, in_flight, finished, failure);
     abort_if_stopped();
+    abort_if_dead(&in_flight);
     if (mine < 0 && failure.empty() && next < pieces.size()) {
       mine = static_cast<std::int64_t>(next++);
       mine_done = 0;

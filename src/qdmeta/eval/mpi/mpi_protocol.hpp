@@ -3,6 +3,7 @@
 // per message, so a message is one send whatever its size. Internal to eval/mpi.
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -13,14 +14,21 @@
 namespace qdmeta::mpi {
 
 enum Tag : int {
-  kConfig = 1,  // 0 -> w: worker threads (int64) + the resolved config (TOML text)
-  kReady = 2,   // w -> 0: description of the tasks the worker built
-  kWork = 3,    // 0 -> w: WorkHeader + genotypes (rows x genes Real)
-  kResult = 4,  // w -> 0: ResultHeader + fitness + base features + valid
-  kFailed = 5,  // w -> 0: ResultHeader (the piece, or -1) + a one-line error; the worker carries on
-  kBye = 6,     // w -> 0: the worker got SIGTERM/SIGINT and exits
-  kStop = 7,    // 0 -> w: exit
+  kConfig = 1,     // 0 -> w: worker threads (int64) + rank 0's PeerIdentity + the resolved config (TOML)
+  kReady = 2,      // w -> 0: the worker's PeerIdentity + description of the tasks it built
+  kWork = 3,       // 0 -> w: WorkHeader + genotypes (rows x genes Real)
+  kResult = 4,     // w -> 0: ResultHeader + fitness + base features + valid
+  kFailed = 5,     // w -> 0: ResultHeader (the piece, or -1) + a one-line error; the worker carries on
+  kBye = 6,        // w -> 0: the worker got SIGTERM/SIGINT and exits
+  kStop = 7,       // 0 -> w: the end (or, after kBye, exit); answer kStopped, then wait for kFinalize/kAbort
+  kAlive = 8,      // w -> 0: heartbeat, every kHeartbeat while the worker holds pieces
+  kAbort = 9,      // 0 -> w: a rank died: exit at once (status 3) without MPI_Finalize
+  kStopped = 10,   // w -> 0: answer to kStop
+  kFinalize = 11,  // 0 -> w: every rank answered kStop: call MPI_Finalize
 };
+
+constexpr auto kHeartbeat = std::chrono::milliseconds(200);
+constexpr int kExitAbandoned = 3;  // a worker told (or finding) that the job is broken
 
 struct WorkHeader {
   std::int64_t request = 0;  // serial number of the evaluate call on rank 0

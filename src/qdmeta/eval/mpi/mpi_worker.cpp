@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <deque>
 #include <future>
+#include <string>
 #include <thread>
 
 #include "qdmeta/eval/evaluator.hpp"
@@ -22,13 +23,36 @@ struct Work {
   std::vector<Real> genes;
 };
 
-// The test hook's piece count, or -1 when it is not aimed at this rank.
+constexpr long kKillAtStop = -2;
+
+// The test hook's piece count, kKillAtStop, or -1 when it is not aimed at this rank.
 long kill_after(int rank) {
   const char* who = std::getenv("QDMETA_TEST_KILL_RANK");
   const char* after = std::getenv("QDMETA_TEST_KILL_AFTER");
   if (who == nullptr || after == nullptr || std::atoi(who) != rank) return -1;
+  if (std::string(after) == "stop") return kKillAtStop;
   return std::atol(after);
 }
+
+// The test hook's signal: SIGKILL, or SIGSTOP (a hung rank) with QDMETA_TEST_KILL_SIGNAL=STOP.
+int kill_signal() {
+  const char* name = std::getenv("QDMETA_TEST_KILL_SIGNAL");
+  return name != nullptr && std::string(name) == "STOP" ? SIGSTOP : SIGKILL;
+}
+
+using Clock = std::chrono::steady_clock;
+
+// Rank 0 vanished (on this machine): nobody will ever release this rank, and the launcher may
+// wait long before it signals, so leave now (no MPI_Finalize: it would wait for rank 0).
+struct Rank0Watch {
+  const MpiSession& session;
+  Clock::time_point next = Clock::now();
+  void check() {
+    if (Clock::now() < next) return;
+    next = Clock::now() + std::chrono::milliseconds(50);
+    if (session.gone(0)) std::quick_exit(mpi::kExitAbandoned);
+  }
+};
 
 std::vector<char> failed(const mpi::WorkHeader& h, const std::string& message) {
   mpi::Packer p;
@@ -55,7 +79,10 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
   std::signal(SIGTERM, on_worker_signal);
   std::signal(SIGINT, on_worker_signal);
   const long kill_at = kill_after(session.rank());
+  const int kill_with = kill_signal();
   long received = 0;
+  Rank0Watch watch{session};
+  auto last_beat = Clock::now();
   std::vector<Task> tasks;
   std::unique_ptr<Evaluator> evaluator = make_evaluator(1);
   std::deque<Work> queue;
@@ -76,15 +103,15 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
       // stay until rank 0 has had its say (mpirun drops rank 0's output once all other ranks
       // have exited), at most until mpirun's SIGKILL or 10 s.
       outbox.send({}, 0, mpi::kBye, MPI_COMM_WORLD);
-      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-      for (bool released = false; !released && std::chrono::steady_clock::now() < until;) {
+      const auto until = Clock::now() + std::chrono::seconds(10);
+      for (bool released = false; !released && Clock::now() < until && !session.gone(0);) {
         outbox.progress();
         int waiting = 0;
         MPI_Status s;
         MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &waiting, &s);
         if (waiting) {
           mpi::receive(s, MPI_COMM_WORLD);
-          released = s.MPI_TAG == mpi::kStop;
+          released = s.MPI_TAG == mpi::kStop || s.MPI_TAG == mpi::kAbort;
         } else {
           std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
@@ -94,29 +121,64 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
       return 128 + g_signal;
     }
     outbox.progress();
+    watch.check();
+    // The heartbeat, while rank 0 waits for this rank's pieces (idle workers stay quiet, so
+    // nothing piles up on rank 0 between batches).
+    if ((running.valid() || !queue.empty()) && Clock::now() - last_beat >= mpi::kHeartbeat) {
+      outbox.send({}, 0, mpi::kAlive, MPI_COMM_WORLD);
+      last_beat = Clock::now();
+    }
     int flag = 0;
     MPI_Status status;
     MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
     if (flag) {
       const std::vector<char> bytes = mpi::receive(status, MPI_COMM_WORLD);
       mpi::Unpacker in({bytes.data(), bytes.size()});
+      if (status.MPI_TAG == mpi::kAbort) std::quick_exit(mpi::kExitAbandoned);
       if (status.MPI_TAG == mpi::kStop) {
+        if (kill_at == kKillAtStop) std::raise(kill_with);
         if (running.valid()) running.wait();
-        while (!outbox.empty()) outbox.progress();
-        return 0;
+        outbox.send({}, 0, mpi::kStopped, MPI_COMM_WORLD);
+        // MPI_Finalize waits for every rank: only when rank 0 says that all are there.
+        for (;;) {
+          outbox.progress();
+          watch.check();
+          if (g_signal != 0) {
+            session.abandon();
+            return 128 + g_signal;
+          }
+          MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+          if (!flag) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            continue;
+          }
+          mpi::receive(status, MPI_COMM_WORLD);
+          if (status.MPI_TAG == mpi::kAbort) std::quick_exit(mpi::kExitAbandoned);
+          if (status.MPI_TAG == mpi::kFinalize) {
+            while (!outbox.empty()) {
+              outbox.progress();
+              watch.check();
+            }
+            return 0;
+          }
+        }
       }
       if (status.MPI_TAG == mpi::kConfig) {
         const auto threads = in.get<std::int64_t>();
+        session.meet(0, in.get<PeerIdentity>());
         try {
           tasks = build(std::string(in.rest()));
           evaluator = make_evaluator(static_cast<int>(threads));
+          mpi::Packer ready;
+          ready.put(session.identity());
           const std::string d = describe_tasks(tasks);
-          outbox.send(std::vector<char>(d.begin(), d.end()), 0, mpi::kReady, MPI_COMM_WORLD);
+          ready.put(d.data(), d.size());
+          outbox.send(std::move(ready.bytes()), 0, mpi::kReady, MPI_COMM_WORLD);
         } catch (const std::exception& e) {
           outbox.send(failed({-1, -1, 0, 0, 0}, e.what()), 0, mpi::kFailed, MPI_COMM_WORLD);
         }
       } else if (status.MPI_TAG == mpi::kWork) {
-        if (kill_at >= 0 && ++received > kill_at) std::raise(SIGKILL);
+        if (kill_at >= 0 && ++received > kill_at) std::raise(kill_with);
         Work w;
         w.header = in.get<mpi::WorkHeader>();
         w.genes.resize(static_cast<std::size_t>(w.header.rows * w.header.genes));
