@@ -5,9 +5,11 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/featuremap/network_kernel.hpp"
 
 namespace qdmeta {
 namespace {
@@ -53,45 +55,48 @@ struct CellWinners {
     measures.resize(static_cast<std::size_t>(cells * nt));
     fill_order.clear();
   }
+  // Offers rows first_rank .. first_rank + n - 1 (cells, fitness, feature-major measures).
+  void offer(const std::int32_t* cells, const Real* fit, const Real* measures_t, Index ld, Index nt, Index n,
+             Index first_rank) {
+    for (Index r = 0; r < n; ++r) {
+      const auto cell = static_cast<std::size_t>(cells[r]);
+      const Real f = fit[r];
+      if (rank[cell] < 0) fill_order.push_back(static_cast<Index>(cell));
+      else if (!(f > fitness[cell])) continue;
+      rank[cell] = first_rank + r;
+      fitness[cell] = f;
+      Real* m = measures.data() + cell * static_cast<std::size_t>(nt);
+      for (Index t = 0; t < nt; ++t) m[t] = measures_t[t * ld + r];
+    }
+  }
 };
 
 // Rebuilds a contiguous group of maps in one pass over the database: each block of rows is
-// transposed once, then mapped and offered to every map's cell winners in turn.
+// transposed once (feature-major, as the network kernel reads it), then every map runs its
+// network, bins the block's rows and offers them to its cell winners in turn.
 void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
                    std::span<GridArchive* const> archives) {
+  static_assert(kRebuildBlockRows % kKernelRows == 0, "whole kernel steps per block");
   const Index nb = db.base_feature_size();
   const Index block = kRebuildBlockRows;
-  Index scratch_size = 0;
   Index max_outputs = 0;
-  for (const NeuralFeatureMap* m : maps) {
-    scratch_size = std::max(scratch_size, m->scratch_size(block));
-    max_outputs = std::max(max_outputs, m->output_size());
-  }
-  std::vector<Real> base_t(static_cast<std::size_t>(nb * block));
-  std::vector<Real> scratch(static_cast<std::size_t>(scratch_size));
-  std::vector<Real> targets(static_cast<std::size_t>(max_outputs * block));
+  for (const NeuralFeatureMap* m : maps) max_outputs = std::max(max_outputs, m->output_size());
+  // Zeroed once: a partial block's padding columns then hold zeros or earlier rows, finite.
+  std::vector<Real> base_t(static_cast<std::size_t>(nb * block), Real{0});
+  std::vector<Real> targets_t(static_cast<std::size_t>(max_outputs * block));
+  std::vector<std::int32_t> cells(static_cast<std::size_t>(block));
   std::vector<CellWinners> winners(maps.size());
   for (std::size_t i = 0; i < maps.size(); ++i) winners[i].reset(archives[i]->cells(), maps[i]->output_size());
   for (const DatabaseSegment& seg : db.segments()) {
     for (Index first = 0; first < seg.count; first += block) {
       const Index n = std::min(block, seg.count - first);
-      transpose_rows(seg.base_row(first), n, nb, base_t.data());
+      transpose_rows(seg.base_row(first), n, nb, base_t.data(), block);
       for (std::size_t i = 0; i < maps.size(); ++i) {
         const NeuralFeatureMap& map = *maps[i];
-        const GridArchive& archive = *archives[i];
-        CellWinners& w = winners[i];
-        map.map_transposed(base_t.data(), n, scratch.data(), targets.data());
-        const Index nt = map.output_size();
-        for (Index r = 0; r < n; ++r) {
-          const Real* measures = targets.data() + r * nt;
-          const auto cell = static_cast<std::size_t>(archive.index_of(measures));
-          const Real f = seg.fitness[first + r];
-          if (w.rank[cell] < 0) w.fill_order.push_back(static_cast<Index>(cell));
-          else if (!(f > w.fitness[cell])) continue;
-          w.rank[cell] = seg.first_rank + first + r;
-          w.fitness[cell] = f;
-          std::copy_n(measures, nt, w.measures.begin() + static_cast<std::ptrdiff_t>(cell) * nt);
-        }
+        map.map_transposed(base_t.data(), block, n, targets_t.data(), block);
+        archives[i]->grid_index().cells_of_t(targets_t.data(), block, n, cells.data());
+        winners[i].offer(cells.data(), seg.fitness + first, targets_t.data(), block, map.output_size(), n,
+                         seg.first_rank + first);
       }
     }
   }

@@ -8,7 +8,9 @@
 // the thread count: each archive receives its rows sequentially in age order, and a
 // NeuralFeatureMap gives every row the same bits whatever block it is mapped in. The database
 // is read in blocks of kRebuildBlockRows rows; each block is transposed once and shared by all
-// the maps that one task handles. Maps are split into as many contiguous groups as the current
+// the maps that one task handles, and each map runs its network on it in registers
+// (network_kernel.hpp), bins it in one vectorised pass (grid_index.hpp) and keeps each cell's
+// winner. Maps are split into as many contiguous groups as the current
 // task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control).
 #include <span>
 
