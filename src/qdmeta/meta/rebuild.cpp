@@ -80,29 +80,28 @@ struct CellWinners {
   }
 };
 
-// Rebuilds a contiguous group of maps in one pass over the database: each block of rows is
-// transposed once (feature-major, as the network kernel reads it), then every map runs its
-// network, bins the block's rows and offers them to its cell winners in turn.
+// Rebuilds a contiguous group of maps in one pass over the database: for each block of rows
+// (read feature-major, as the database keeps them), every map runs its network, bins the
+// block's rows and offers them to its cell winners in turn; the block stays in cache meanwhile.
 void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
                    std::span<GridArchive* const> archives) {
   static_assert(kRebuildBlockRows % kKernelRows == 0, "whole kernel steps per block");
-  const Index nb = db.base_feature_size();
+  static_assert(kDatabasePadding >= kKernelRows, "a partial block's last kernel step stays in the database's buffer");
   const Index block = kRebuildBlockRows;
   Index max_outputs = 0;
   for (const NeuralFeatureMap* m : maps) max_outputs = std::max(max_outputs, m->output_size());
-  // Zeroed once: a partial block's padding columns then hold zeros or earlier rows, finite.
-  std::vector<Real> base_t(static_cast<std::size_t>(nb * block), Real{0});
   std::vector<Real> targets_t(static_cast<std::size_t>(max_outputs * block));
   std::vector<std::int32_t> cells(static_cast<std::size_t>(block));
   std::vector<CellWinners> winners(maps.size());
   for (std::size_t i = 0; i < maps.size(); ++i) winners[i].reset(archives[i]->cells(), maps[i]->output_size());
+  // The network reads the database's feature-major copy in place. A partial block's padding
+  // columns are the next slots: older rows or the zero padding, finite either way.
   for (const DatabaseSegment& seg : db.segments()) {
     for (Index first = 0; first < seg.count; first += block) {
       const Index n = std::min(block, seg.count - first);
-      transpose_rows(seg.base_row(first), n, nb, base_t.data(), block);
       for (std::size_t i = 0; i < maps.size(); ++i) {
         const NeuralFeatureMap& map = *maps[i];
-        map.map_transposed(base_t.data(), block, n, targets_t.data(), block);
+        map.map_transposed(seg.base_t + first, seg.base_t_ld, n, targets_t.data(), block);
         archives[i]->grid_index().cells_of_t(targets_t.data(), block, n, cells.data());
         winners[i].offer(cells.data(), seg.fitness + first, targets_t.data(), block, map.output_size(), n,
                          seg.first_rank + first);

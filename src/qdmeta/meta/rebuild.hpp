@@ -7,8 +7,8 @@
 // The result equals mapping and adding the rows one by one in age order, bit for bit, whatever
 // the thread count: each archive receives its rows sequentially in age order, and a
 // NeuralFeatureMap gives every row the same bits whatever block it is mapped in. The database
-// is read in blocks of kRebuildBlockRows rows; each block is transposed once and shared by all
-// the maps that one task handles, and each map runs its network on it in registers
+// is read in blocks of kRebuildBlockRows rows from its feature-major copy, shared by all the
+// maps that one task handles while it is in cache; each map runs its network on it in registers
 // (network_kernel.hpp), bins it in one vectorised pass (grid_index.hpp) and keeps each cell's
 // winner. Maps are split into as many contiguous groups as the current
 // task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control).
