@@ -21,6 +21,7 @@
 namespace qdmeta {
 
 inline constexpr Index kRebuildBlockRows = 512;
+inline constexpr Index kRebuildChunkRows = 16 * kRebuildBlockRows;  // 8,192 rows, 655 KB of base features at N_b = 20
 
 // Throws InputError when the spans differ in length, an entry is null, an archive appears
 // twice, or sizes disagree: map inputs vs. database base features, map outputs vs. archive
