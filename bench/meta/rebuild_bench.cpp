@@ -2,8 +2,9 @@
 // "Performance notes"): 500,000 rows of 20 genes and 20 base features, K = 222 feature-maps
 // with weights uniform in [-1, 1], 100 x 100 grids that keep the base features.
 //   BM_RebuildOne:      one map on one thread (target: at most 30 ms).
-//   BM_RebuildTen/T:    ten maps at once on T threads (the lambda = 10 maps of a meta-generation);
-//                       ms_per_map = wall time / 10.
+//   BM_RebuildTen/T/R:  ten maps at once on T threads (the lambda = 10 maps of a meta-generation);
+//                       s_per_map = wall time / 10. R = 1: fitness trends upwards with age, as
+//                       in a real run, so rows often replace their cell's winner.
 //   BM_MapOnly:         the feature-map alone over the database (no insertion), one thread.
 //   BM_BaselineEigen:   the "before" version: blocked Eigen float products, a scalar std::exp
 //                       sigmoid, add per row; one map, one thread.
@@ -26,20 +27,27 @@ constexpr Index kRows = 500'000;
 constexpr Index kGenes = 20;
 constexpr Index kBase = 20;
 
-const qdmeta::Database& database() {
-  static const qdmeta::Database db = [] {
-    qdmeta::Database d(kRows, kGenes, kBase);
-    std::mt19937_64 rng(1);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<Real> genes(kGenes), base(kBase);
-    for (Index i = 0; i < kRows + 1234; ++i) {  // wrapped, as in a long run
-      for (Real& g : genes) g = u(rng);
-      for (Real& b : base) b = u(rng);
-      d.insert(genes.data(), base.data(), -400.0f * u(rng));
-    }
-    return d;
-  }();
-  return db;
+qdmeta::Database make_database(bool trend) {
+  qdmeta::Database d(kRows, kGenes, kBase);
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<Real> genes(kGenes), base(kBase);
+  for (Index i = 0; i < kRows + 1234; ++i) {  // wrapped, as in a long run
+    for (Real& g : genes) g = u(rng);
+    for (Real& b : base) b = u(rng);
+    // With a trend, newer rows are better on average, as in a real run: a row then often
+    // beats its cell's winner (in the random database it rarely does).
+    const float scale = trend ? 1.0f - static_cast<float>(i) / static_cast<float>(kRows + 1234) : 1.0f;
+    d.insert(genes.data(), base.data(), -400.0f * scale * u(rng));
+  }
+  return d;
+}
+
+const qdmeta::Database& database(bool trend = false) {
+  static const qdmeta::Database random_db = make_database(false);
+  if (!trend) return random_db;
+  static const qdmeta::Database trend_db = make_database(true);
+  return trend_db;
 }
 
 std::vector<double> random_weights(std::uint64_t seed) {
@@ -77,7 +85,7 @@ void BM_RebuildOne(benchmark::State& state) {
 BENCHMARK(BM_RebuildOne)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_RebuildTen(benchmark::State& state) {
-  const qdmeta::Database& db = database();
+  const qdmeta::Database& db = database(state.range(1) != 0);
   std::vector<std::unique_ptr<qdmeta::NeuralFeatureMap>> maps;
   std::vector<std::unique_ptr<qdmeta::GridArchive>> archives;
   std::vector<const qdmeta::NeuralFeatureMap*> map_ptrs;
@@ -94,7 +102,7 @@ void BM_RebuildTen(benchmark::State& state) {
       10.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.SetItemsProcessed(state.iterations() * db.size() * 10);
 }
-BENCHMARK(BM_RebuildTen)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RebuildTen)->ArgNames({"threads", "trend"})->Args({1, 0})->Args({2, 0})->Args({1, 1})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_MapOnly(benchmark::State& state) {
   const qdmeta::Database& db = database();

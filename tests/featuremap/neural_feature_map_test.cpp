@@ -1,5 +1,6 @@
 #include "expect_input_error.hpp"
 #include "qdmeta/featuremap/neural_feature_map.hpp"
+#include "qdmeta/featuremap/network_kernel.hpp"
 
 #include <gtest/gtest.h>
 
@@ -192,14 +193,58 @@ TEST_P(NeuralFeatureMapShapes, BlockEqualsRowByRowBitForBit) {
     map.map(base.row(r).data(), 1, row.data());
     for (Index t = 0; t < s.outputs; ++t) ASSERT_EQ(row(0, t), block(r, t)) << "row " << r << " output " << t;
   }
-  // Odd block sizes through the transposed entry point give the same bits too.
-  const Index n = 13;
-  RowMatrix base_t = base.topRows(n).transpose();
-  std::vector<Real> scratch(static_cast<std::size_t>(map.scratch_size(n)));
-  RowMatrix part(n, s.outputs);
-  map.map_transposed(base_t.data(), n, scratch.data(), part.data());
-  for (Index r = 0; r < n; ++r)
-    for (Index t = 0; t < s.outputs; ++t) ASSERT_EQ(part(r, t), block(r, t));
+  // Odd block sizes through the transposed entry point (padded leading dimensions) give the same
+  // bits too.
+  for (const Index n : {Index{13}, Index{16}, Index{33}}) {
+    const Index ld = padded_rows(n) + 5;
+    std::vector<Real> base_t(static_cast<std::size_t>(s.inputs * ld), 0.0f);
+    transpose_rows(base.data(), n, s.inputs, base_t.data(), ld);
+    std::vector<Real> part(static_cast<std::size_t>(s.outputs * ld), -1.0f);
+    map.map_transposed(base_t.data(), ld, n, part.data(), ld);
+    for (Index r = 0; r < n; ++r)
+      for (Index t = 0; t < s.outputs; ++t) ASSERT_EQ(part[static_cast<std::size_t>(t * ld + r)], block(r, t));
+    EXPECT_EQ(part[static_cast<std::size_t>(padded_rows(n))], -1.0f) << "wrote past the padding";
+  }
+}
+
+// The float definition the vector kernel must reproduce, one row at a time: each sum starts
+// from the bias and adds the inputs in order by madd(), then scaled_sigmoid().
+std::vector<Real> float_definition(const NeuralFeatureMapShape& s, const std::vector<double>& w, const Real* b) {
+  const auto nb = static_cast<std::size_t>(s.inputs);
+  const auto nh = static_cast<std::size_t>(s.hidden);
+  const auto nt = static_cast<std::size_t>(s.outputs);
+  const auto b1 = static_cast<Real>(w[nh * nb]);
+  const auto b2 = static_cast<Real>(w[nh * nb + 1 + nt * nh]);
+  const auto c1 = static_cast<Real>(s.alpha / static_cast<double>(nb + 1));
+  const auto c2 = static_cast<Real>(s.alpha / static_cast<double>(nh + 1));
+  std::vector<Real> h(nh), out(nt);
+  for (std::size_t j = 0; j < nh; ++j) {
+    Real a = b1;
+    for (std::size_t k = 0; k < nb; ++k) a = madd(static_cast<Real>(w[j * nb + k]), b[k], a);
+    h[j] = scaled_sigmoid(a, c1);
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    Real a = b2;
+    for (std::size_t j = 0; j < nh; ++j) a = madd(static_cast<Real>(w[nh * nb + 1 + t * nh + j]), h[j], a);
+    out[t] = scaled_sigmoid(a, c2);
+  }
+  return out;
+}
+
+TEST_P(NeuralFeatureMapShapes, EqualsTheScalarFloatDefinitionBitForBit) {
+  const NeuralFeatureMapShape s = GetParam();
+  const std::vector<double> w = uniform_weights(s.weight_count(), -2.0, 2.0, 21);
+  const NeuralFeatureMap map(s, w);
+  for (const Index count : {Index{1}, Index{15}, Index{16}, Index{17}, Index{300}}) {
+    const RowMatrix base = uniform_rows(count, s.inputs, -1.0f, 2.0f, static_cast<std::uint64_t>(count));
+    RowMatrix target(count, s.outputs);
+    map.map(base.data(), count, target.data());
+    for (Index r = 0; r < count; ++r) {
+      const std::vector<Real> want = float_definition(s, w, base.row(r).data());
+      for (Index t = 0; t < s.outputs; ++t)
+        ASSERT_EQ(target(r, t), want[static_cast<std::size_t>(t)]) << count << " rows, row " << r << " output " << t;
+    }
+  }
 }
 
 TEST_P(NeuralFeatureMapShapes, OutputsStayInUnitIntervalUnderExtremes) {
@@ -224,7 +269,7 @@ TEST_P(NeuralFeatureMapShapes, OutputsStayInUnitIntervalUnderExtremes) {
 
 INSTANTIATE_TEST_SUITE_P(PaperShapes, NeuralFeatureMapShapes,
                          ::testing::Values(shape_of(20, 10, 2), shape_of(50, 10, 4), shape_of(15, 10, 4),
-                                           shape_of(3, 7, 1)),
+                                           shape_of(3, 7, 1), shape_of(20, 13, 3), shape_of(2, 70, 2)),
                          [](const auto& info) {
                            return "b" + std::to_string(info.param.inputs) + "h" + std::to_string(info.param.hidden) +
                                   "t" + std::to_string(info.param.outputs);

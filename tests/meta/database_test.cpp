@@ -242,3 +242,38 @@ TEST(Database, ClearForgetsRowsButCountsInserts) {
 
 }  // namespace
 }  // namespace qdmeta
+
+namespace qdmeta {
+namespace {
+
+// The feature-major copy the rebuild reads must agree with the rows, wrapped or restored.
+void expect_feature_major_copy(const Database& db) {
+  for (const DatabaseSegment& seg : db.segments()) {
+    ASSERT_EQ(seg.base_t_ld, db.capacity() + kDatabasePadding);
+    for (Index i = 0; i < seg.count; ++i)
+      for (Index k = 0; k < db.base_feature_size(); ++k)
+        ASSERT_EQ(seg.base_t[k * seg.base_t_ld + i], seg.base_row(i)[k]) << "row " << seg.first_rank + i;
+  }
+}
+
+TEST(Database, FeatureMajorCopyMatchesTheRows) {
+  Database db(7, 2, 3);
+  std::vector<Real> genes(2), base(3);
+  for (int i = 0; i < 12; ++i) {
+    for (int k = 0; k < 3; ++k) base[static_cast<std::size_t>(k)] = static_cast<Real>(10 * i + k);
+    db.insert(genes.data(), base.data(), static_cast<Real>(i));
+    expect_feature_major_copy(db);
+  }
+  ASSERT_EQ(db.segments().size(), 2);
+  // The padding after the last slot stays zero, so a kernel step past a segment's end reads 0.
+  const DatabaseSegments segments = db.segments();
+  const DatabaseSegment& first = *segments.begin();
+  const Real* row0 = first.base_t - (db.capacity() - first.count);  // slot 0 of feature 0
+  for (Index k = 0; k < 3; ++k)
+    for (Index p = 0; p < kDatabasePadding; ++p) ASSERT_EQ(row0[k * first.base_t_ld + db.capacity() + p], 0.0f);
+  const Database restored(db.state());
+  expect_feature_major_copy(restored);
+}
+
+}  // namespace
+}  // namespace qdmeta

@@ -31,34 +31,14 @@ void GridArchiveParams::validate() const {
 
 GridArchive::GridArchive(GridArchiveParams params) : params_(std::move(params)) {
   params_.validate();
-  const auto dims = params_.bins.size();
-  strides_.assign(dims, 1);
+  index_ = GridIndex(params_);
   cells_ = 1;
-  for (std::size_t d = dims; d-- > 0;) {  // row-major: the last dimension varies fastest
-    strides_[d] = cells_;
-    cells_ *= params_.bins[d];
-  }
+  for (int b : params_.bins) cells_ *= b;
   occupied_.assign(static_cast<std::size_t>(cells_), 0);
   objectives_.assign(static_cast<std::size_t>(cells_), 0);
   solutions_.resize(cells_, params_.solution_size);
-  measures_.resize(cells_, static_cast<Index>(dims));
+  measures_.resize(cells_, dimensions());
   base_.resize(cells_, params_.base_feature_size);
-}
-
-Index GridArchive::index_of(const Real* measures) const {
-  const double scale = 1.0 / (params_.upper - params_.lower);
-  Index cell = 0;
-  for (std::size_t d = 0; d < params_.bins.size(); ++d) {
-    const double m = measures[d];
-    if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
-    // Measures are floats, rounded by up to half a float ulp (6e-8 relative): scaled by the
-    // bin count that can exceed epsilon, so the margin grows with the bins.
-    const double margin = params_.epsilon + params_.bins[d] * static_cast<double>(std::numeric_limits<float>::epsilon());
-    const double pos = std::floor((m - params_.lower) * scale * params_.bins[d] + margin);
-    const double clamped = std::clamp(pos, 0.0, static_cast<double>(params_.bins[d] - 1));
-    cell += static_cast<Index>(clamped) * strides_[d];
-  }
-  return cell;
 }
 
 AddStatus GridArchive::add(const Real* solution, Real objective, const Real* measures, const Real* base_features) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/grid_index.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
@@ -40,7 +41,9 @@ class GridArchive {
 
   // Cell of a target-feature vector: floor((m - lower) / (upper - lower) * bins + epsilon),
   // clamped to [0, bins - 1] per dimension. Throws Error on NaN.
-  Index index_of(const Real* measures) const;
+  Index index_of(const Real* measures) const { return index_.cell_of(measures); }
+  // The same for whole feature-major blocks (grid_index.hpp).
+  const GridIndex& grid_index() const { return index_; }
 
   AddStatus add(const Real* solution, Real objective, const Real* measures, const Real* base_features = nullptr);
   void clear();
@@ -65,7 +68,7 @@ class GridArchive {
  private:
   GridArchiveParams params_;
   Index cells_ = 0;
-  std::vector<Index> strides_;
+  GridIndex index_;
   std::vector<std::uint8_t> occupied_;
   std::vector<Real> objectives_;
   RowMatrix solutions_;

@@ -9,9 +9,9 @@
 // input order, then the sigmoid below), whatever the block it arrives in: mapping a block equals
 // mapping its rows one by one, bit for bit. Archive rebuilds rely on this (rebuild.hpp), and it
 // keeps results independent of block sizes and thread counts. The rows of a block are laid
-// across SIMD lanes (the block is transposed first), so the products vectorise without a
-// per-row loop; a general matrix-product kernel could not promise this, because its edge paths
-// accumulate differently from its main path.
+// across SIMD lanes (the block is transposed first) and both layers run in registers
+// (network_kernel.hpp); a general matrix-product kernel could not promise equal bits, because
+// its edge paths accumulate differently from its main path.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -59,12 +59,18 @@ inline float fast_exp(float x) {
 }
 
 // 1 / (1 + exp(-scale x)): the feature-map's sigmoid with scale = alpha / (N + 1). In [0, 1].
+// With FMA, GCC fuses the final 1 + p 2^k (floating-point contraction is on in this build);
+// the vector kernel (network_kernel.cpp) does the same explicitly.
 inline float scaled_sigmoid(float x, float scale) { return 1.0f / (1.0f + fast_exp(-scale * x)); }
 
-// out (cols x count, row-major) = the transpose of rows (count x cols, row-major): the layout
+// out (cols x count, row-major, row k at out + k ld) = the transpose of rows (count x cols, row-major): the layout
 // map_transposed() reads. Written column by column so stores are contiguous (a store stride of
 // a power of two kilobytes would thrash the L1 cache).
-void transpose_rows(const Real* rows, Index count, Index cols, Real* out);
+void transpose_rows(const Real* rows, Index count, Index cols, Real* out, Index ld);
+// The same with out's rows packed (ld = count).
+inline void transpose_rows(const Real* rows, Index count, Index cols, Real* out) {
+  transpose_rows(rows, count, cols, out, count);
+}
 
 // The network's size. N_b and N_t come from the task and the archive; N_h and alpha_s are
 // QD-Meta settings.
@@ -94,11 +100,11 @@ class NeuralFeatureMap final : public FeatureMap {
   void map(const Real* base, Index count, Real* target) const override;
 
   // Building block for map() and for archive rebuilds that share one transposed block among
-  // several maps. base_t: N_b x count row-major (row k holds base feature k of every row);
-  // scratch: at least scratch_size(count) floats; target: count x N_t row-major. Each row's
-  // result equals what map() gives for it.
-  void map_transposed(const Real* base_t, Index count, Real* scratch, Real* target) const;
-  Index scratch_size(Index count) const { return (shape_.hidden + shape_.outputs) * count; }
+  // several maps (network_kernel.hpp). base_t: N_b x base_ld row-major (row k holds base
+  // feature k of every row); target_t: N_t x target_ld, feature-major too. Both leading
+  // dimensions must be at least padded_rows(count); base_t's padding columns are read (keep
+  // them finite, e.g. zero) and target_t's are written. Each row's result equals map()'s.
+  void map_transposed(const Real* base_t, Index base_ld, Index count, Real* target_t, Index target_ld) const;
 
  private:
   NeuralFeatureMapShape shape_;

@@ -26,6 +26,7 @@ Database::Database(DatabaseParams params) : params_(params) {
   params_.validate();
   genotypes_.resize(params_.capacity, params_.genotype_size);
   base_.resize(params_.capacity, params_.base_feature_size);
+  base_t_.assign(static_cast<std::size_t>(params_.base_feature_size * (params_.capacity + kDatabasePadding)), Real{0});
   fitness_.assign(static_cast<std::size_t>(params_.capacity), Real{0});
 }
 
@@ -47,6 +48,10 @@ Database::Database(const DatabaseState& state) : Database(state.params) {
                                  state.total_inserted));
   genotypes_.topRows(rows) = state.genotypes;
   base_.topRows(rows) = state.base_features;
+  const Index ld = params_.capacity + kDatabasePadding;
+  for (Index r = 0; r < rows; ++r)
+    for (Index k = 0; k < params_.base_feature_size; ++k)
+      base_t_[static_cast<std::size_t>(k * ld + r)] = state.base_features(r, k);
   std::copy(state.fitness.begin(), state.fitness.end(), fitness_.begin());
   size_ = rows;
   next_ = rows % params_.capacity;
@@ -55,7 +60,11 @@ Database::Database(const DatabaseState& state) : Database(state.params) {
 
 void Database::insert(const Real* genotype, const Real* base, Real fitness) {
   std::copy_n(genotype, params_.genotype_size, genotypes_.row(next_).data());
-  if (params_.base_feature_size > 0) std::copy_n(base, params_.base_feature_size, base_.row(next_).data());
+  if (params_.base_feature_size > 0) {
+    std::copy_n(base, params_.base_feature_size, base_.row(next_).data());
+    const Index ld = params_.capacity + kDatabasePadding;
+    for (Index k = 0; k < params_.base_feature_size; ++k) base_t_[static_cast<std::size_t>(k * ld + next_)] = base[k];
+  }
   fitness_[static_cast<std::size_t>(next_)] = fitness;
   next_ = next_ + 1 == params_.capacity ? 0 : next_ + 1;
   size_ = std::min(size_ + 1, params_.capacity);
@@ -101,6 +110,8 @@ DatabaseSegments Database::segments() const {
     s.genotypes = genotypes_.data() + first_slot * params_.genotype_size;
     s.base_features = base_.data() + first_slot * params_.base_feature_size;
     s.fitness = fitness_.data() + first_slot;
+    s.base_t = base_t_.data() + first_slot;
+    s.base_t_ld = params_.capacity + kDatabasePadding;
     s.genotype_size = params_.genotype_size;
     s.base_feature_size = params_.base_feature_size;
   };

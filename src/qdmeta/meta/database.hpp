@@ -3,7 +3,9 @@
 // fitness> that keeps the newest `capacity` valid bottom-level evaluations, overwriting the
 // oldest. Storage is struct-of-arrays and contiguous (one row-major block for genotypes, one
 // for base features, one array of fitness), so a rebuild reads the stored rows oldest-first as
-// at most two contiguous segments.
+// at most two contiguous segments. The base features are also kept feature-major (one row of
+// capacity + kDatabasePadding floats per feature, padding zero), the layout a map rebuild's
+// network kernel reads, so rebuilds need no transposition.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -13,6 +15,10 @@
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
+
+// Columns after the last slot of the feature-major copy, zero: a kernel that reads a whole
+// number of steps past a segment's end stays inside the buffer (at least kKernelRows).
+inline constexpr Index kDatabasePadding = 16;
 
 struct DatabaseParams {
   Index capacity = 500'000;     // rows kept, >= 1; the oldest row is overwritten when full
@@ -40,6 +46,8 @@ struct DatabaseSegment {
   const Real* genotypes = nullptr;      // count x genotype_size, row-major
   const Real* base_features = nullptr;  // count x base_feature_size, row-major
   const Real* fitness = nullptr;        // count
+  const Real* base_t = nullptr;         // feature k of row i at base_t[k * base_t_ld + i]
+  Index base_t_ld = 0;
   Index genotype_size = 0;
   Index base_feature_size = 0;
   const Real* genotype(Index i) const { return genotypes + i * genotype_size; }
@@ -101,6 +109,7 @@ class Database {
   DatabaseParams params_;
   RowMatrix genotypes_;        // capacity x genotype_size
   RowMatrix base_;             // capacity x base_feature_size
+  std::vector<Real> base_t_;   // base_feature_size x (capacity + kDatabasePadding), feature-major
   std::vector<Real> fitness_;  // capacity
   Index next_ = 0;             // slot the next insert writes
   Index size_ = 0;

@@ -7,8 +7,10 @@
 // The result equals mapping and adding the rows one by one in age order, bit for bit, whatever
 // the thread count: each archive receives its rows sequentially in age order, and a
 // NeuralFeatureMap gives every row the same bits whatever block it is mapped in. The database
-// is read in blocks of kRebuildBlockRows rows; each block is transposed once and shared by all
-// the maps that one task handles. Maps are split into as many contiguous groups as the current
+// is read in blocks of kRebuildBlockRows rows from its feature-major copy, shared by all the
+// maps that one task handles while it is in cache; each map runs its network on it in registers
+// (network_kernel.hpp), bins it in one vectorised pass (grid_index.hpp) and keeps each cell's
+// winner. Maps are split into as many contiguous groups as the current
 // task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control).
 #include <span>
 
@@ -19,6 +21,7 @@
 namespace qdmeta {
 
 inline constexpr Index kRebuildBlockRows = 512;
+inline constexpr Index kRebuildChunkRows = 16 * kRebuildBlockRows;  // 8,192 rows, 655 KB of base features at N_b = 20
 
 // Throws InputError when the spans differ in length, an entry is null, an archive appears
 // twice, or sizes disagree: map inputs vs. database base features, map outputs vs. archive

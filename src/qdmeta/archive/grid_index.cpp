@@ -1,0 +1,102 @@
+#include "qdmeta/archive/grid_index.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/core/error.hpp"
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define QDMETA_GRID_INDEX_AVX2 1
+#endif
+
+namespace qdmeta {
+namespace {
+
+// a * b + c, fused where the CPU has FMA: the cell formula was first written as one expression
+// that GCC contracts this way, and archives saved since then must keep their cells.
+inline double madd_d(double a, double b, double c) {
+#if defined(__FMA__)
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
+
+}  // namespace
+
+GridIndex::GridIndex(const GridArchiveParams& params)
+    : lower_(params.lower), scale_(1.0 / (params.upper - params.lower)) {
+  const auto dims = params.bins.size();
+  bins_.resize(dims);
+  top_.resize(dims);
+  margin_.resize(dims);
+  stride_.assign(dims, 1);
+  std::int32_t stride = 1;
+  for (std::size_t d = dims; d-- > 0;) {
+    const double b = params.bins[d];
+    bins_[d] = b;
+    top_[d] = b - 1;
+    // Measures are floats, rounded by up to half a float ulp (6e-8 relative): scaled by the
+    // bin count that can exceed epsilon, so the margin grows with the bins.
+    margin_[d] = madd_d(b, static_cast<double>(std::numeric_limits<float>::epsilon()), params.epsilon);
+    stride_[d] = stride;
+    stride *= params.bins[d];
+  }
+}
+
+Index GridIndex::cell_of(const Real* measures) const {
+  Index cell = 0;
+  for (std::size_t d = 0; d < bins_.size(); ++d) {
+    const double m = measures[d];
+    if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
+    const double pos = std::floor(madd_d((m - lower_) * scale_, bins_[d], margin_[d]));
+    cell += static_cast<Index>(std::clamp(pos, 0.0, top_[d])) * stride_[d];
+  }
+  return cell;
+}
+
+void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::int32_t* cells) const {
+  const auto dims = static_cast<Index>(bins_.size());
+  Index r = 0;
+#if defined(QDMETA_GRID_INDEX_AVX2)
+  const __m256d lower = _mm256_set1_pd(lower_);
+  const __m256d scale = _mm256_set1_pd(scale_);
+  const __m256d zero = _mm256_setzero_pd();
+  for (; r + 8 <= count; r += 8) {
+    __m128i lo = _mm_setzero_si128(), hi = _mm_setzero_si128();
+    bool nan = false;
+    for (Index d = 0; d < dims; ++d) {
+      const auto du = static_cast<std::size_t>(d);
+      const __m256 m = _mm256_loadu_ps(measures_t + d * ld + r);
+      nan |= _mm256_movemask_ps(_mm256_cmp_ps(m, m, _CMP_UNORD_Q)) != 0;
+      const __m256d bins = _mm256_set1_pd(bins_[du]), margin = _mm256_set1_pd(margin_[du]);
+      const __m256d top = _mm256_set1_pd(top_[du]);
+      const __m128i stride = _mm_set1_epi32(stride_[du]);
+      auto half = [&](__m128 m4) {
+        const __m256d x = _mm256_mul_pd(_mm256_sub_pd(_mm256_cvtps_pd(m4), lower), scale);
+        const __m256d pos = _mm256_round_pd(_mm256_fmadd_pd(x, bins, margin), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+        const __m256d clamped = _mm256_min_pd(_mm256_max_pd(pos, zero), top);
+        return _mm_mullo_epi32(_mm256_cvttpd_epi32(clamped), stride);
+      };
+      lo = _mm_add_epi32(lo, half(_mm256_castps256_ps128(m)));
+      hi = _mm_add_epi32(hi, half(_mm256_extractf128_ps(m, 1)));
+    }
+    if (nan) break;  // the scalar loop below throws with the dimension's name
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cells + r), lo);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cells + r + 4), hi);
+  }
+#endif
+  // The rows left over (all of them without AVX2), gathered into one vector each.
+  std::vector<Real> row(static_cast<std::size_t>(dims));
+  for (; r < count; ++r) {
+    for (Index d = 0; d < dims; ++d) row[static_cast<std::size_t>(d)] = measures_t[d * ld + r];
+    cells[r] = static_cast<std::int32_t>(cell_of(row.data()));
+  }
+}
+
+}  // namespace qdmeta
