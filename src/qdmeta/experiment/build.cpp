@@ -398,8 +398,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
         const double k = static_cast<double>(p.hidden) * (nb + 1 + dims) + 1;  // the feature-map's weights
         built.memory.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
                          (lambda + 1) * grid_bytes(grid, task, true) + lambda * grid_cells(grid) * (16 + kFloat * dims));
-        built.memory.add("the circular database", "qd_meta.database_capacity x (genes + base features)",
-                         static_cast<double>(p.database_capacity) * kFloat * (n + nb + 1));
+        built.memory.add("the circular database", "qd_meta.database_capacity x (genes + 2 x base features)",
+                         static_cast<double>(p.database_capacity) * kFloat * (n + 2 * nb + 1));
         built.memory.add("every map's offspring of one meta-generation",
                          "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
                          lambda * offspring_bytes(g_max * static_cast<double>(p.batch_size), task));
