@@ -116,8 +116,8 @@ TEST(Robustness, ASecondWriterOnARunDirectoryIsRefused) {
   // A run long enough to be still writing when the others try.
   const std::string first = kBinary + " run --config " + map_elites_config() + " --out " + d +
                             " --evals 100000000000 --seed 1 --quiet --threads 1";
-  const std::string during = kBinary + " run --config " + map_elites_config() + " --out " + d +
-                             " --evals 20000 --seed 2 --overwrite" + into("run") + "; " + kBinary + " resume --out " +
+  const std::string during = "timeout 60 " + kBinary + " run --config " + map_elites_config() + " --out " + d +
+                             " --evals 20000 --seed 2 --overwrite" + into("run") + "; timeout 60 " + kBinary + " resume --out " +
                              d + into("resume") + "; " + kBinary + " adapt --run " + d + " --test dimension" +
                              into("adapt");
   meanwhile(first, dir / "metrics.csv", 0.2, during, "INT");
@@ -142,9 +142,10 @@ TEST(Robustness, AnExperimentLocksItsDirectoryAndEachRun) {
   const fs::path log = scratch() / "locked-experiment-log";
   fs::remove_all(log);
   fs::create_directories(log);
+  // `timeout`: without the lock, the second experiment would run its huge budget to the end.
   const std::string during =
-      kBinary + " experiment --config " + quote(experiment.string()) + " --out " + quote(out.string()) + " > " +
-      quote((log / "experiment").string()) + " 2>&1; " + kBinary + " resume --out " + quote((out / "me/seed-1").string()) +
+      "timeout 60 " + kBinary + " experiment --config " + quote(experiment.string()) + " --out " + quote(out.string()) + " > " +
+      quote((log / "experiment").string()) + " 2>&1; timeout 60 " + kBinary + " resume --out " + quote((out / "me/seed-1").string()) +
       " > " + quote((log / "resume").string()) + " 2>&1";
   meanwhile(kBinary + " experiment --quiet --threads 1 --config " + quote(experiment.string()) + " --out " +
                 quote(out.string()),
