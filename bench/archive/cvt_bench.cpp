@@ -1,5 +1,6 @@
 // Nearest-centroid lookups (the CVT insertion hot path) and k-means: the blocked-product exact
-// search against the plain loop, at 10,000 centroids in 20-D (SPEC.md section 6).
+// search against the plain loop, at 10,000 centroids in 20-D (the paper's
+// Rastrigin CVT setting; target in docs/architecture.md, "Hot paths").
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 

@@ -1,5 +1,4 @@
-// Rebuilding QD-Meta's archives from a full database (SPEC.md section 2, DESIGN.md
-// "Performance notes"): 500,000 rows of 20 genes and 20 base features, K = 222 feature-maps
+// Rebuilding QD-Meta's archives from a full database (docs/architecture.md, "Hot paths"): 500,000 rows of 20 genes and 20 base features, K = 222 feature-maps
 // with weights uniform in [-1, 1], 100 x 100 grids that keep the base features.
 //   BM_RebuildOne:      one map on one thread (target: at most 30 ms).
 //   BM_RebuildTen/T/R:  ten maps at once on T threads (the lambda = 10 maps of a meta-generation);

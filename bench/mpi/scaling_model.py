@@ -19,7 +19,7 @@ lam, G, B = 10, 5, 400            # meta-population, generations per meta-genera
 E = 12                            # Damage: 2 types x 6 legs (Obstacle: 5)
 A = 2000                          # mean archive size over the run (of 4,096 cells): an assumption
 S = 10 * 0.043 + 0.1              # rank 0 serial s per meta-generation: 10 rebuilds of 500k x 50-D
-budget = 12_000_000               # counting all evaluations (SPEC.md)
+budget = 12_000_000               # the paper's RHex budget, counting all evaluations
 
 
 def pieces(R, P):

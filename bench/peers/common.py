@@ -1,4 +1,4 @@
-"""What every peer runner shares: the task of SPEC.md section 4 and one result line.
+"""What every peer runner shares: the Rastrigin task (docs/fidelity.md) and one result line.
 
 The task: genotype g in [0,1]^20, x = -5.12 + 10.24 g, objective
 f = -[10 N + sum(x^2 - 10 cos 2 pi x)] (maximum 0), measures (g0, g1) on a 100 x 100 grid or
