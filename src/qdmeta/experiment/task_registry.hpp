@@ -59,6 +59,8 @@ void register_unavailable_task(const std::string& name, std::string why);
 const TaskPlugin* find_task_plugin(std::string_view name);
 // Registered names, sorted.
 std::vector<std::string> registered_task_names();
+// Names registered as unavailable (register_unavailable_task) and not registered since, sorted.
+std::vector<std::string> unavailable_task_names();
 // The registered test families of every task, "rastrigin: dimension, translation; rhex: ...",
 // with "generalisation" where a task has one (the help text of `qdmeta adapt --test`).
 std::string describe_adaptation_tests();
