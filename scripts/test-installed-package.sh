@@ -89,4 +89,15 @@ status=0
 message=$("$arm" run --config "$bad" --out "$runs/bad" --quiet 2>&1) || status=$?
 [[ $status -eq 2 && $message == *"task.jionts"* ]] || fail "a misspelt key gave status $status: $message"
 
+if grep -q 'set(qdmeta_WITH_MPI ON)' "$prefix/lib/cmake/qdmeta/qdmetaConfig.cmake" && command -v mpirun > /dev/null; then
+  step "mpirun -np 2: the worker rank builds the arm from its own registry, to the same archive"
+  as_root=()
+  if [[ $(id -u) -eq 0 ]]; then as_root=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1); fi
+  "${as_root[@]}" timeout -k 5 120 mpirun --oversubscribe --mca btl self,vader -np 2 "$arm" run \
+    --config "$root/examples/own-task/configs/qd-meta.toml" --out "$runs/qd-meta-mpi" --threads 1 --quiet \
+    || fail "mpirun -np 2 arm-qd run"
+  check_run "$runs/qd-meta-mpi"
+  cmp -s "$runs/qd-meta/archive.csv" "$runs/qd-meta-mpi/archive.csv" || fail "the MPI run's archive differs"
+fi
+
 step "passed"
