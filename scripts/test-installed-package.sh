@@ -2,7 +2,8 @@
 # The installed CMake package, end to end (run by `make test` after ctest): installs the build
 # into a scratch prefix, builds examples/own-task against it with find_package(qdmeta), and runs
 # that program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run
-# resumed to the same archive, the test phase, and a misspelt [task] key refused.
+# resumed to the same archive, the test phase, an experiment with its report (by the installed
+# report.py), a misspelt [task] key refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 
@@ -16,7 +17,7 @@ fail() { echo "test-installed-package: FAILED: $*" >&2; exit 1; }
 step() { echo "test-installed-package: $*"; }
 
 step "installing into $prefix"
-rm -rf "$prefix"
+rm -rf "$prefix" "$example"
 cmake --install "$build" --prefix "$prefix" > /dev/null
 for f in bin/qdmeta share/qdmeta/tools/report.py include/qdmeta/cli/run_cli.hpp lib/cmake/qdmeta/qdmetaConfig.cmake \
          lib/cmake/qdmeta/qdmetaConfigVersion.cmake; do
@@ -81,6 +82,21 @@ fi
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"
 [[ -s $runs/map-elites/adapt-locked.csv ]] || fail "adapt wrote no adapt-locked.csv"
+
+step "experiment, and report with the installed report.py"
+"$arm" experiment --config "$root/examples/own-task/configs/experiment.toml" --out "$runs/study" --threads "$jobs" \
+  --replicates 1 --quiet --no-report || fail "arm-qd experiment"
+for run in "$runs/study/qd-meta-locked-joint/seed-1" "$runs/study/map-elites/seed-1"; do
+  check_run "$run"
+  [[ -s $run/adapt-locked.csv ]] || fail "the experiment ran no test phase in $run"
+done
+status=0
+message=$(env -u QDMETA_TOOLS_DIR "$arm" report "$runs/study" --quiet 2>&1) || status=$?
+if "${QDMETA_PYTHON:-/usr/bin/python3}" -c "import matplotlib" 2> /dev/null; then  # the interpreter report uses
+  [[ $status -eq 0 && -s $runs/study/report.md ]] || fail "arm-qd report: $message"
+else  # no matplotlib here: the installed script was found and ran, which is what is tested
+  [[ $message == *"$prefix/share/qdmeta/tools/report.py"* ]] || fail "arm-qd report did not use the installed script: $message"
+fi
 
 step "a misspelt [task] key is refused"
 bad=$runs/bad.toml
