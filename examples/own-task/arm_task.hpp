@@ -4,12 +4,15 @@
 // better); base features = the end effector's (x, y), scaled from [-1, 1] to [0, 1].
 #include <qdmeta/core/task.hpp>
 
+#include <numbers>
 #include <string>
 
 namespace arm {
 
 // The gene that puts a joint at angle 0 (straight).
 inline constexpr qdmeta::Real kStraightGene = 0.5f;
+// The lowest fitness: the variance of angles in [-pi, pi] is at most pi^2.
+inline constexpr double kWorstFitness = -std::numbers::pi * std::numbers::pi;
 
 class ArmTask {
  public:
@@ -18,6 +21,7 @@ class ArmTask {
   qdmeta::Index genotype_size() const { return joints_; }
   qdmeta::Index base_feature_size() const { return 2; }
   bool shareable() const { return true; }  // stateless: one instance serves every thread
+  double qd_offset() const { return kWorstFitness; }  // so that every elite adds to the QD-score
   void evaluate(qdmeta::GenotypeView genotypes, qdmeta::EvaluationView out) const;
 
  private:

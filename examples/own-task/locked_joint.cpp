@@ -35,7 +35,10 @@ qdmeta::MetaFitnessResult LockedJointMeta::evaluate(const qdmeta::RowMatrix& eli
   for (qdmeta::Index i = 0; i < size; ++i)  // with replacement: simple, and unbiased for the mean
     sample.row(i) = elites.row(static_cast<qdmeta::Index>(rng.below(static_cast<std::uint64_t>(elites.rows()))));
   const qdmeta::Vector fitness = fitness_of(arm_, with_joint_locked(std::move(sample), joint_), evaluator);
-  return {fitness.cast<double>().mean(), size};
+  // The mean score (fitness above the worst) times the archive's size: an archive is rewarded
+  // for elites that work with the joint locked, and for having many of them.
+  const double mean_score = fitness.cast<double>().mean() - kWorstFitness;
+  return {mean_score * static_cast<double>(elites.rows()), size};
 }
 
 void LockedJointTests::score(qdmeta::Index test, const qdmeta::RowMatrix& genotypes, qdmeta::Evaluator& evaluator,

@@ -1,7 +1,7 @@
 #pragma once
 // What "adapting to damage" means for the arm: a joint locked straight (angle 0). The
-// meta-objective scores an archive by the mean fitness of a sample of its elites re-evaluated
-// with one joint locked; the test family locks each joint in turn.
+// meta-objective scores an archive by the QD-score it would have with one joint locked,
+// estimated from a sample of its elites re-evaluated so; the test family locks each joint in turn.
 #include <qdmeta/core/adaptation_tests.hpp>
 #include <qdmeta/core/meta_objective.hpp>
 
