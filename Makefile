@@ -28,8 +28,10 @@ run: build
 	$(BUILD)/qdmeta experiment --config configs/rastrigin/experiment.toml --out $(DEMO_OUT) --replicates $(DEMO_REPLICATES) --evals $(DEMO_EVALS)
 	@echo "Report: $(DEMO_OUT)/report.md (figures in $(DEMO_OUT)/figures); runs in $(DEMO_OUT)/<condition>/seed-<r>/"
 
+# ctest, then the installed package: examples/own-task built against `cmake --install` and run.
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	JOBS=$(JOBS) bash scripts/test-installed-package.sh $(BUILD)
 
 $(ASAN_BUILD)/build.ninja:
 	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DQDMETA_SANITIZE=ON -DQDMETA_BUILD_BENCH=OFF $(CMAKE_FLAGS)

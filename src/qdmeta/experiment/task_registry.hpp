@@ -1,14 +1,16 @@
 #pragma once
-// Tasks beyond the built-in Rastrigin plug into the config reader here: an optional component
-// (the RHex task in DART) or a user's own task registers how to read its [task] table and its
-// [meta_fitness] table under the name that `[task] name` selects. Registration is explicit (the
-// CLI calls e.g. register_rhex_task() at start-up), never a static initialiser, so it works from
-// static libraries.
+// Tasks plug into the config reader here, found by the name that `[task] name` selects: the
+// built-in Rastrigin (tasks/rastrigin/rastrigin_config.hpp), an optional component (the RHex task
+// in DART) or a user's own task, each through the same register_task_plugin(). A plugin says how
+// to read its [task] table, its meta-objectives by [meta_fitness] kind, and its test families
+// (`qdmeta adapt --test NAME`). Registration is explicit (a main calls e.g. register_rhex_task()
+// at start-up), never a static initialiser, which static libraries would drop.
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -21,12 +23,17 @@ namespace qdmeta {
 
 class ConfigReader;
 
+// Reads the rest of a [meta_fitness] table (`kind` is already read) for `task`; `seed` drives
+// choices made once per replicate, which the reader writes to the resolved config.
+using MetaObjectiveReader =
+    std::function<std::unique_ptr<MetaObjective>(ConfigReader& meta_fitness, const Task& task, std::uint64_t seed)>;
+
 struct TaskPlugin {
   // Reads the rest of the [task] table (`name` is already read) and builds the task.
   std::function<Task(ConfigReader& task_table)> read_task;
-  // Reads [meta_fitness] for this task; `seed` drives choices made once per replicate.
-  std::function<std::unique_ptr<MetaObjective>(ConfigReader& meta_fitness, const Task& task, std::uint64_t seed)>
-      read_meta_fitness;
+  // The meta-objectives QD-Meta can use on this task, by [meta_fitness] kind; the first is the
+  // default kind. register_meta_objective() adds more.
+  std::vector<std::pair<std::string, MetaObjectiveReader>> meta_objectives;
   // Optional: the test phase (`qdmeta adapt --test NAME`). Builds family `test` (one of
   // `adaptation_tests`) for a finished run; `config` is the run's resolved config (its seed and
   // [meta_fitness] say what it trained on), `source` names it in messages, `seed` is the adapt seed.
@@ -41,9 +48,28 @@ struct TaskPlugin {
 
 // Registers (or replaces) the plugin for `name`. Thread-safe.
 void register_task_plugin(const std::string& name, TaskPlugin plugin);
+// Adds (or replaces) meta-objective `kind` of the registered task `task`; std::logic_error when
+// `task` is not registered.
+void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader);
+// A task this build lacks but a user may ask for: `[task] name = NAME` then fails with `why`
+// ("this build has no RHex task: it needs DART"). A real plugin of that name takes precedence.
+void register_unavailable_task(const std::string& name, std::string why);
+
 // The plugin registered under `name`, or nullptr.
 const TaskPlugin* find_task_plugin(std::string_view name);
 // Registered names, sorted.
 std::vector<std::string> registered_task_names();
+// Names registered as unavailable (register_unavailable_task) and not registered since, sorted.
+std::vector<std::string> unavailable_task_names();
+// The registered test families of every task, "rastrigin: dimension, translation; rhex: ...",
+// with "generalisation" where a task has one (the help text of `qdmeta adapt --test`).
+std::string describe_adaptation_tests();
+
+// Reads `[task] name` and builds that task through its plugin. An unknown name is an
+// InputError listing the registered names (and why an unavailable one is missing).
+Task read_registered_task(ConfigReader& task_table);
+// Reads `[meta_fitness] kind` (default: the task's first) and builds that meta-objective.
+std::unique_ptr<MetaObjective> read_registered_meta_objective(ConfigReader& meta_fitness, const Task& task,
+                                                              std::uint64_t seed);
 
 }  // namespace qdmeta

@@ -42,13 +42,14 @@ Task read_rhex_task(ConfigReader& t) {
   return naming_file(t, [&] { return Task(RhexTask(p)); });
 }
 
-std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Task& task, std::uint64_t seed) {
+// [meta_fitness] of `kind` (its `kind` key is read by the task registry, or by the caller).
+std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Task& task, std::uint64_t seed,
+                                                      RhexMetaKind kind) {
   const RhexTask* rhex_task = task.target<RhexTask>();
   if (rhex_task == nullptr) throw InputError(fmt::format("{}: the RHex meta-fitness needs the RHex task", m.source()));
   RhexParams params = rhex_task->params();
   params.environment = {};
   RhexMetaParams p;
-  const RhexMetaKind kind = m.choice("kind", RhexMetaKind::kDamage, kRhexMetaNames);
   p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
   switch (kind) {
     case RhexMetaKind::kDamage: {
@@ -95,7 +96,7 @@ std::vector<rhex::RhexEnvironment> trained_environments(const toml::table& confi
     table.insert("kind", std::string(enum_to_string(kRhexMetaNames, kind)));
   toml::table resolved;
   ConfigReader reader(table, source, resolved, "meta_fitness");
-  const auto meta = read_rhex_meta_fitness(reader, task, seed);
+  const auto meta = read_rhex_meta_fitness(reader, task, seed, kind);
   return dynamic_cast<const RhexMetaFitness&>(*meta).environments();
 }
 
@@ -121,9 +122,17 @@ std::unique_ptr<AdaptationTests> read_rhex_adaptation_tests(const toml::table& c
 }  // namespace
 
 void register_rhex_task() {
-  TaskPlugin plugin{read_rhex_task, read_rhex_meta_fitness, read_rhex_adaptation_tests,
-                    {"damage", "obstacle", "damage-training", "obstacle-training"},
-                    {"damage-training", "obstacle-training", "damage", "obstacle"}};
+  TaskPlugin plugin;
+  plugin.read_task = read_rhex_task;
+  // The first kind is the default.
+  for (const RhexMetaKind kind : {RhexMetaKind::kDamage, RhexMetaKind::kObstacle})
+    plugin.meta_objectives.emplace_back(std::string(enum_to_string(kRhexMetaNames, kind)),
+                                        [kind](ConfigReader& m, const Task& task, std::uint64_t seed) {
+                                          return read_rhex_meta_fitness(m, task, seed, kind);
+                                        });
+  plugin.read_adaptation_tests = read_rhex_adaptation_tests;
+  plugin.adaptation_tests = {"damage", "obstacle", "damage-training", "obstacle-training"};
+  plugin.generalisation_groups = {"damage-training", "obstacle-training", "damage", "obstacle"};
   register_task_plugin("rhex", std::move(plugin));
 }
 

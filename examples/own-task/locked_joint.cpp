@@ -1,0 +1,50 @@
+#include "locked_joint.hpp"
+
+#include <qdmeta/eval/evaluator.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "arm_task.hpp"
+
+namespace arm {
+namespace {
+
+qdmeta::Vector fitness_of(const qdmeta::Task& arm, const qdmeta::RowMatrix& genotypes, qdmeta::Evaluator& evaluator) {
+  qdmeta::EvaluationBatch batch;
+  batch.resize(genotypes.rows(), arm.base_feature_size());
+  evaluator.evaluate(arm, {genotypes.data(), genotypes.rows(), genotypes.cols()}, batch.view());
+  return batch.fitness;
+}
+
+}  // namespace
+
+qdmeta::RowMatrix with_joint_locked(qdmeta::RowMatrix genotypes, int joint) {
+  genotypes.col(joint).setConstant(kStraightGene);
+  return genotypes;
+}
+
+LockedJointMeta::LockedJointMeta(qdmeta::Task arm, int joint, double sample_fraction)
+    : arm_(std::move(arm)), joint_(joint), sample_fraction_(sample_fraction) {}
+
+qdmeta::MetaFitnessResult LockedJointMeta::evaluate(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng,
+                                                    qdmeta::Evaluator& evaluator) const {
+  if (elites.rows() == 0) return {};
+  const auto size = std::max<qdmeta::Index>(1, std::lround(sample_fraction_ * static_cast<double>(elites.rows())));
+  qdmeta::RowMatrix sample(size, elites.cols());
+  for (qdmeta::Index i = 0; i < size; ++i)  // with replacement: simple, and unbiased for the mean
+    sample.row(i) = elites.row(static_cast<qdmeta::Index>(rng.below(static_cast<std::uint64_t>(elites.rows()))));
+  const qdmeta::Vector fitness = fitness_of(arm_, with_joint_locked(std::move(sample), joint_), evaluator);
+  // The mean score (fitness above the worst) times the archive's size: an archive is rewarded
+  // for elites that work with the joint locked, and for having many of them.
+  const double mean_score = fitness.cast<double>().mean() - kWorstFitness;
+  return {mean_score * static_cast<double>(elites.rows()), size};
+}
+
+void LockedJointTests::score(qdmeta::Index test, const qdmeta::RowMatrix& genotypes, qdmeta::Evaluator& evaluator,
+                             std::span<double> out) const {
+  const qdmeta::Vector fitness = fitness_of(arm_, with_joint_locked(genotypes, static_cast<int>(test)), evaluator);
+  for (qdmeta::Index i = 0; i < fitness.size(); ++i) out[static_cast<std::size_t>(i)] = fitness[i];
+}
+
+}  // namespace arm

@@ -1,0 +1,413 @@
+// The qdmeta command line (run_cli.hpp): parse, build from the config, call the library. Every
+// failure is one line on stderr and exit status 2.
+#include "qdmeta/cli/run_cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/version.hpp"
+#include "qdmeta/experiment/adaptation.hpp"
+#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/experiment.hpp"
+#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
+#include "qdmeta/io/run_lock.hpp"
+#include "qdmeta/io/subprocess.hpp"
+#include "qdmeta/cli/distribution_factory.hpp"
+#include "qdmeta/experiment/algorithm_registry.hpp"
+#include "qdmeta/experiment/distribution.hpp"
+#include "qdmeta/experiment/task_registry.hpp"
+
+namespace qdmeta {
+namespace fs = std::filesystem;
+namespace {
+
+int parse_and_run(int argc, char** argv);
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+constexpr int kExitBadInput = 2;
+constexpr int kExitRankFailed = 3;  // an MPI rank died mid-run; a checkpoint was written
+constexpr int kExitInterrupted = 130;
+
+Distribution* g_distribution = nullptr;  // set by run_cli_with_tools for its lifetime
+
+std::string human(double x) {
+  if (x >= 1e9) return fmt::format("{:.2f}G", x / 1e9);
+  if (x >= 1e6) return fmt::format("{:.2f}M", x / 1e6);
+  if (x >= 1e3) return fmt::format("{:.1f}k", x / 1e3);
+  return fmt::format("{:.0f}", x);
+}
+
+// A single refreshing line on a terminal; one line per 10% of the budget otherwise.
+ProgressCallback make_progress(bool quiet) {
+  if (quiet) return {};
+  const bool tty = isatty(fileno(stdout)) != 0;
+  auto last = std::make_shared<double>(-1.0);
+  auto last_decile = std::make_shared<std::int64_t>(0);
+  return [tty, last, last_decile](const RunProgress& p) {
+    const double fraction = std::min(1.0, static_cast<double>(p.evals) / static_cast<double>(p.budget));
+    const std::int64_t decile = static_cast<std::int64_t>(fraction * 10);
+    const bool due = tty ? p.wall_seconds - *last >= 0.25 : decile > *last_decile;
+    if (!due) return;
+    *last = p.wall_seconds;
+    *last_decile = decile;
+    const ArchiveStats s = p.algorithm->stats();
+    const double rate = p.wall_seconds > 0 ? static_cast<double>(p.algorithm->counters().total()) / p.wall_seconds : 0;
+    const double eta = fraction > 0 ? p.wall_seconds * (1 - fraction) / fraction : 0;
+    std::string line = fmt::format("{:>5.1f}%  {} / {} evals  {} evals/s  elites {}  best {:.4g}  mean {:.4g}  ETA {:.0f} s",
+                                   100 * fraction, p.evals, p.budget, human(rate), s.num_elites, s.obj_max, s.obj_mean, eta);
+    if (tty) fmt::print("\r\033[K{}", line);
+    else fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+}
+
+// Runs (or continues) a built run to its budget with progress and a closing summary.
+int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const RunCursor* resume) {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  Distribution& d = *g_distribution;
+  auto evaluator = d.make_evaluator(built, threads, &g_stop);
+  const bool tty = isatty(fileno(stdout)) != 0;
+  const std::string where = d.ranks() > 1 ? fmt::format("{} MPI ranks x {} thread{}", d.ranks(), threads,
+                                                           threads > 1 ? "s" : "")
+                                            : fmt::format("{} threads", evaluator->workers());
+  if (!quiet)
+    fmt::print("qdmeta {}: {} on {}, seed {}, budget {} evaluations -> {}\n", kVersion, built.settings.algorithm, where,
+               built.settings.seed, built.settings.budget, out.string());
+  RunResult r;
+  try {
+    r = run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(quiet), &g_stop, resume);
+  } catch (const EvaluationAborted& e) {
+    // Printed here, not by main: this path must stay one line and finish before mpirun's SIGKILL.
+    const std::string who = d.silent_ranks();
+    if (tty && !quiet) fmt::print("\n");
+    std::fflush(stdout);
+    fmt::print(stderr, "qdmeta: error: {}{}: continue it with: qdmeta resume --out {}\n", who, e.what(), out.string());
+    d.release_survivors();
+    return who.empty() ? kExitInterrupted : kExitRankFailed;
+  }
+  if (r.reason == StopReason::kInterrupted) {
+    if (const std::string who = d.silent_ranks(); !who.empty()) {
+      if (tty && !quiet) fmt::print("\n");
+      std::fflush(stdout);
+      fmt::print(stderr, "qdmeta: error: {}the run stopped after {} evaluations with a checkpoint: continue it with: "
+                         "qdmeta resume --out {}\n", who, r.evals, out.string());
+      d.release_survivors();
+      return kExitRankFailed;
+    }
+  }
+  if (!quiet) {
+    if (tty) fmt::print("\n");
+    fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, "
+               "QD-score {:.6g}\nresults: {}\n",
+               r.message, r.counters.total(), r.wall_seconds,
+               human(r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0),
+               r.stats.num_elites, r.stats.coverage, r.stats.obj_max, r.stats.obj_mean, r.stats.qd_score, out.string());
+    if (r.reason == StopReason::kInterrupted && built.algorithm->checkpointable())
+      fmt::print("continue it with: qdmeta resume --out {}\n", out.string());
+  }
+  d.release_survivors();
+  return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
+}
+
+struct RunArgs {
+  std::string config;
+  std::string out;
+  std::optional<std::uint64_t> seed;
+  std::optional<std::int64_t> evals;
+  int threads = 0;
+  bool overwrite = false;
+  bool quiet = false;
+};
+
+int command_run(const RunArgs& a) {
+  BuiltRun built = build_run(load_toml(a.config), a.config, {a.seed, a.evals});
+  const RunLock lock(a.out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+  start_run_directory(a.out, built, a.config, a.threads, a.overwrite);
+  return execute(built, a.out, a.threads, a.quiet, nullptr);
+}
+
+struct ResumeArgs {
+  std::string out;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// Continues a run from its checkpoint with the resolved config it wrote: to the same result
+// as if it had never stopped.
+int command_resume(const ResumeArgs& a) {
+  const RunLock lock(a.out, RunLock::Mode::kExclusive);
+  ResumableRun r = open_for_resume(a.out);
+  if (!a.quiet)
+    fmt::print("resuming from checkpoint {} at {} evaluations, {:.1f} s into the run\n", r.cursor.checkpoints,
+               r.built.settings.evals(r.built.algorithm->counters()), r.cursor.wall_seconds);
+  return execute(r.built, a.out, a.threads, a.quiet, &r.cursor);
+}
+
+struct AdaptArgs {
+  std::string run;
+  std::string test;
+  std::optional<std::int64_t> budget;
+  std::optional<std::uint64_t> seed;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// The test phase on a finished run: random search over its archive under unseen test functions.
+int command_adapt(const AdaptArgs& a) {
+  const RunLock lock(a.run, RunLock::Mode::kShared);  // test phases may run side by side, not beside a writer
+  auto evaluator = make_evaluator(a.threads);
+  if (a.test == "generalisation") {
+    if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
+    const GeneralisationReport g = generalise_run(a.run, a.seed, *evaluator);
+    if (!a.quiet) {
+      fmt::print("test 'generalisation': {} archive solutions, mean score per group (+- SE over environments):\n",
+                 g.archive_size);
+      for (const auto& row : g.rows)
+        fmt::print("  {:<18} {:>3} environments: {:.6g} +- {:.3g}\n", row.group, row.environments, row.mean, row.se);
+      fmt::print("results: {}\n", g.file.string());
+    }
+    return 0;
+  }
+  const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
+                                       *evaluator);
+  if (!a.quiet)
+    fmt::print("test '{}': {} functions x {} evaluations over {} archive solutions; best after 1: {:.6g} +- {:.3g}, "
+               "after {}: {:.6g} +- {:.3g} (mean +- SE over functions)\nresults: {}\n",
+               a.test, r.functions, r.budget, r.archive_size, r.curve.best_mean.front(), r.curve.best_se.front(),
+               r.budget, r.curve.best_mean.back(), r.curve.best_se.back(), r.file.string());
+  return 0;
+}
+
+struct ExperimentArgs {
+  std::string config;
+  std::string out;
+  std::optional<int> replicates;
+  std::optional<std::int64_t> evals;
+  int threads = 0;
+  bool quiet = false;
+  bool no_report = false;
+};
+
+fs::path g_tools_dir;  // run_cli_with_tools's argument
+
+// The tools folder (report.py): $QDMETA_TOOLS_DIR; else share/qdmeta/tools beside the running
+// executable's bin/ (an installed qdmeta); else the folder the program was built to use (the
+// source tree's tools/, or the installed package's).
+fs::path tools_dir() {
+  if (const char* env = std::getenv("QDMETA_TOOLS_DIR")) return env;
+  std::error_code ignored;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ignored);
+  if (!exe.empty()) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "qdmeta" / "tools";
+    if (fs::exists(installed / "report.py", ignored)) return installed;
+  }
+  return g_tools_dir;
+}
+
+// Figures and report.md from the runs under `dir`, by tools/report.py with Debian's Python
+// (matplotlib); $QDMETA_PYTHON overrides the interpreter.
+int command_report(const std::string& dir, bool quiet) {
+  if (!fs::exists(fs::path(dir) / "experiment.toml"))
+    throw InputError(fmt::format("{} holds no experiment (no experiment.toml): run qdmeta experiment first", dir));
+  const char* env = std::getenv("QDMETA_PYTHON");
+  const std::string python = env ? env : "/usr/bin/python3";
+  const fs::path script = tools_dir() / "report.py";
+  if (!fs::exists(script)) throw InputError(fmt::format("report script {} not found (set QDMETA_TOOLS_DIR)", script.string()));
+  // An argument vector, never a shell: the directory may hold any character.
+  std::vector<std::string> argv{python, script.string(), dir};
+  if (quiet) argv.emplace_back("--quiet");
+  std::fflush(stdout);  // our lines first, then the script's
+  const int status = run_program(argv);
+  if (status != 0)
+    throw Error(fmt::format("the report script {} failed (exit status {}) on {}", script.string(), status, dir));
+  return 0;
+}
+
+int command_experiment(const ExperimentArgs& a) {
+  const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  const bool tty = isatty(fileno(stdout)) != 0;
+  if (!a.quiet)
+    fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{} -> {}\n", kVersion, spec.name,
+               spec.conditions.size(), spec.replicates,
+               spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
+  auto last = std::make_shared<double>(-1.0);
+  auto last_line = std::make_shared<std::string>();
+  auto last_decile = std::make_shared<int>(0);
+  const ExperimentCallback progress = [&a, tty, last, last_line, last_decile](const ExperimentProgress& p) {
+    if (a.quiet) return;
+    const double overall = (p.run - 1 + p.run_fraction) / p.runs;
+    const std::string head = fmt::format("[{}/{}] {} seed {}: {}", p.run, p.runs, p.condition, p.replicate, p.phase);
+    // Off a terminal (a log file, a batch job): a line per phase and per 10% of a run.
+    const int decile = static_cast<int>(p.run_fraction * 10);
+    const bool due = tty ? p.wall_seconds - *last >= 0.25 : head != *last_line || decile > *last_decile;
+    if (!due) return;
+    *last = p.wall_seconds;
+    *last_line = head;
+    *last_decile = decile;
+    const double eta = overall > 0 ? p.wall_seconds * (1 - overall) / overall : 0;
+    const std::string line = fmt::format("{} {:5.1f}%  overall {:5.1f}%  {:.0f} s elapsed, ETA {:.0f} s", head,
+                                         100 * p.run_fraction, 100 * overall, p.wall_seconds, eta);
+    if (tty) fmt::print("\r\033[K{}", line);
+    else fmt::print("{}\n", line);
+    std::fflush(stdout);
+  };
+  const ExperimentResult r = run_experiment(spec, a.out, a.threads, progress, &g_stop);
+  if (!a.quiet) {
+    if (tty) fmt::print("\n");
+    fmt::print("{} runs finished now, {} resumed, {} already finished; {} test phases\n", r.runs_done, r.runs_resumed,
+               r.runs_skipped, r.tests_done);
+  }
+  if (r.interrupted) {
+    if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
+    return kExitInterrupted;
+  }
+  if (a.no_report) return 0;
+  command_report(a.out, a.quiet);
+  if (!a.quiet) fmt::print("report: {}\n", (fs::path(a.out) / "report.md").string());
+  return 0;
+}
+
+}  // namespace
+
+int run_cli_with_tools(int argc, char** argv, const fs::path& tools) {
+  g_tools_dir = tools;
+  // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command line.
+  const std::unique_ptr<Distribution> distribution = make_distribution(argc, argv);
+  if (const std::optional<int> status = distribution->serve_if_worker()) return *status;
+  g_distribution = distribution.get();
+  const int status = parse_and_run(argc, argv);
+  g_distribution = nullptr;
+  return status;
+}
+
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += fmt::format("{}{}", out.empty() ? "" : ", ", n);
+  return out;
+}
+
+int parse_and_run(int argc, char** argv) {
+  const int ranks = g_distribution->ranks();
+  CLI::App app{"qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites and AURORA"};
+  app.set_version_flag("--version", std::string(kVersion));
+  app.require_subcommand(1);
+
+  RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run one algorithm on one task to its evaluation budget");
+  run_cmd->add_option("--config", run.config,
+                      fmt::format("TOML config file (see configs/ and docs/config.md; algorithms: {}; tasks: {})",
+                                  joined(registered_algorithm_names()), joined(registered_task_names())))
+      ->required();
+  run_cmd->add_option("--out", run.out, "Output directory for config.toml, metrics.csv, archive.csv")->required();
+  run_cmd->add_option("--seed", run.seed, "Random seed (overrides the config's seed)");
+  run_cmd->add_option("--evals", run.evals, "Evaluation budget (overrides budget.evaluations)")->check(CLI::PositiveNumber);
+  run_cmd->add_option("--threads", run.threads, "Worker threads (0: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_flag("--overwrite", run.overwrite, "Replace a run already in --out");
+  run_cmd->add_flag("--quiet", run.quiet, "Print nothing but errors");
+
+  ResumeArgs resume;
+  CLI::App* resume_cmd = app.add_subcommand("resume", "Continue an interrupted or killed run from its checkpoint");
+  resume_cmd->add_option("--out", resume.out, "Directory of the run")->required();
+  resume_cmd->add_option("--threads", resume.threads, "Worker threads (0: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber);
+  resume_cmd->add_flag("--quiet", resume.quiet, "Print nothing but errors");
+
+  ExperimentArgs experiment;
+  CLI::App* experiment_cmd =
+      app.add_subcommand("experiment", "Every condition x replicate, the test phase on each archive, then the report");
+  experiment_cmd->add_option("--config", experiment.config, "Experiment file (e.g. configs/rastrigin/experiment.toml)")
+      ->required();
+  experiment_cmd->add_option("--out", experiment.out, "Output directory: one folder per condition, one per seed")
+      ->required();
+  experiment_cmd->add_option("--replicates", experiment.replicates, "Replicates (seeds 1..R; overrides the file)")
+      ->check(CLI::PositiveNumber);
+  experiment_cmd->add_option("--evals", experiment.evals, "Evaluation budget of every run (overrides the configs)")
+      ->check(CLI::PositiveNumber);
+  experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  experiment_cmd->add_flag("--quiet", experiment.quiet, "Print nothing but errors");
+  experiment_cmd->add_flag("--no-report", experiment.no_report, "Skip the report at the end");
+
+  std::string report_dir;
+  bool report_quiet = false;
+  CLI::App* report_cmd = app.add_subcommand("report", "Figures (PNG) and report.md from an experiment's runs");
+  report_cmd->add_option("dir", report_dir, "Directory written by qdmeta experiment")->required();
+  report_cmd->add_flag("--quiet", report_quiet, "Print nothing but errors");
+
+  AdaptArgs adapt;
+  CLI::App* adapt_cmd = app.add_subcommand("adapt", "Test phase: random search over a finished run's archive on unseen test functions");
+  adapt_cmd->add_option("--run", adapt.run, "Directory of a finished run")->required();
+  adapt_cmd->add_option("--test", adapt.test,
+                        fmt::format("Test family by task ({}): writes adapt-NAME.csv; generalisation, where listed, "
+                                    "scores the whole archive on the training and test families: writes "
+                                    "generalisation.csv",
+                                    describe_adaptation_tests()))
+      ->required();
+  adapt_cmd->add_option("--budget", adapt.budget,
+                        "Evaluations per test function (default: the test family's, 100 on Rastrigin, 50 on RHex)")
+      ->check(CLI::PositiveNumber);
+  adapt_cmd->add_option("--seed", adapt.seed, "Seed of the search orders and test draws (default: the run's seed)");
+  adapt_cmd->add_option("--threads", adapt.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  adapt_cmd->add_flag("--quiet", adapt.quiet, "Print nothing but errors");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "qdmeta: {}\n", e.what());
+    return kExitBadInput;
+  }
+
+  if (ranks > 1 && !*run_cmd && !*resume_cmd)
+    fmt::print(stderr, "qdmeta: warning: under MPI only run and resume use the other {} ranks; this command runs on rank 0\n",
+               ranks - 1);
+  try {
+    if (*run_cmd) return command_run(run);
+    if (*resume_cmd) return command_resume(resume);
+    if (*adapt_cmd) return command_adapt(adapt);
+    if (*experiment_cmd) return command_experiment(experiment);
+    if (*report_cmd) return command_report(report_dir, report_quiet);
+  } catch (const std::bad_alloc&) {
+    // The config's memory is estimated before a run starts; this is what the estimate missed.
+    fmt::print(stderr, "qdmeta: error: out of memory (std::bad_alloc): the config asks for more memory than this "
+                       "machine or its ulimit allows: lower its sizes (archive.bins, batch_size, database_capacity, "
+                       "hidden, samples, ...)\n");
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "qdmeta: error: {}\n", e.what());
+    return kExitBadInput;
+  }
+  return kExitBadInput;
+}
+
+}  // namespace
+
+}  // namespace qdmeta

@@ -1,0 +1,141 @@
+// The documentation against the registries: docs/config.md lists exactly the algorithms, tasks
+// and meta-objective kinds that are registered, and every code block of the tutorial
+// docs/library.md is the example's code, verbatim, so neither can rot.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "qdmeta/cli/builtin_plugins.hpp"
+#include "qdmeta/experiment/algorithm_registry.hpp"
+#include "qdmeta/experiment/task_registry.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The quoted names in the range column (the fourth) of the key row `key` under the section
+// whose heading contains `section`, up to a ';' (which starts prose).
+std::vector<std::string> documented_choices(const std::string& section, const std::string& key) {
+  bool in_section = false;
+  for (const std::string& line : lines_of(slurp(fs::path(QDMETA_SOURCE_DIR) / "docs" / "config.md"))) {
+    if (line.starts_with("## ")) in_section = line.find(section) != std::string::npos;
+    if (!in_section || !line.starts_with("| `" + key + "` |")) continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line.substr(1));
+    for (std::string cell; std::getline(row, cell, '|');) cells.push_back(cell);
+    std::string range = cells.at(3);
+    range = range.substr(0, range.find(';'));
+    std::vector<std::string> names;
+    const std::regex quoted("\"([^\"]+)\"");
+    for (auto it = std::sregex_iterator(range.begin(), range.end(), quoted); it != std::sregex_iterator(); ++it)
+      names.push_back((*it)[1]);
+    return names;
+  }
+  ADD_FAILURE() << "docs/config.md has no row `" << key << "` under a heading with " << section;
+  return {};
+}
+
+// The plugins the qdmeta executable registers (RHex when this test links it).
+class RegistryDocs : public ::testing::Test {
+ protected:
+  void SetUp() override { register_builtin_plugins(); }
+};
+
+std::vector<std::string> sorted(std::vector<std::string> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+TEST_F(RegistryDocs, ConfigMdListsTheRegisteredAlgorithmsInOrder) {
+  EXPECT_EQ(documented_choices("Top level", "algorithm"), registered_algorithm_names());
+  EXPECT_EQ(registered_algorithm_names().front(), "map-elites");  // the default
+}
+
+TEST_F(RegistryDocs, ConfigMdListsTheRegisteredTasksAndThoseThisBuildLacks) {
+  std::vector<std::string> expected = registered_task_names();
+  for (const auto& name : unavailable_task_names()) expected.push_back(name);
+  EXPECT_EQ(sorted(documented_choices("`[task]`", "name")), sorted(expected));
+  EXPECT_NE(std::find(expected.begin(), expected.end(), "rastrigin"), expected.end());
+}
+
+TEST_F(RegistryDocs, ConfigMdListsEachTasksMetaObjectives) {
+  for (const std::string& task : registered_task_names()) {
+    const TaskPlugin* plugin = find_task_plugin(task);
+    ASSERT_NE(plugin, nullptr);
+    std::vector<std::string> kinds;
+    for (const auto& [kind, reader] : plugin->meta_objectives) kinds.push_back(kind);
+    EXPECT_EQ(sorted(documented_choices("task `\"" + task + "\"`", "kind")), sorted(kinds)) << task;
+  }
+}
+
+TEST_F(RegistryDocs, AnUnknownTaskListsTheRegisteredOnesAndSaysWhyRhexIsMissing) {
+  if (find_task_plugin("rhex") != nullptr) GTEST_SKIP() << "built with the RHex task";
+  toml::table config = toml::parse("[task]\nname = \"rhex\"\n");
+  try {
+    build_run(config, "x.toml", {}, BuildScope::kTasksOnly);
+    FAIL() << "task rhex was accepted by a build without it";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.toml: task.name = \"rhex\" is not a valid choice: use one of \"rastrigin\" "
+                                     "(this build has no RHex task: it needs DART)");
+  }
+}
+
+TEST_F(RegistryDocs, ARegisteredTaskIsBuiltAndListed) {
+  TaskPlugin plugin = *find_task_plugin("rastrigin");
+  register_task_plugin("rastrigin-copy", plugin);
+  const BuiltRun built =
+      build_run(toml::parse("[task]\nname = \"rastrigin-copy\"\ndimensions = 3\n"), "x.toml", {}, BuildScope::kTasksOnly);
+  EXPECT_EQ(built.evaluation_tasks.front().genotype_size(), 3);
+  const auto names = registered_task_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "rastrigin-copy"), names.end());
+  EXPECT_NE(describe_adaptation_tests().find("rastrigin-copy: dimension, translation"), std::string::npos);
+}
+
+// Each ```cpp block of docs/library.md appears, verbatim, in one file of examples/own-task/.
+TEST(LibraryDocs, EveryCodeBlockIsTheExamplesCode) {
+  std::string example;
+  for (const auto& entry : fs::recursive_directory_iterator(fs::path(QDMETA_SOURCE_DIR) / "examples" / "own-task"))
+    if (entry.is_regular_file()) example += slurp(entry.path()) + "\n\x1f\n";  // no block spans two files
+  int blocks = 0;
+  std::string block, fence;
+  for (const std::string& line : lines_of(slurp(fs::path(QDMETA_SOURCE_DIR) / "docs" / "library.md"))) {
+    if (fence.empty() && line.starts_with("```") && line.size() > 3) {
+      fence = line.substr(3);
+      block.clear();
+    } else if (!fence.empty() && line == "```") {
+      if (fence == "cpp" || fence == "cmake" || fence == "toml") {
+        ++blocks;
+        EXPECT_NE(example.find(block), std::string::npos) << "docs/library.md's " << fence
+                                                          << " block is not in examples/own-task/:\n" << block;
+      }
+      fence.clear();
+    } else if (!fence.empty()) {
+      block += line + "\n";
+    }
+  }
+  EXPECT_GE(blocks, 5);
+}
+
+}  // namespace
+}  // namespace qdmeta
