@@ -6,7 +6,11 @@
 #include <fmt/ranges.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
+#include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/io/run_tables.hpp"
 
 namespace qdmeta {
@@ -79,6 +83,26 @@ TEST(RunTables, AMetaRowHoldsTheRecordAndTheCounters) {
   r.states = 2;
   EXPECT_EQ(meta_table().row(MetaPoint{r, {900, 100}, 1000}),
             (std::vector<std::string>{"3", "1000", "900", "100", "0.5", "0.25", "0.125", "10", "2"}));
+}
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(TestPhaseTables, AdaptationAndGeneralisationFilesKeepTheirFormat) {
+  const auto dir = std::filesystem::temp_directory_path() / "qdmeta_table_test";
+  std::filesystem::create_directories(dir);
+  AdaptationCurve curve;
+  curve.best_mean = {-2.5, 0.1};
+  curve.best_se = {0.5, 0.0};
+  write_adaptation_csv(dir / "adapt.csv", curve);
+  EXPECT_EQ(slurp(dir / "adapt.csv"), "evaluations,best_mean,best_se\n1,-2.5,0.5\n2,0.1,0\n");
+  write_generalisation_csv(dir / "generalisation.csv", {{"damage-test", 6, 40, 1.25, 0.125}});
+  EXPECT_EQ(slurp(dir / "generalisation.csv"), "group,environments,solutions,mean,se\ndamage-test,6,40,1.25,0.125\n");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

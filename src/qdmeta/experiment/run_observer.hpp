@@ -5,13 +5,15 @@
 // A library user adds their own by deriving from RunObserver, overriding the hooks it needs, and
 // passing it in RunOptions::observers:
 //
-//   struct BestSoFar : RunObserver {
-//     double best = -inf;
+//   struct StopWhenCovered : RunObserver {  // ends the run early once 90% of the cells are filled
 //     RunVerdict after_step(const RunStatus& s) override {
-//       best = std::max(best, s.algorithm.stats().obj_max);
-//       return best > 0.99 ? RunVerdict::kStop : RunVerdict::kContinue;  // stop early
+//       return s.algorithm.stats().coverage >= 0.9 ? RunVerdict::kStop : RunVerdict::kContinue;
 //     }
 //   };
+//   StopWhenCovered covered;
+//   RunOptions options;
+//   options.observers = {&covered};
+//   run_to_budget(algorithm, evaluator, settings, out_dir, options);
 //
 // Hooks run on the driver's thread between steps, so an observer may read the algorithm but
 // must be cheap: after_step runs after every generation.
