@@ -9,6 +9,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/table.hpp"
 
 namespace qdmeta {

@@ -21,17 +21,6 @@ inline std::string cell_text(const Cell& cell) {
   return std::visit([](const auto& value) { return fmt::format("{}", value); }, cell);
 }
 
-// One CSV line: the cells joined by commas, then a newline.
-inline std::string csv_line(const std::vector<std::string>& cells) {
-  std::string line;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (i) line += ',';
-    line += cells[i];
-  }
-  line += '\n';
-  return line;
-}
-
 template <class Record>
 struct Column {
   std::string_view name;
