@@ -178,6 +178,41 @@ TEST(RunObservers, AFlagSetBeforeTheStartStopsTheRunBeforeItsFirstStep) {
   EXPECT_TRUE(fs::exists(dir / kCheckpointFile));
 }
 
+// An evaluator that loses a "worker" at its n-th batch, as a distributed one can.
+class AbortingEvaluator : public Evaluator {
+ public:
+  explicit AbortingEvaluator(int abort_at) : abort_at_(abort_at) {}
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    if (++calls_ == abort_at_) throw EvaluationAborted("worker lost");
+    serial_.evaluate(task, genotypes, out);
+  }
+  int workers() const override { return 1; }
+  bool may_abort() const override { return true; }
+
+ private:
+  SerialEvaluator serial_;
+  int abort_at_;
+  int calls_ = 0;
+};
+
+TEST(RunObservers, AnAbortedStepLeavesTheCheckpointOfTheLastFinishedStep) {
+  const fs::path dir = fresh_dir("aborted");
+  BuiltRun built = small_run(1'000'000, 1000);
+  AbortingEvaluator evaluator(4);  // steps 1-3 finish, the 4th is aborted midway
+  try {
+    run_to_budget(*built.algorithm, evaluator, built.settings, dir);
+    FAIL() << "the aborted step did not stop the run";
+  } catch (const EvaluationAborted& e) {
+    EXPECT_STREQ(e.what(), "worker lost; checkpoint written at 2800 evaluations (the last finished step)");
+  }
+  BuiltRun again = small_run(1'000'000, 1000);
+  const RunCursor cursor = read_checkpoint(dir, again.settings.fingerprint, *again.algorithm);
+  EXPECT_EQ(again.algorithm->generation(), 3);
+  EXPECT_EQ(cursor.metrics_bytes, fs::file_size(dir / "metrics.csv"));
+  EXPECT_EQ(cursor.checkpoints, 2);  // the one after the first step, then this one
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << "an aborted run must not look finished";
+}
+
 TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {
   const fs::path dir = fresh_dir("summary");
   BuiltRun built = small_run(10'001, 1000);
