@@ -1,10 +1,11 @@
-// The run driver: budget semantics, metrics rows, interruption, files written.
+// The run driver: budget semantics, metrics rows, interruption, files written, observers.
 #include "qdmeta/experiment/run.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/io/csv.hpp"
@@ -75,6 +76,163 @@ TEST(Run, InterruptionStopsAtAGenerationBoundaryAndStillWritesTheArchive) {
   EXPECT_EQ(r.generations, 5);
   EXPECT_EQ(read_elites_csv(dir / "archive.csv").size(), r.stats.num_elites);
   EXPECT_TRUE(lines(dir / "metrics.csv").back().starts_with("3600,"));
+}
+
+// A library user's observer: records every hook it is told, in order.
+struct Recorder : RunObserver {
+  std::vector<std::string>* log;
+  std::string name;
+  std::vector<std::int64_t> evals_after_step;
+  std::int64_t stop_at_generation = -1;
+  Recorder(std::vector<std::string>* l, std::string n) : log(l), name(std::move(n)) {}
+  RunVerdict on_start(const RunStatus& s) override {
+    log->push_back(fmt::format("{} start {}", name, s.evals));
+    return RunVerdict::kContinue;
+  }
+  void before_step(const RunStatus&) override { log->push_back(name + " before"); }
+  RunVerdict after_step(const RunStatus& s) override {
+    evals_after_step.push_back(s.evals);
+    log->push_back(name + " after");
+    return s.algorithm.generation() == stop_at_generation ? RunVerdict::kStop : RunVerdict::kContinue;
+  }
+  void on_end(const RunStatus& s, const RunResult& r) override {
+    log->push_back(fmt::format("{} end {} {}", name, s.evals, enum_to_string(kStopReasonNames, r.reason)));
+  }
+};
+
+TEST(RunObservers, AUsersObserverSeesEveryStepAfterTheStandardFilesAreWritten) {
+  const fs::path dir = fresh_dir("observer");
+  BuiltRun built = small_run(10'001, 1000);
+  SerialEvaluator evaluator;
+  std::vector<std::string> log;
+  Recorder recorder(&log, "r");
+  RunOptions options;
+  options.observers = {&recorder};
+  const RunResult r = run_to_budget(*built.algorithm, evaluator, built.settings, dir, options);
+  ASSERT_EQ(recorder.evals_after_step.size(), static_cast<std::size_t>(r.generations));
+  for (std::size_t g = 0; g < recorder.evals_after_step.size(); ++g)
+    EXPECT_EQ(recorder.evals_after_step[g], g == 0 ? 2000 : 2000 + 400 * static_cast<std::int64_t>(g));
+  EXPECT_EQ(log.front(), "r start 0");
+  EXPECT_EQ(log.back(), "r end 10400 budget");
+  EXPECT_EQ(log.size(), 2 + 2 * static_cast<std::size_t>(r.generations));
+  EXPECT_TRUE(lines(dir / "metrics.csv").back().starts_with("10400,"));
+  EXPECT_FALSE(fs::exists(dir / kCheckpointFile)) << "a finished run keeps no checkpoint";
+}
+
+TEST(RunObservers, AnObserversStopEndsTheRunInterruptedWithACheckpointBeforeTheClosingRow) {
+  const fs::path dir = fresh_dir("observer_stop");
+  BuiltRun built = small_run(1'000'000, 10'000);
+  SerialEvaluator evaluator;
+  std::vector<std::string> log;
+  Recorder recorder(&log, "r");
+  recorder.stop_at_generation = 5;
+  RunOptions options;
+  options.observers = {&recorder};
+  const RunResult r = run_to_budget(*built.algorithm, evaluator, built.settings, dir, options);
+  EXPECT_EQ(r.reason, StopReason::kInterrupted);
+  EXPECT_EQ(r.generations, 5);
+  const auto rows = lines(dir / "metrics.csv");
+  EXPECT_TRUE(rows.back().starts_with("3600,"));  // the closing row of the last generation
+  // The checkpoint was taken before that row: a resume cuts it and logs on as if never stopped.
+  BuiltRun again = small_run(1'000'000, 10'000);
+  const RunCursor cursor = read_checkpoint(dir, again.settings.fingerprint, *again.algorithm);
+  EXPECT_EQ(again.algorithm->generation(), 5);
+  EXPECT_EQ(cursor.metrics_bytes, fs::file_size(dir / "metrics.csv") - rows.back().size() - 1);
+  EXPECT_EQ(cursor.last_logged_generation, 1);
+}
+
+TEST(RunObservers, TheBudgetWinsOverAStopAtTheLastStep) {
+  const fs::path dir = fresh_dir("observer_budget_wins");
+  BuiltRun built = small_run(10'001, 1000);
+  SerialEvaluator evaluator;
+  std::vector<std::string> log;
+  Recorder recorder(&log, "r");
+  recorder.stop_at_generation = 22;  // the step that reaches the budget
+  RunOptions options;
+  options.observers = {&recorder};
+  EXPECT_EQ(run_to_budget(*built.algorithm, evaluator, built.settings, dir, options).reason, StopReason::kBudget);
+}
+
+TEST(RunObservers, ObserversAreToldInOrderAndEndInReverseOrder) {
+  BuiltRun built = small_run(2'400, 1000);  // two generations
+  SerialEvaluator evaluator;
+  std::vector<std::string> log;
+  Recorder a(&log, "a"), b(&log, "b");
+  std::vector<RunObserver*> observers = {&a, &b};
+  const RunResult r = drive_run(*built.algorithm, evaluator, built.settings, observers);
+  EXPECT_EQ(r.generations, 2);
+  EXPECT_EQ(log, (std::vector<std::string>{"a start 0", "b start 0", "a before", "b before", "a after", "b after",
+                                           "a before", "b before", "a after", "b after", "b end 2400 budget",
+                                           "a end 2400 budget"}));
+}
+
+TEST(RunObservers, AFlagSetBeforeTheStartStopsTheRunBeforeItsFirstStep) {
+  const fs::path dir = fresh_dir("stopped_before_start");
+  BuiltRun built = small_run(10'000, 1000);
+  SerialEvaluator evaluator;
+  const std::atomic<bool> stop{true};
+  const RunResult r = run_to_budget(*built.algorithm, evaluator, built.settings, dir, {}, &stop);
+  EXPECT_EQ(r.reason, StopReason::kInterrupted);
+  EXPECT_EQ(r.generations, 0);
+  EXPECT_EQ(lines(dir / "metrics.csv").size(), 1u);  // the header only
+  EXPECT_TRUE(fs::exists(dir / kCheckpointFile));
+}
+
+// An evaluator that loses a "worker" at its n-th batch, as a distributed one can.
+class AbortingEvaluator : public Evaluator {
+ public:
+  explicit AbortingEvaluator(int abort_at) : abort_at_(abort_at) {}
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    if (++calls_ == abort_at_) throw EvaluationAborted("worker lost");
+    serial_.evaluate(task, genotypes, out);
+  }
+  int workers() const override { return 1; }
+  bool may_abort() const override { return true; }
+
+ private:
+  SerialEvaluator serial_;
+  int abort_at_;
+  int calls_ = 0;
+};
+
+TEST(RunObservers, AnAbortedStepLeavesTheCheckpointOfTheLastFinishedStep) {
+  const fs::path dir = fresh_dir("aborted");
+  BuiltRun built = small_run(1'000'000, 1000);
+  AbortingEvaluator evaluator(4);  // steps 1-3 finish, the 4th is aborted midway
+  try {
+    run_to_budget(*built.algorithm, evaluator, built.settings, dir);
+    FAIL() << "the aborted step did not stop the run";
+  } catch (const EvaluationAborted& e) {
+    EXPECT_STREQ(e.what(), "worker lost; checkpoint written at 2800 evaluations (the last finished step)");
+  }
+  BuiltRun again = small_run(1'000'000, 1000);
+  const RunCursor cursor = read_checkpoint(dir, again.settings.fingerprint, *again.algorithm);
+  EXPECT_EQ(again.algorithm->generation(), 3);
+  EXPECT_EQ(cursor.metrics_bytes, fs::file_size(dir / "metrics.csv"));
+  EXPECT_EQ(cursor.checkpoints, 2);  // the one after the first step, then this one
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << "an aborted run must not look finished";
+}
+
+TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {
+  const fs::path dir = fresh_dir("summary");
+  BuiltRun built = small_run(10'001, 1000);
+  SerialEvaluator evaluator;
+  const RunResult r = run_to_budget(*built.algorithm, evaluator, built.settings, dir);
+  std::ifstream in(dir / "summary.json");
+  const auto j = nlohmann::ordered_json::parse(in);
+  std::vector<std::string> keys;
+  for (const auto& item : j.items()) keys.push_back(item.key());
+  EXPECT_EQ(keys, (std::vector<std::string>{"algorithm", "stop_reason", "message", "seed", "budget", "budget_counts",
+                                            "evals", "evals_bottom", "evals_meta", "generations", "num_elites",
+                                            "coverage", "qd_score", "norm_qd_score", "obj_max", "obj_mean", "threads",
+                                            "wall_seconds", "evals_per_second"}));
+  EXPECT_EQ(j["stop_reason"], "budget");
+  EXPECT_EQ(j["evals"], 10'400);
+  EXPECT_EQ(j["generations"], r.generations);
+  EXPECT_EQ(j["num_elites"], r.stats.num_elites);
+  EXPECT_EQ(j["qd_score"].get<double>(), r.stats.qd_score);
+  EXPECT_EQ(j["message"], r.message);
+  EXPECT_EQ(stop_reason_of(dir), StopReason::kBudget);
 }
 
 }  // namespace

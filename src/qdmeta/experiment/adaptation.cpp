@@ -9,6 +9,8 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/csv.hpp"
+#include "qdmeta/io/table.hpp"
 
 namespace qdmeta {
 
@@ -61,10 +63,39 @@ AdaptationCurve random_search_adaptation(const RowMatrix& archive, const Adaptat
   return out;
 }
 
+namespace {
+
+// One point of an adaptation curve: the best after `e + 1` evaluations.
+struct CurvePoint {
+  const AdaptationCurve& curve;
+  std::size_t e;
+};
+
+const Table<CurvePoint>& adaptation_table() {
+  static const Table<CurvePoint> table = {
+      {"evaluations", [](const CurvePoint& p) { return Cell(static_cast<std::uint64_t>(p.e + 1)); }},
+      {"best_mean", [](const CurvePoint& p) { return Cell(p.curve.best_mean[p.e]); }},
+      {"best_se", [](const CurvePoint& p) { return Cell(p.curve.best_se[p.e]); }},
+  };
+  return table;
+}
+
+const Table<GeneralisationRow>& generalisation_table() {
+  static const Table<GeneralisationRow> table = {
+      {"group", [](const GeneralisationRow& r) { return Cell(r.group); }},
+      {"environments", [](const GeneralisationRow& r) { return Cell(std::int64_t{r.environments}); }},
+      {"solutions", [](const GeneralisationRow& r) { return Cell(std::int64_t{r.solutions}); }},
+      {"mean", [](const GeneralisationRow& r) { return Cell(r.mean); }},
+      {"se", [](const GeneralisationRow& r) { return Cell(r.se); }},
+  };
+  return table;
+}
+
+}  // namespace
+
 void write_adaptation_csv(const std::filesystem::path& path, const AdaptationCurve& curve) {
-  std::string text = "evaluations,best_mean,best_se\n";
-  for (std::size_t e = 0; e < curve.best_mean.size(); ++e)
-    text += fmt::format("{},{},{}\n", e + 1, curve.best_mean[e], curve.best_se[e]);
+  std::string text = csv_line(adaptation_table().header());
+  for (std::size_t e = 0; e < curve.best_mean.size(); ++e) text += csv_line(adaptation_table().row({curve, e}));
   write_file_atomic(path, text);
 }
 
@@ -94,8 +125,8 @@ GeneralisationRow whole_archive_mean(const RowMatrix& archive, const AdaptationT
 }
 
 void write_generalisation_csv(const std::filesystem::path& path, const std::vector<GeneralisationRow>& rows) {
-  std::string text = "group,environments,solutions,mean,se\n";
-  for (const auto& r : rows) text += fmt::format("{},{},{},{},{}\n", r.group, r.environments, r.solutions, r.mean, r.se);
+  std::string text = csv_line(generalisation_table().header());
+  for (const auto& r : rows) text += csv_line(generalisation_table().row(r));
   write_file_atomic(path, text);
 }
 

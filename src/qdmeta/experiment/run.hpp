@@ -1,60 +1,52 @@
 #pragma once
-// Drives an algorithm to its evaluation budget: metrics rows, progress, final archive and a
-// summary. The run stops at the first generation boundary at or past the budget; the
-// overshoot is real and shows in the `evals` column.
+// Drives an algorithm to its evaluation budget. The loop (drive_run) only steps the algorithm and
+// tells its observers (run_observer.hpp); run_to_budget adds the standard ones: metrics.csv and
+// meta.csv (run_logs.hpp), checkpoints (run_checkpoints.hpp), progress and the stop flag
+// (run_progress.hpp), and archive.csv + summary.json at the end (run_outputs.hpp). The run stops
+// at the first generation boundary at or past the budget; the overshoot is real and shows in the
+// `evals` column.
 #include <atomic>
 #include <filesystem>
-#include <functional>
-#include <optional>
-#include <string>
+#include <span>
+#include <vector>
 
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/experiment/build.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/experiment/run_observer.hpp"
+#include "qdmeta/experiment/run_progress.hpp"
+#include "qdmeta/experiment/run_result.hpp"
+#include "qdmeta/experiment/summary.hpp"
+#include "qdmeta/io/run_tables.hpp"
 
 namespace qdmeta {
 
-enum class StopReason { kBudget, kInterrupted };
-inline constexpr EnumNames<StopReason, 2> kStopReasonNames{{{StopReason::kBudget, "budget"},
-                                                            {StopReason::kInterrupted, "interrupted"}}};
+// Steps `algorithm` until the budget is reached or an observer answers kStop, telling
+// `observers` in order (on_end in reverse order). Writes nothing itself. `resume`: the cursor
+// a checkpoint restored (the algorithm already loaded from it).
+RunResult drive_run(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
+                    std::span<RunObserver* const> observers, const RunCursor* resume = nullptr);
 
-struct RunResult {
-  StopReason reason = StopReason::kBudget;
-  std::string message;
-  EvaluationCounters counters;
-  std::int64_t evals = 0;  // what the budget counts
-  std::int64_t generations = 0;
-  ArchiveStats stats;
-  double wall_seconds = 0.0;
+struct RunOptions {
+  ProgressCallback progress;                // told after every generation
+  const std::atomic<bool>* stop = nullptr;  // once set, the run ends at the next generation boundary
+  const RunCursor* resume = nullptr;        // continue from read_checkpoint()'s cursor
+  std::vector<RunObserver*> observers;      // the caller's own, told after the standard ones
 };
 
-// Called after every generation; cheap callbacks only.
-struct RunProgress {
-  std::int64_t evals = 0;
-  std::int64_t budget = 0;
-  std::int64_t generation = 0;
-  double wall_seconds = 0.0;
-  const Algorithm* algorithm = nullptr;
-};
-using ProgressCallback = std::function<void(const RunProgress&)>;
-
-// The metrics.csv header (DESIGN.md contract plus `generation`).
-const std::vector<std::string>& metrics_columns();
-// The meta.csv header (QD-Meta): one row per meta-generation.
-const std::vector<std::string>& meta_columns();
-
-// Why the run in `dir` stopped, from its summary.json; nullopt when there is none (a run still
-// going, or killed). Throws InputError on an unreadable summary.
-std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir);
-
-// Runs to the budget, writing metrics.csv as it goes and archive.csv + summary.json at the
-// end (atomically) into `out_dir`, which must exist. Setting `*stop` ends the run at the next
-// generation boundary with reason kInterrupted; its files are written all the same.
+// Runs to the budget, writing metrics.csv (and meta.csv) as it goes and archive.csv +
+// summary.json at the end (atomically) into `out_dir`, which must exist. A stop (the flag, or an
+// observer's kStop) ends the run with reason kInterrupted; its files are written all the same.
 // A checkpointable algorithm also gets checkpoint.bin every `settings.checkpoint_every` seconds
-// and when interrupted; the file is removed when the budget is reached. `resume` continues a
-// run from its checkpoint: `algorithm` already loaded, the cursor from read_checkpoint().
+// and when interrupted; the file is removed when the budget is reached.
 RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
-                        const std::filesystem::path& out_dir, const ProgressCallback& progress = {},
-                        const std::atomic<bool>* stop = nullptr, const RunCursor* resume = nullptr);
+                        const std::filesystem::path& out_dir, const RunOptions& options);
+
+// The same, with the options most callers need.
+inline RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
+                               const std::filesystem::path& out_dir, const ProgressCallback& progress = {},
+                               const std::atomic<bool>* stop = nullptr, const RunCursor* resume = nullptr) {
+  return run_to_budget(algorithm, evaluator, settings, out_dir, RunOptions{progress, stop, resume, {}});
+}
 
 }  // namespace qdmeta

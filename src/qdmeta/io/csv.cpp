@@ -137,6 +137,16 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules)
   return t;
 }
 
+std::string csv_line(const std::vector<std::string>& cells) {
+  std::string line;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (i) line += ',';
+    line += cells[i];
+  }
+  line += '\n';
+  return line;
+}
+
 CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header)
     : path_(path), columns_(header.size()) {
   out_.open(path, std::ios::trunc);
@@ -151,12 +161,11 @@ void CsvAppender::check_continuable(const std::filesystem::path& path, const std
   if (ec || size < keep_bytes)
     throw InputError(fmt::format("{} holds {} bytes but the checkpoint expects at least {}: it was changed or lost",
                                  path, ec ? 0 : size, keep_bytes));
-  std::string expected;
-  for (std::size_t i = 0; i < header.size(); ++i) expected += (i ? "," : "") + header[i];
+  const std::string expected = csv_line(header);  // with its newline
   std::ifstream in(path);
   std::string first;
   std::getline(in, first);
-  if (first != expected || keep_bytes < expected.size() + 1)
+  if (first + '\n' != expected || keep_bytes < expected.size())
     throw InputError(fmt::format("{} does not start with the expected header: it was changed", path));
 }
 
@@ -175,12 +184,7 @@ CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<st
 void CsvAppender::row(const std::vector<std::string>& cells) {
   if (cells.size() != columns_)
     throw Error(fmt::format("{}: row of {} cells, the header has {}", path_, cells.size(), columns_));
-  std::string line;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (i) line += ',';
-    line += cells[i];
-  }
-  line += '\n';
+  const std::string line = csv_line(cells);
   out_ << line;
   out_.flush();
   bytes_ += line.size();

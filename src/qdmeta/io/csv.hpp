@@ -23,6 +23,9 @@ enum class EliteValues { kFinite, kRunArchive };
 // value is an InputError naming file, line, column and rule.
 EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules = EliteValues::kFinite);
 
+// One CSV line: the cells joined by commas, then a newline.
+std::string csv_line(const std::vector<std::string>& cells);
+
 // A CSV file appended to row by row, each row flushed whole, so a crash loses at most the
 // row being written.
 class CsvAppender {
