@@ -127,13 +127,13 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
     // hides the cache misses that otherwise dominated this copy (perf of a full run: 17%).
     constexpr std::size_t kAhead = 8;
     const std::size_t filled = w.fill_order.size();
-    for (std::size_t i = 0; i < filled; ++i) {
-      if (i + kAhead < filled) {
-        const Index ahead = w.rank[static_cast<std::size_t>(w.fill_order[i + kAhead])];
+    for (std::size_t k = 0; k < filled; ++k) {
+      if (k + kAhead < filled) {
+        const Index ahead = w.rank[static_cast<std::size_t>(w.fill_order[k + kAhead])];
         prefetch_row(db.genotype(ahead), db.genotype_size());
         if (keep_base) prefetch_row(db.base_features(ahead), db.base_feature_size());
       }
-      const auto c = static_cast<std::size_t>(w.fill_order[i]);
+      const auto c = static_cast<std::size_t>(w.fill_order[k]);
       // Each cell once, into an empty archive: the winner's cell is where the bins put it.
       archive.place(static_cast<Index>(c), db.genotype(w.rank[c]), w.fitness[c],
                     w.measures.data() + c * static_cast<std::size_t>(nt), keep_base ? db.base_features(w.rank[c]) : nullptr);
