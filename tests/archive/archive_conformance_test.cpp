@@ -264,21 +264,49 @@ TYPED_TEST(ArchiveConformance, ClearForgetsEveryElite) {
   EXPECT_EQ(a.add(s, -100.0f, m), AddStatus::kNew);  // worse than the forgotten elite, new again
 }
 
-// AURORA's archive counts coverage of the size it steers toward (capped at 1) with the same code.
-TEST(UnstructuredArchiveStats, MatchAnIndependentCount) {
+UnstructuredArchive three_member_archive() {
   UnstructuredArchiveParams p;
   p.descriptor_size = 2;
   p.solution_size = 1;
   p.target_size = 2;
   p.qd_offset = kOffset;
   UnstructuredArchive a(p);
-  EXPECT_EQ(a.stats(), ArchiveStats{});
   const std::vector<Real> objectives = {1.5f, -2.0f, 4.0f};
   for (std::size_t i = 0; i < objectives.size(); ++i) {
-    const Real s = 0, d[2] = {static_cast<Real>(i) * 3, 0};
-    ASSERT_EQ(a.add(&s, objectives[i], d, nullptr, 1.0), AddStatus::kNew);
+    const Real s = static_cast<Real>(i), d[2] = {static_cast<Real>(i) * 3, 0};
+    EXPECT_EQ(a.add(&s, objectives[i], d, nullptr, 1.0), AddStatus::kNew);
   }
-  const ArchiveStats s = a.stats();
+  return a;
+}
+
+// The behaviours of the suite above that AURORA's archive shares: save/load and clear.
+TEST(UnstructuredArchiveConformance, SaveLoadRoundTripsByteForByte) {
+  const UnstructuredArchive a = three_member_archive();
+  BinaryWriter out;
+  a.save(out);
+  UnstructuredArchive b(a.params());
+  BinaryReader in(out.bytes(), "test");
+  b.load(in);
+  BinaryWriter again;
+  b.save(again);
+  EXPECT_EQ(again.bytes(), out.bytes());
+  EXPECT_EQ(b.stats(), a.stats());
+  EXPECT_EQ(b.size(), 3);
+}
+
+TEST(UnstructuredArchiveConformance, ClearForgetsEveryMember) {
+  UnstructuredArchive a = three_member_archive();
+  a.clear();
+  EXPECT_TRUE(a.empty());
+  EXPECT_EQ(a.stats(), ArchiveStats{});
+  const Real s = 0, d[2] = {0, 0};
+  EXPECT_EQ(a.add(&s, -100.0f, d, nullptr, 1.0), AddStatus::kNew);
+}
+
+// AURORA's archive counts coverage of the size it steers toward (capped at 1) with the same code.
+TEST(UnstructuredArchiveConformance, StatisticsMatchAnIndependentCount) {
+  EXPECT_EQ(UnstructuredArchive(three_member_archive().params()).stats(), ArchiveStats{});
+  const ArchiveStats s = three_member_archive().stats();
   EXPECT_EQ(s.num_elites, 3);
   EXPECT_EQ(s.coverage, 1.0);  // 3 of a target of 2, capped
   EXPECT_DOUBLE_EQ(s.qd_score, 3.5 + 30.0);
