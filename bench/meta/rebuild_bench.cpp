@@ -141,8 +141,11 @@ void BM_BaselineEigen(benchmark::State& state) {
         hidden.topRows(n) = hidden.topRows(n).unaryExpr([&](Real x) { return 1.0f / (1.0f + std::exp(-c1 * (x + b1))); });
         target.topRows(n).noalias() = hidden.topRows(n) * w2t;
         target.topRows(n) = target.topRows(n).unaryExpr([&](Real x) { return 1.0f / (1.0f + std::exp(-c2 * (x + b2))); });
-        for (Index r = 0; r < n; ++r)
-          archive.add(seg.genotype(first + r), seg.fitness[first + r], target.row(r).data(), seg.base_row(first + r));
+        archive.add_batch({{seg.genotype(first), n, seg.genotype_size},
+                           {seg.fitness + first, static_cast<std::size_t>(n)},
+                           {target.data(), n, 2},
+                           {seg.base_row(first), n, seg.base_feature_size},
+                           {}});
       }
     }
   }

@@ -35,11 +35,11 @@ TEST(CvtArchive, ReplacesOnlyWithAStrictlyBetterObjective) {
   CvtArchive a = square_archive();
   const Real m[2] = {0.7f, 0.8f}, m2[2] = {0.8f, 0.7f};
   const Real s1 = 1.0f, s2 = 2.0f, s3 = 3.0f;
-  EXPECT_EQ(a.add(&s1, 5.0f, m), AddStatus::kNew);
-  EXPECT_EQ(a.add(&s2, 5.0f, m2), AddStatus::kNotAdded);  // equal: the incumbent stays
+  EXPECT_EQ(a.add({&s1, 1}, 5.0f, m), AddStatus::kNew);
+  EXPECT_EQ(a.add({&s2, 1}, 5.0f, m2), AddStatus::kNotAdded);  // equal: the incumbent stays
   EXPECT_EQ(*a.solution(3), 1.0f);
-  EXPECT_EQ(a.add(&s2, 4.0f, m2), AddStatus::kNotAdded);
-  EXPECT_EQ(a.add(&s3, 6.0f, m2), AddStatus::kImproved);
+  EXPECT_EQ(a.add({&s2, 1}, 4.0f, m2), AddStatus::kNotAdded);
+  EXPECT_EQ(a.add({&s3, 1}, 6.0f, m2), AddStatus::kImproved);
   EXPECT_EQ(*a.solution(3), 3.0f);
   EXPECT_EQ(a.objective(3), 6.0f);
   EXPECT_EQ(a.measures(3)[0], 0.8f);  // the descriptor of the new elite
@@ -53,8 +53,8 @@ TEST(CvtArchive, StatisticsUsePyribsMeanings) {
   EXPECT_EQ(a.stats(), ArchiveStats{});
   const Real s = 0.0f;
   const Real m0[2] = {0.2f, 0.2f}, m1[2] = {0.2f, 0.8f};
-  a.add(&s, -2.0f, m0);
-  a.add(&s, 4.0f, m1);
+  a.add({&s, 1}, -2.0f, m0);
+  a.add({&s, 1}, 4.0f, m1);
   const ArchiveStats st = a.stats();
   EXPECT_EQ(st.num_elites, 2);
   EXPECT_DOUBLE_EQ(st.coverage, 0.5);
@@ -80,7 +80,7 @@ TEST(CvtArchive, LocatingFromParentsGivesTheNearestCentroid) {
     const Real s = 0.0f;
     RowMatrix elites(400, 8);
     for (Index i = 0; i < elites.size(); ++i) elites.data()[i] = static_cast<Real>(rng.uniform());
-    for (Index i = 0; i < 400; ++i) archive.add(&s, static_cast<Real>(rng.uniform()), elites.row(i).data());
+    for (Index i = 0; i < 400; ++i) archive.add({&s, 1}, static_cast<Real>(rng.uniform()), {elites.row(i).data(), 8});
     Index searched = 0, total = 0;
     for (int round = 0; round < 3; ++round) {
       const Index count = 600;

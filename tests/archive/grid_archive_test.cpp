@@ -162,11 +162,11 @@ TEST(GridArchive, KeepsBaseFeatures) {
   const Real b1[3] = {0.1f, 0.2f, 0.3f};
   const Real b2[3] = {0.7f, 0.8f, 0.9f};
   const Real m = 0.6f;
-  a.add(s, 1.0f, &m, b1);
+  a.add(s, 1.0f, {&m, 1}, b1);
   EXPECT_EQ(a.base_features(2)[2], 0.3f);
-  a.add(s, 0.0f, &m, b2);  // not added: base features unchanged
+  a.add(s, 0.0f, {&m, 1}, b2);  // not added: base features unchanged
   EXPECT_EQ(a.base_features(2)[0], 0.1f);
-  a.add(s, 2.0f, &m, b2);
+  a.add(s, 2.0f, {&m, 1}, b2);
   EXPECT_EQ(a.base_features(2)[0], 0.7f);
   EXPECT_EQ(a.base_features(2)[2], 0.9f);
 }
@@ -249,8 +249,8 @@ TEST(GridArchive, NanMeasuresThrow) {
   try {
     a.add(s, 1.0f, m);
     FAIL() << "no exception";
-  } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "grid archive: target feature 1 is NaN");
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "grid archive: row 0 of the batch has measure 1 = nan; measures must be finite");
   }
   EXPECT_TRUE(a.empty());
 }

@@ -57,7 +57,9 @@ void sequential_reference(const Database& db, const NeuralFeatureMap& map, GridA
   std::vector<Real> target(static_cast<std::size_t>(map.output_size()));
   for (Index rank = 0; rank < db.size(); ++rank) {
     map.map(db.base_features(rank), 1, target.data());
-    archive.add(db.genotype(rank), db.fitness(rank), target.data(), db.base_features(rank));
+    const auto keep = static_cast<std::size_t>(archive.base_feature_size());
+    archive.add({db.genotype(rank), static_cast<std::size_t>(db.genotype_size())}, db.fitness(rank), target,
+                {db.base_features(rank), keep});
   }
 }
 
@@ -108,7 +110,10 @@ TEST(Rebuild, ManyMapsEqualRowByRowWhateverTheThreadCount) {
     // Stale content must go: the rebuild starts from empty archives.
     const Real junk_genes[kGenes] = {};
     const Real junk_measures[3] = {0.5f, 0.5f, 0.5f};
-    for (GridArchive& a : got) a.add(junk_genes, 1e9f, junk_measures);
+    const std::vector<Real> junk_base(static_cast<std::size_t>(kBase), 0.5f);
+    for (GridArchive& a : got)
+      a.add(junk_genes, 1e9f, {junk_measures, static_cast<std::size_t>(a.dimensions())},
+            {junk_base.data(), static_cast<std::size_t>(a.base_feature_size())});
     std::vector<const NeuralFeatureMap*> map_ptrs;
     std::vector<GridArchive*> archive_ptrs;
     for (std::size_t m = 0; m < maps.size(); ++m) {
@@ -133,7 +138,8 @@ TEST(Rebuild, PartiallyFilledAndEmptyDatabases) {
     GridArchive want(grid({10, 10}, kBase));
     const Real genes[kGenes] = {};
     const Real measures[2] = {0.1f, 0.9f};
-    got.add(genes, 1.0f, measures);
+    const Real base[kBase] = {};
+    got.add(genes, 1.0f, measures, base);
     const NeuralFeatureMap* maps[] = {&map};
     GridArchive* archives[] = {&got};
     rebuild_archives(db, maps, archives);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/elite_table.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/types.hpp"
 #include "qdmeta/eval/evaluator.hpp"
@@ -18,16 +19,6 @@ struct EvaluationCounters {
   std::int64_t meta = 0;    // solution x task evaluations spent scoring maps (QD-Meta)
   std::int64_t total() const { return bottom + meta; }
   bool operator==(const EvaluationCounters&) const = default;
-};
-
-// Elites in pyribs's column convention: cell index, objective, measures, solution (+ base).
-struct EliteTable {
-  std::vector<std::int64_t> index;
-  std::vector<Real> objective;
-  RowMatrix measures;
-  RowMatrix solutions;
-  RowMatrix base_features;  // zero columns when the algorithm keeps none
-  Index size() const { return static_cast<Index>(index.size()); }
 };
 
 // One meta-generation of QD-Meta, for meta.csv.

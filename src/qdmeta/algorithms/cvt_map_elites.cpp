@@ -118,27 +118,7 @@ void CvtMapElites::step(Evaluator& evaluator) {
 
 ArchiveStats CvtMapElites::stats() const { return archive_ ? archive_->stats() : ArchiveStats{}; }
 
-EliteTable CvtMapElites::elites() const {
-  EliteTable t;
-  if (!archive_) return t;
-  const CvtArchive& archive = *archive_;
-  std::vector<Index> cells = archive.filled_cells();
-  std::sort(cells.begin(), cells.end());
-  const auto count = static_cast<Index>(cells.size());
-  t.index.assign(cells.begin(), cells.end());
-  t.objective.resize(cells.size());
-  t.measures.resize(count, archive.dimensions());
-  t.solutions.resize(count, archive.params().solution_size);
-  t.base_features.resize(count, 0);  // the measures are the base features
-  for (Index i = 0; i < count; ++i) {
-    const Index c = cells[static_cast<std::size_t>(i)];
-    t.objective[static_cast<std::size_t>(i)] = archive.objective(c);
-    std::copy_n(archive.measures(c), archive.dimensions(), t.measures.row(i).data());
-    std::copy_n(archive.solution(c), archive.params().solution_size, t.solutions.row(i).data());
-  }
-  return t;
-}
-
+EliteTable CvtMapElites::elites() const { return archive_ ? archive_->elites() : EliteTable{}; }
 
 void CvtMapElites::save(BinaryWriter& out) const {
   out.tag("cvt_map_elites");

@@ -19,22 +19,6 @@ void random_genotypes(RowMatrix& genotypes, Rng& rng) {
   for (Index k = 0; k < genotypes.size(); ++k) g[k] = static_cast<Real>(rng.uniform());
 }
 
-Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,
-                   const EvaluationBatch& evaluations, RowMatrix& targets) {
-  const Index count = genotypes.rows();
-  targets.resize(count, feature_map.output_size());
-  feature_map.map(evaluations.base_features.data(), count, targets.data());
-  const bool keep_base = archive.params().base_feature_size > 0;
-  Index added = 0;
-  for (Index r = 0; r < count; ++r) {
-    if (!evaluations.valid[static_cast<std::size_t>(r)]) continue;
-    const AddStatus s = archive.add(genotypes.row(r).data(), evaluations.fitness[r], targets.row(r).data(),
-                                    keep_base ? evaluations.base_features.row(r).data() : nullptr);
-    added += s != AddStatus::kNotAdded;
-  }
-  return added;
-}
-
 namespace {
 GridArchiveParams complete(GridArchiveParams p, const Task& task) {
   p.solution_size = task.genotype_size();
@@ -71,28 +55,7 @@ void MapElites::step(Evaluator& evaluator) {
   ++generation_;
 }
 
-EliteTable grid_elites(const GridArchive& archive) {
-  EliteTable t;
-  std::vector<Index> cells = archive.filled_cells();
-  std::sort(cells.begin(), cells.end());
-  const auto count = static_cast<Index>(cells.size());
-  t.index.assign(cells.begin(), cells.end());
-  t.objective.resize(cells.size());
-  t.measures.resize(count, archive.dimensions());
-  t.solutions.resize(count, archive.params().solution_size);
-  t.base_features.resize(count, archive.params().base_feature_size);
-  for (Index i = 0; i < count; ++i) {
-    const Index c = cells[static_cast<std::size_t>(i)];
-    t.objective[static_cast<std::size_t>(i)] = archive.objective(c);
-    std::copy_n(archive.measures(c), archive.dimensions(), t.measures.row(i).data());
-    std::copy_n(archive.solution(c), archive.params().solution_size, t.solutions.row(i).data());
-    if (archive.params().base_feature_size > 0)
-      std::copy_n(archive.base_features(c), archive.params().base_feature_size, t.base_features.row(i).data());
-  }
-  return t;
-}
-
-EliteTable MapElites::elites() const { return grid_elites(archive_); }
+EliteTable MapElites::elites() const { return archive_.elites(); }
 
 void Algorithm::save(BinaryWriter&) const {
   throw Error(fmt::format("algorithm '{}' cannot write checkpoints yet", name()));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
@@ -33,9 +34,8 @@ void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng,
 }
 
 // Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites of any
-// archive with sample_cell(rng) and solution(cell) (GridArchive, CvtArchive); with `parents`,
-// records each row's parent cell there.
-template <class Archive>
+// archive (GridArchive, CvtArchive); with `parents`, records each row's parent cell there.
+template <EliteArchive Archive>
 void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring,
                         std::vector<Index>* parents = nullptr) {
   const Index n = offspring.cols();
@@ -53,7 +53,7 @@ void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& r
 // solution so far was invalid), else a batch of mutated elites. Each generation has its own
 // stream, (seed, kInitialPopulation or kVariation, generation). With `parents`, records each
 // row's parent cell there (-1 for random genotypes).
-template <class Archive>
+template <EliteArchive Archive>
 void next_genotypes(const Archive& archive, const MapElitesParams& params, const Mutation& mutation,
                     std::uint64_t seed, std::int64_t generation, Index n, RowMatrix& genotypes,
                     std::vector<Index>* parents = nullptr) {
@@ -69,10 +69,21 @@ void next_genotypes(const Archive& archive, const MapElitesParams& params, const
     generate_offspring(archive, mutation, rng, genotypes, parents);
   }
 }
-// Maps base features to target features and inserts the valid rows in batch order.
-// `targets` is a scratch buffer. Returns the number of rows that entered the archive.
-Index insert_batch(GridArchive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,
-                   const EvaluationBatch& evaluations, RowMatrix& targets);
+// Maps base features to target features and adds the valid rows in batch order
+// (archive.add_batch; base features go along when the archive keeps them). `targets` is a
+// scratch buffer. Returns the number of rows that entered the archive.
+template <EliteArchive Archive>
+Index insert_batch(Archive& archive, const FeatureMap& feature_map, const RowMatrix& genotypes,
+                   const EvaluationBatch& evaluations, RowMatrix& targets) {
+  const Index count = genotypes.rows();
+  targets.resize(count, feature_map.output_size());
+  feature_map.map(evaluations.base_features.data(), count, targets.data());
+  return archive.add_batch({genotypes,
+                            {evaluations.fitness.data(), static_cast<std::size_t>(evaluations.fitness.size())},
+                            targets,
+                            evaluations.base_features,
+                            evaluations.valid});
+}
 
 class MapElites final : public Algorithm {
  public:
@@ -108,8 +119,5 @@ class MapElites final : public Algorithm {
 // Evaluation counters in checkpoints (shared by every algorithm).
 void save_counters(BinaryWriter& out, const EvaluationCounters& c);
 EvaluationCounters load_counters(BinaryReader& in);
-
-// The elites of a grid archive as a table (shared by every grid-based algorithm).
-EliteTable grid_elites(const GridArchive& archive);
 
 }  // namespace qdmeta

@@ -199,7 +199,7 @@ void QdMeta::step(Evaluator& evaluator) {
              controller_->states()};
 }
 
-EliteTable QdMeta::elites() const { return grid_elites(best_archive_); }
+EliteTable QdMeta::elites() const { return best_archive_.elites(); }
 
 
 // The per-map archives and feature-maps are rebuilt at the start of every meta-generation, so

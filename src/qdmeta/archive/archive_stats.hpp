@@ -1,5 +1,8 @@
 #pragma once
-// Archive statistics with pyribs's names and meanings.
+// Archive statistics with pyribs's names and meanings, computed one way for every archive.
+#include <algorithm>
+#include <limits>
+
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
@@ -13,5 +16,28 @@ struct ArchiveStats {
   double obj_mean = 0.0;       // mean objective (0 when empty)
   bool operator==(const ArchiveStats&) const = default;
 };
+
+// The statistics of the elites that for_each_objective(visit) visits (visit(double) once per
+// elite; the sum runs in that order, in double), over `capacity` cells: coverage and the
+// normalised QD-score divide by it (coverage capped at 1, for containers that only steer toward
+// a size, as AURORA's).
+template <class ForEachObjective>
+ArchiveStats archive_stats(ForEachObjective&& for_each_objective, double capacity, double qd_offset) {
+  ArchiveStats s;
+  double sum = 0.0;
+  double best = -std::numeric_limits<double>::infinity();
+  for_each_objective([&](double f) {
+    ++s.num_elites;
+    sum += f;
+    best = std::max(best, f);
+  });
+  s.coverage = std::min(1.0, static_cast<double>(s.num_elites) / capacity);
+  if (s.num_elites == 0) return s;
+  s.obj_max = best;
+  s.obj_mean = sum / static_cast<double>(s.num_elites);
+  s.qd_score = sum - qd_offset * static_cast<double>(s.num_elites);
+  s.norm_qd_score = s.qd_score / capacity;
+  return s;
+}
 
 }  // namespace qdmeta

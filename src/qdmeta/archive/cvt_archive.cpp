@@ -16,19 +16,22 @@ void CvtArchiveParams::validate() const {
   require_range("cvt.neighbours", neighbours, Index{0}, Index{100'000});
 }
 
+namespace {
+EliteStoreShape store_shape(const CvtArchiveParams& p, const RowMatrix& centroids) {
+  p.validate();
+  return {centroids.rows(), p.solution_size, centroids.cols(), 0, p.qd_offset};
+}
+}  // namespace
+
 CvtArchive::CvtArchive(CvtArchiveParams params, RowMatrix centroids)
-    : params_(params), search_((params.validate(), std::move(centroids))) {
+    : EliteStore(store_shape(params, centroids)), params_(params), search_(std::move(centroids)) {
   list_length_ = std::min(params_.neighbours, cells());
-  occupied_.assign(static_cast<std::size_t>(cells()), 0);
-  objectives_.assign(static_cast<std::size_t>(cells()), 0);
-  solutions_.resize(cells(), params_.solution_size);
-  measures_.resize(cells(), dimensions());
   lists_.resize(cells(), list_length_);
 }
 
 Index CvtArchive::from_parent(const Real* x, Index parent) const {
   const Index d = dimensions();
-  const double delta = std::sqrt(squared_distance(x, measures_.row(parent).data(), d));
+  const double delta = std::sqrt(squared_distance(x, measures(parent), d));
   const std::int32_t* list = lists_.cells.row(parent).data();
   const Real* listed = lists_.distances.row(parent).data();
   const double slack = lists_.slack[static_cast<std::size_t>(parent)];
@@ -78,7 +81,7 @@ void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourList
   if (parent >= 0) {
     const Index d = dimensions();
     const auto u = static_cast<std::size_t>(row);
-    const double delta = std::sqrt(squared_distance(measures, measures_.row(parent).data(), d));
+    const double delta = std::sqrt(squared_distance(measures, this->measures(parent), d));
     lists.cells.row(row) = lists_.cells.row(parent);
     lists.distances.row(row) = lists_.distances.row(parent);
     // Kept a hair wide (slack) and low (outside) against the rounding of delta.
@@ -95,30 +98,53 @@ void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourList
   lists.slack[static_cast<std::size_t>(row)] = 0.0;
 }
 
-AddStatus CvtArchive::add(const Real* solution, Real objective, const Real* measures) {
-  NeighbourLists one;
-  one.resize(1, list_length_);
-  neighbours_of(measures, -1, one, 0);
-  return add_to_cell(index_of(measures), solution, objective, measures, one, 0);
+Index CvtArchive::add_batch(const EliteBatch& batch, std::span<AddStatus> status, const Index* parents) {
+  const Index d = dimensions();
+  check_batch(batch, status.size(), solution_size(), d, 0, "CVT archive");
+  const Index rows = batch.rows();
+  // locate() reads contiguous rows; invalid rows (whose measures a task may leave undefined)
+  // are zeroed and get a cell that is never used.
+  batch_measures_.resize(rows, d);
+  for (Index r = 0; r < rows; ++r) {
+    if (batch.is_valid(r)) std::copy_n(batch.measures.row(r), d, batch_measures_.row(r).data());
+    else batch_measures_.row(r).setZero();
+  }
+  batch_cells_.resize(static_cast<std::size_t>(rows));
+  batch_settled_.assign(static_cast<std::size_t>(rows), 0);
+  locate(batch_measures_.data(), rows, parents, batch_cells_.data(), batch_settled_.data());
+  batch_list_.resize(1, list_length_);
+  Index added = 0;
+  for (Index r = 0; r < rows; ++r) {
+    const auto u = static_cast<std::size_t>(r);
+    const Index cell = batch_cells_[u];
+    const Real f = batch.objectives[u];
+    AddStatus s = AddStatus::kNotAdded;
+    if (batch.is_valid(r) && would_enter(cell, f)) {
+      const Real* m = batch_measures_.row(r).data();
+      neighbours_of(m, batch_settled_[u] ? parents[r] : -1, batch_list_, 0);
+      s = add_to_cell(cell, batch.solutions.row(r), f, m, batch_list_, 0);
+    }
+    added += s != AddStatus::kNotAdded;
+    if (!status.empty()) status[u] = s;
+  }
+  return added;
+}
+
+AddStatus CvtArchive::add(std::span<const Real> solution, Real objective, std::span<const Real> measures) {
+  const EliteBatch one{{solution.data(), 1, static_cast<Index>(solution.size())},
+                       {&objective, 1},
+                       {measures.data(), 1, static_cast<Index>(measures.size())},
+                       {},
+                       {}};
+  AddStatus status;
+  add_batch(one, {&status, 1});
+  return status;
 }
 
 AddStatus CvtArchive::add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
                                   const NeighbourLists& lists, Index row) {
-  auto& occ = occupied_[static_cast<std::size_t>(cell)];
-  AddStatus status;
-  if (!occ) {
-    status = AddStatus::kNew;
-    occ = 1;
-    filled_.push_back(cell);
-  } else if (objective > objectives_[static_cast<std::size_t>(cell)]) {
-    status = AddStatus::kImproved;
-  } else {
-    return AddStatus::kNotAdded;
-  }
-  objectives_[static_cast<std::size_t>(cell)] = objective;
-  std::copy_n(solution, params_.solution_size, solutions_.row(cell).data());
-  std::copy_n(measures, dimensions(), measures_.row(cell).data());
-  if (list_length_ > 0) {
+  const AddStatus status = place(cell, solution, objective, measures, nullptr);
+  if (status != AddStatus::kNotAdded && list_length_ > 0) {
     lists_.cells.row(cell) = lists.cells.row(row);
     lists_.distances.row(cell) = lists.distances.row(row);
     lists_.outside[static_cast<std::size_t>(cell)] = lists.outside[static_cast<std::size_t>(row)];
@@ -127,50 +153,12 @@ AddStatus CvtArchive::add_to_cell(Index cell, const Real* solution, Real objecti
   return status;
 }
 
-void CvtArchive::clear() {
-  for (Index c : filled_) occupied_[static_cast<std::size_t>(c)] = 0;
-  filled_.clear();
-}
-
-ArchiveStats CvtArchive::stats() const {
-  ArchiveStats s;
-  s.num_elites = size();
-  s.coverage = static_cast<double>(s.num_elites) / static_cast<double>(cells());
-  if (filled_.empty()) return s;
-  double sum = 0.0;
-  double best = -std::numeric_limits<double>::infinity();
-  for (Index c : filled_) {
-    const double f = objectives_[static_cast<std::size_t>(c)];
-    sum += f;
-    best = std::max(best, f);
-  }
-  s.obj_max = best;
-  s.obj_mean = sum / static_cast<double>(s.num_elites);
-  s.qd_score = sum - params_.qd_offset * static_cast<double>(s.num_elites);
-  s.norm_qd_score = s.qd_score / static_cast<double>(cells());
-  return s;
-}
-
-
 void CvtArchive::save(BinaryWriter& out) const {
   out.tag("cvt_archive");
   out.value<std::int64_t>(cells());
   out.value<std::int64_t>(dimensions());
   out.value<std::int64_t>(params_.solution_size);
-  const auto n = static_cast<Index>(filled_.size());
-  std::vector<std::int64_t> cells(filled_.begin(), filled_.end());
-  std::vector<Real> objectives;
-  RowMatrix solutions(n, params_.solution_size), measures(n, dimensions());
-  for (Index i = 0; i < n; ++i) {
-    const Index c = filled_[static_cast<std::size_t>(i)];
-    objectives.push_back(objectives_[static_cast<std::size_t>(c)]);
-    solutions.row(i) = solutions_.row(c);
-    measures.row(i) = measures_.row(c);
-  }
-  out.values(cells);
-  out.values(objectives);
-  out.matrix(solutions);
-  out.matrix(measures);
+  save_elites(out, false);
 }
 
 void CvtArchive::load(BinaryReader& in) {
@@ -181,21 +169,17 @@ void CvtArchive::load(BinaryReader& in) {
   if (cells != this->cells() || dims != dimensions() || genes != params_.solution_size)
     in.fail(fmt::format("CVT archive of {} cells ({}-D, {} genes) does not fit this run's of {} cells ({}-D, {} genes)",
                         cells, dims, genes, this->cells(), dimensions(), params_.solution_size));
-  const auto filled = in.values<std::int64_t>("CVT cells filled");
-  const auto objectives = in.values<Real>("CVT objectives");
-  RowMatrix solutions, measures;
-  in.matrix(solutions, "CVT solutions");
-  in.matrix(measures, "CVT measures");
-  const auto n = static_cast<Index>(filled.size());
-  if (static_cast<Index>(objectives.size()) != n || solutions.rows() != n || measures.rows() != n ||
-      solutions.cols() != params_.solution_size || measures.cols() != dimensions())
-    in.fail("CVT archive contents disagree in size");
+  const SavedElites saved = read_elites(in, false, "CVT");
   clear();
-  for (Index i = 0; i < n; ++i) {
-    add(solutions.row(i).data(), objectives[static_cast<std::size_t>(i)], measures.row(i).data());
-    if (filled_.size() != static_cast<std::size_t>(i + 1) || filled_.back() != filled[static_cast<std::size_t>(i)])
+  // Re-added one at a time (cells found again, lists made afresh), checking each lands where it was.
+  for (Index i = 0; i < saved.size(); ++i) {
+    add({saved.solutions.row(i).data(), static_cast<std::size_t>(saved.solutions.cols())},
+        saved.objectives[static_cast<std::size_t>(i)],
+        {saved.measures.row(i).data(), static_cast<std::size_t>(saved.measures.cols())});
+    if (filled_cells().size() != static_cast<std::size_t>(i + 1) ||
+        filled_cells().back() != saved.cells[static_cast<std::size_t>(i)])
       in.fail(fmt::format("CVT elite {} does not fall in its saved cell {}: other centroids?", i,
-                          filled[static_cast<std::size_t>(i)]));
+                          saved.cells[static_cast<std::size_t>(i)]));
   }
 }
 

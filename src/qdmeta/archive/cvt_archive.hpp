@@ -2,7 +2,7 @@
 // A CVT-MAP-Elites archive (Vassiliades et al.; SPEC.md section 6): one cell per centroid, a
 // descriptor belongs to the cell of its nearest centroid (exact, ties to the lowest index), one
 // elite per cell, replaced only by a strictly better objective. Descriptors are the task's base
-// features. Storage is struct-of-arrays, one row per cell, like GridArchive.
+// features.
 //
 // Offspring land near their parent, so each elite also keeps a neighbour list: the `neighbours`
 // centroids nearest its descriptor with their distances, and a lower bound on its distance to
@@ -11,11 +11,14 @@
 // of distance finds the nearest listed centroid, and when p's outside bound minus delta exceeds
 // that distance no other centroid can be nearer, so the answer is exact without the full search
 // over all centroids. Otherwise the full search runs. Both give index_of's answer.
+// The elites live in an EliteStore (elite_store.hpp), with no base-feature columns.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
-#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/archive/elite_batch.hpp"
+#include "qdmeta/archive/elite_store.hpp"
 #include "qdmeta/archive/nearest_centroid.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
@@ -47,16 +50,18 @@ struct NeighbourLists {
   }
 };
 
-class CvtArchive {
+class CvtArchive : private EliteStore {
  public:
   // `centroids`: one row per cell (k x descriptor size).
   CvtArchive(CvtArchiveParams params, RowMatrix centroids);
 
   const CvtArchiveParams& params() const { return params_; }
-  Index cells() const { return search_.count(); }
   Index dimensions() const { return search_.dimensions(); }
-  Index size() const { return static_cast<Index>(filled_.size()); }
-  bool empty() const { return filled_.empty(); }
+  using EliteStore::base_feature_size;  // 0: the measures are the base features
+  using EliteStore::cells;
+  using EliteStore::empty;
+  using EliteStore::size;
+  using EliteStore::solution_size;
   const RowMatrix& centroids() const { return search_.centroids(); }
   Index list_length() const { return list_length_; }
 
@@ -72,31 +77,39 @@ class CvtArchive {
   Index locate(const Real* measures, Index count, const Index* parents, Index* cells,
                std::uint8_t* settled = nullptr) const;
 
-  // True when `objective` would enter `cell` now (empty, or strictly better).
-  bool would_enter(Index cell, Real objective) const { return !occupied(cell) || objective > this->objective(cell); }
   // The neighbour list of a descriptor into row `row` of `lists` (sized lists.resize(rows,
   // list_length())). With `parent` >= 0, a row that locate() settled from that parent's list:
   // the parent's list serves as it is, its slack and outside bound worn by delta (cheap), unless
   // that leaves too thin a margin; else the full computation (a pass over all centroids).
   void neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
 
-  AddStatus add(const Real* solution, Real objective, const Real* measures);
-  // `cell` must be index_of(measures) and row `row` of `lists` its neighbour list (ignored when
-  // list_length() is 0), computed beforehand (e.g. for a whole batch, in parallel).
+  // Adds the valid rows in batch order, the same as adding them one by one (of rows that tie
+  // for a cell, the first keeps it); `status`, when given, gets every row's outcome (kNotAdded
+  // for invalid rows). With `parents` (one per row, -1 for none), cells are settled from the
+  // parents' neighbour lists where they can be (the cell is the same either way). Returns how
+  // many rows entered. Throws InputError before adding anything when the shapes do not fit or
+  // a valid row has a non-finite objective or measure. Single-threaded; CvtMapElites splits the
+  // same steps (locate, neighbours_of, add_to_cell) over the evaluator's workers.
+  Index add_batch(const EliteBatch& batch, std::span<AddStatus> status = {}, const Index* parents = nullptr);
+  // One candidate, checked like a batch of one row.
+  AddStatus add(std::span<const Real> solution, Real objective, std::span<const Real> measures);
+  // Unchecked: `cell` must be index_of(measures) and row `row` of `lists` its neighbour list
+  // (ignored when list_length() is 0), computed beforehand (e.g. for a whole batch, in parallel).
   AddStatus add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
                         const NeighbourLists& lists, Index row);
-  void clear();
+  using EliteStore::clear;
 
-  bool occupied(Index cell) const { return occupied_[static_cast<std::size_t>(cell)] != 0; }
-  Real objective(Index cell) const { return objectives_[static_cast<std::size_t>(cell)]; }
-  const Real* solution(Index cell) const { return solutions_.row(cell).data(); }
-  const Real* measures(Index cell) const { return measures_.row(cell).data(); }
-  // Filled cells, in the order they were first filled.
-  const std::vector<Index>& filled_cells() const { return filled_; }
-  // A filled cell drawn uniformly. The archive must not be empty.
-  Index sample_cell(Rng& rng) const { return filled_[rng.below(filled_.size())]; }
+  using EliteStore::filled_cells;
+  using EliteStore::measures;
+  using EliteStore::objective;
+  using EliteStore::occupied;
+  using EliteStore::sample_cell;
+  using EliteStore::solution;
+  using EliteStore::would_enter;
 
-  ArchiveStats stats() const;
+  using EliteStore::stats;
+  // index = centroid index, measures = descriptor (base features), no base-feature columns.
+  EliteTable elites() const { return elite_table(); }
 
   // Checkpoints: the elites in fill order. load() re-adds them to an archive with the same
   // centroids, so cells are found again (and must agree) and neighbour lists are made afresh:
@@ -111,12 +124,12 @@ class CvtArchive {
   CvtArchiveParams params_;
   NearestCentroid search_;
   Index list_length_ = 0;
-  std::vector<std::uint8_t> occupied_;
-  std::vector<Real> objectives_;
-  RowMatrix solutions_;
-  RowMatrix measures_;
   NeighbourLists lists_;  // one row per cell: its elite's neighbour list
-  std::vector<Index> filled_;
+  // add_batch's scratch.
+  std::vector<Index> batch_cells_;
+  std::vector<std::uint8_t> batch_settled_;
+  RowMatrix batch_measures_;
+  NeighbourLists batch_list_;
 };
 
 }  // namespace qdmeta

@@ -29,85 +29,66 @@ void GridArchiveParams::validate() const {
   require_range("archive.epsilon", epsilon, 0.0, 0.5);
 }
 
-GridArchive::GridArchive(GridArchiveParams params) : params_(std::move(params)) {
-  params_.validate();
-  index_ = GridIndex(params_);
-  cells_ = 1;
-  for (int b : params_.bins) cells_ *= b;
-  occupied_.assign(static_cast<std::size_t>(cells_), 0);
-  objectives_.assign(static_cast<std::size_t>(cells_), 0);
-  solutions_.resize(cells_, params_.solution_size);
-  measures_.resize(cells_, dimensions());
-  base_.resize(cells_, params_.base_feature_size);
+namespace {
+EliteStoreShape store_shape(const GridArchiveParams& p) {
+  p.validate();
+  Index cells = 1;
+  for (int b : p.bins) cells *= b;
+  return {cells, p.solution_size, static_cast<Index>(p.bins.size()), p.base_feature_size, p.qd_offset};
+}
+}  // namespace
+
+GridArchive::GridArchive(GridArchiveParams params)
+    : EliteStore(store_shape(params)), params_(std::move(params)), index_(params_) {}
+
+Index GridArchive::add_batch(const EliteBatch& batch, std::span<AddStatus> status) {
+  const Index dims = dimensions();
+  check_batch(batch, status.size(), solution_size(), dims, base_feature_size(), "grid archive");
+  const Index rows = batch.rows();
+  // Cells of the whole block in one vectorised pass; invalid rows (whose measures a task may
+  // leave undefined) get a cell that is never used.
+  measures_t_.resize(static_cast<std::size_t>(dims * rows));
+  batch_cells_.resize(static_cast<std::size_t>(rows));
+  for (Index r = 0; r < rows; ++r) {
+    const Real* m = batch.measures.row(r);
+    const bool valid = batch.is_valid(r);
+    for (Index d = 0; d < dims; ++d) measures_t_[static_cast<std::size_t>(d * rows + r)] = valid ? m[d] : Real{0};
+  }
+  index_.cells_of_t(measures_t_.data(), rows, rows, batch_cells_.data());
+  const bool keep_base = base_feature_size() > 0;
+  Index added = 0;
+  for (Index r = 0; r < rows; ++r) {
+    AddStatus s = AddStatus::kNotAdded;
+    if (batch.is_valid(r))
+      s = place(batch_cells_[static_cast<std::size_t>(r)], batch.solutions.row(r),
+                batch.objectives[static_cast<std::size_t>(r)], batch.measures.row(r),
+                keep_base ? batch.base_features.row(r) : nullptr);
+    added += s != AddStatus::kNotAdded;
+    if (!status.empty()) status[static_cast<std::size_t>(r)] = s;
+  }
+  return added;
 }
 
-AddStatus GridArchive::add(const Real* solution, Real objective, const Real* measures, const Real* base_features) {
-  const Index cell = index_of(measures);
-  auto& occ = occupied_[static_cast<std::size_t>(cell)];
+AddStatus GridArchive::add(std::span<const Real> solution, Real objective, std::span<const Real> measures,
+                           std::span<const Real> base_features) {
+  const auto width = [](std::span<const Real> s) { return static_cast<Index>(s.size()); };
+  EliteBatch one{{solution.data(), 1, width(solution)},
+                 {&objective, 1},
+                 {measures.data(), 1, width(measures)},
+                 base_features.empty() ? RowsView{} : RowsView{base_features.data(), 1, width(base_features)},
+                 {}};
   AddStatus status;
-  if (!occ) {
-    status = AddStatus::kNew;
-    occ = 1;
-    filled_.push_back(cell);
-  } else if (objective > objectives_[static_cast<std::size_t>(cell)]) {
-    status = AddStatus::kImproved;
-  } else {
-    return AddStatus::kNotAdded;
-  }
-  objectives_[static_cast<std::size_t>(cell)] = objective;
-  std::copy_n(solution, params_.solution_size, solutions_.row(cell).data());
-  std::copy_n(measures, dimensions(), measures_.row(cell).data());
-  if (params_.base_feature_size > 0 && base_features != nullptr)
-    std::copy_n(base_features, params_.base_feature_size, base_.row(cell).data());
+  add_batch(one, {&status, 1});
   return status;
-}
-
-void GridArchive::clear() {
-  for (Index c : filled_) occupied_[static_cast<std::size_t>(c)] = 0;
-  filled_.clear();
-}
-
-ArchiveStats GridArchive::stats() const {
-  ArchiveStats s;
-  s.num_elites = size();
-  s.coverage = static_cast<double>(s.num_elites) / static_cast<double>(cells_);
-  if (filled_.empty()) return s;
-  double sum = 0.0;
-  double best = -std::numeric_limits<double>::infinity();
-  for (Index c : filled_) {
-    const double f = objectives_[static_cast<std::size_t>(c)];
-    sum += f;
-    best = std::max(best, f);
-  }
-  s.obj_max = best;
-  s.obj_mean = sum / static_cast<double>(s.num_elites);
-  s.qd_score = sum - params_.qd_offset * static_cast<double>(s.num_elites);
-  s.norm_qd_score = s.qd_score / static_cast<double>(cells_);
-  return s;
 }
 
 void GridArchive::save(BinaryWriter& out) const {
   out.tag("grid_archive");
-  out.value<std::int64_t>(cells_);
+  out.value<std::int64_t>(cells());
   out.value<std::int64_t>(params_.solution_size);
   out.value<std::int64_t>(params_.base_feature_size);
   out.value<std::int64_t>(dimensions());
-  const auto n = static_cast<Index>(filled_.size());
-  std::vector<std::int64_t> cells(filled_.begin(), filled_.end());
-  std::vector<Real> objectives;
-  RowMatrix solutions(n, params_.solution_size), measures(n, dimensions()), base(n, params_.base_feature_size);
-  for (Index i = 0; i < n; ++i) {
-    const Index c = filled_[static_cast<std::size_t>(i)];
-    objectives.push_back(objectives_[static_cast<std::size_t>(c)]);
-    solutions.row(i) = solutions_.row(c);
-    measures.row(i) = measures_.row(c);
-    base.row(i) = base_.row(c);
-  }
-  out.values(cells);
-  out.values(objectives);
-  out.matrix(solutions);
-  out.matrix(measures);
-  out.matrix(base);
+  save_elites(out, true);
 }
 
 void GridArchive::load(BinaryReader& in) {
@@ -116,35 +97,13 @@ void GridArchive::load(BinaryReader& in) {
   const auto solution_size = in.value<std::int64_t>("archive solution size");
   const auto base_size = in.value<std::int64_t>("archive base-feature size");
   const auto dims = in.value<std::int64_t>("archive dimensions");
-  if (cells != cells_ || solution_size != params_.solution_size || base_size != params_.base_feature_size ||
+  if (cells != this->cells() || solution_size != params_.solution_size || base_size != params_.base_feature_size ||
       dims != dimensions())
     in.fail(fmt::format("archive of {} cells ({} genes, {} base features, {} dimensions) does not fit this run's "
                         "archive of {} cells ({}, {}, {})",
-                        cells, solution_size, base_size, dims, cells_, params_.solution_size,
+                        cells, solution_size, base_size, dims, this->cells(), params_.solution_size,
                         params_.base_feature_size, dimensions()));
-  const auto filled = in.values<std::int64_t>("archive cells filled");
-  const auto objectives = in.values<Real>("archive objectives");
-  RowMatrix solutions, measures, base;
-  in.matrix(solutions, "archive solutions");
-  in.matrix(measures, "archive measures");
-  in.matrix(base, "archive base features");
-  const auto n = static_cast<Index>(filled.size());
-  if (static_cast<Index>(objectives.size()) != n || solutions.rows() != n || measures.rows() != n || base.rows() != n ||
-      solutions.cols() != params_.solution_size || measures.cols() != dimensions() ||
-      base.cols() != params_.base_feature_size)
-    in.fail("archive contents disagree in size");
-  clear();
-  for (Index i = 0; i < n; ++i) {
-    const auto c = static_cast<Index>(filled[static_cast<std::size_t>(i)]);
-    if (c < 0 || c >= cells_ || occupied_[static_cast<std::size_t>(c)])
-      in.fail(fmt::format("archive cell {} is out of range or repeated", c));
-    occupied_[static_cast<std::size_t>(c)] = 1;
-    objectives_[static_cast<std::size_t>(c)] = objectives[static_cast<std::size_t>(i)];
-    solutions_.row(c) = solutions.row(i);
-    measures_.row(c) = measures.row(i);
-    base_.row(c) = base.row(i);
-    filled_.push_back(c);
-  }
+  restore(read_elites(in, true, "archive"), in);
 }
 
 }  // namespace qdmeta

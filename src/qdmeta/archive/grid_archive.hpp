@@ -1,11 +1,15 @@
 #pragma once
 // A MAP-Elites grid over N_t target features: equal-width bins per dimension, one elite per
 // cell, replaced only by a strictly better objective. Cells are numbered in row-major (C)
-// order, as pyribs's GridArchive. Storage is struct-of-arrays, one row per cell.
+// order, as pyribs's GridArchive. The elites live in an EliteStore (elite_store.hpp); the grid
+// supplies the cell of a target-feature vector (GridIndex).
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/elite_batch.hpp"
+#include "qdmeta/archive/elite_store.hpp"
 #include "qdmeta/archive/grid_index.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
@@ -27,38 +31,52 @@ struct GridArchiveParams {
   void validate() const;
 };
 
-enum class AddStatus : std::uint8_t { kNotAdded = 0, kImproved = 1, kNew = 2 };
-
-class GridArchive {
+class GridArchive : private EliteStore {
  public:
   explicit GridArchive(GridArchiveParams params);
 
   const GridArchiveParams& params() const { return params_; }
-  Index cells() const { return cells_; }
   Index dimensions() const { return static_cast<Index>(params_.bins.size()); }
-  Index size() const { return static_cast<Index>(filled_.size()); }
-  bool empty() const { return filled_.empty(); }
+  using EliteStore::base_feature_size;
+  using EliteStore::cells;
+  using EliteStore::empty;
+  using EliteStore::size;
+  using EliteStore::solution_size;
 
   // Cell of a target-feature vector: floor((m - lower) / (upper - lower) * bins + epsilon),
   // clamped to [0, bins - 1] per dimension. Throws Error on NaN.
   Index index_of(const Real* measures) const { return index_.cell_of(measures); }
   // The same for whole feature-major blocks (grid_index.hpp).
   const GridIndex& grid_index() const { return index_; }
+  void cells_of_t(const Real* measures_t, Index ld, Index count, std::int32_t* cells) const {
+    index_.cells_of_t(measures_t, ld, count, cells);
+  }
 
-  AddStatus add(const Real* solution, Real objective, const Real* measures, const Real* base_features = nullptr);
-  void clear();
+  // Adds the valid rows in batch order, the same as adding them one by one (of rows that tie
+  // for a cell, the first keeps it); `status`, when given, gets every row's outcome (kNotAdded
+  // for invalid rows). Returns how many rows entered. Throws InputError before adding anything
+  // when the shapes do not fit or a valid row has a non-finite objective or measure.
+  Index add_batch(const EliteBatch& batch, std::span<AddStatus> status = {});
+  // One candidate, checked like a batch of one row.
+  AddStatus add(std::span<const Real> solution, Real objective, std::span<const Real> measures,
+                std::span<const Real> base_features = {});
+  // Unchecked: `cell` must be index_of(measures) (for callers that bin whole blocks themselves,
+  // as the map rebuild does).
+  using EliteStore::place;
+  using EliteStore::clear;
 
-  bool occupied(Index cell) const { return occupied_[static_cast<std::size_t>(cell)] != 0; }
-  Real objective(Index cell) const { return objectives_[static_cast<std::size_t>(cell)]; }
-  const Real* solution(Index cell) const { return solutions_.row(cell).data(); }
-  const Real* measures(Index cell) const { return measures_.row(cell).data(); }
-  const Real* base_features(Index cell) const { return base_.row(cell).data(); }
-  // Filled cells, in the order they were first filled.
-  const std::vector<Index>& filled_cells() const { return filled_; }
-  // A filled cell drawn uniformly. The archive must not be empty.
-  Index sample_cell(Rng& rng) const { return filled_[rng.below(filled_.size())]; }
+  using EliteStore::base_features;
+  using EliteStore::filled_cells;
+  using EliteStore::measures;
+  using EliteStore::objective;
+  using EliteStore::occupied;
+  using EliteStore::sample_cell;
+  using EliteStore::solution;
+  using EliteStore::would_enter;
 
-  ArchiveStats stats() const;
+  using EliteStore::stats;
+  // The elites sorted by cell, with base features when the archive keeps them.
+  EliteTable elites() const { return elite_table(); }
 
   // Checkpoints: the filled cells in fill order with their contents. load() requires an
   // archive built with the same params and throws InputError otherwise.
@@ -67,14 +85,10 @@ class GridArchive {
 
  private:
   GridArchiveParams params_;
-  Index cells_ = 0;
   GridIndex index_;
-  std::vector<std::uint8_t> occupied_;
-  std::vector<Real> objectives_;
-  RowMatrix solutions_;
-  RowMatrix measures_;
-  RowMatrix base_;
-  std::vector<Index> filled_;
+  // add_batch's scratch: the batch's measures feature-major, and their cells.
+  std::vector<Real> measures_t_;
+  std::vector<std::int32_t> batch_cells_;
 };
 
 }  // namespace qdmeta

@@ -194,24 +194,14 @@ void UnstructuredArchive::clear() {
 }
 
 ArchiveStats UnstructuredArchive::stats() const {
-  ArchiveStats s;
-  s.num_elites = size();
-  // Not a fraction of cells (there are none): of the size the container is steered toward.
-  s.coverage = std::min(1.0, static_cast<double>(s.num_elites) / static_cast<double>(params_.target_size));
-  if (empty()) return s;
-  double sum = 0.0;
-  double best = -std::numeric_limits<double>::infinity();
-  for (Real f : objectives_) {
-    sum += f;
-    best = std::max(best, static_cast<double>(f));
-  }
-  s.obj_max = best;
-  s.obj_mean = sum / static_cast<double>(s.num_elites);
-  s.qd_score = sum - params_.qd_offset * static_cast<double>(s.num_elites);
-  s.norm_qd_score = s.qd_score / static_cast<double>(params_.target_size);
-  return s;
+  // Coverage is not a fraction of cells (there are none) but of the size the container is
+  // steered toward, capped at 1.
+  return archive_stats(
+      [&](auto&& visit) {
+        for (Real f : objectives_) visit(static_cast<double>(f));
+      },
+      static_cast<double>(params_.target_size), params_.qd_offset);
 }
-
 
 void UnstructuredArchive::save(BinaryWriter& out) const {
   out.tag("unstructured_archive");

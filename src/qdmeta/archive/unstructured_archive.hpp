@@ -21,9 +21,8 @@
 #include <cstdint>
 #include <vector>
 
-
 #include "qdmeta/archive/archive_stats.hpp"
-#include "qdmeta/archive/grid_archive.hpp"  // AddStatus
+#include "qdmeta/archive/elite_batch.hpp"  // AddStatus
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/elite_table.hpp"
 
 namespace qdmeta {
 

@@ -8,30 +8,32 @@
 #include <cstdint>
 #include <vector>
 
+#include "qdmeta/archive/archive.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/featuremap/network_kernel.hpp"
 
 namespace qdmeta {
 namespace {
 
-void check(const Database& db, std::span<const NeuralFeatureMap* const> maps, std::span<GridArchive* const> archives) {
+template <BlockBinnedArchive Archive>
+void check(const Database& db, std::span<const NeuralFeatureMap* const> maps, std::span<Archive* const> archives) {
   if (maps.size() != archives.size())
     throw InputError(fmt::format("rebuild: {} feature-maps but {} archives", maps.size(), archives.size()));
   for (std::size_t i = 0; i < maps.size(); ++i) {
     if (maps[i] == nullptr) throw InputError(fmt::format("rebuild: feature-map {} is null", i));
     if (archives[i] == nullptr) throw InputError(fmt::format("rebuild: archive {} is null", i));
     const NeuralFeatureMap& map = *maps[i];
-    const GridArchive& archive = *archives[i];
+    const Archive& archive = *archives[i];
     if (map.input_size() != db.base_feature_size())
       throw InputError(fmt::format("rebuild: feature-map {} reads {} base features but the database stores {}", i,
                                    map.input_size(), db.base_feature_size()));
     if (map.output_size() != archive.dimensions())
       throw InputError(fmt::format("rebuild: feature-map {} gives {} target features but archive {} has {} dimensions",
                                    i, map.output_size(), i, archive.dimensions()));
-    if (archive.params().solution_size != db.genotype_size())
+    if (archive.solution_size() != db.genotype_size())
       throw InputError(fmt::format("rebuild: archive {} stores solutions of {} genes but the database stores {}", i,
-                                   archive.params().solution_size, db.genotype_size()));
-    const Index keep = archive.params().base_feature_size;
+                                   archive.solution_size(), db.genotype_size()));
+    const Index keep = archive.base_feature_size();
     if (keep != 0 && keep != db.base_feature_size())
       throw InputError(fmt::format("rebuild: archive {} keeps {} base features but the database stores {}", i, keep,
                                    db.base_feature_size()));
@@ -83,8 +85,9 @@ struct CellWinners {
 // Rebuilds a contiguous group of maps in one pass over the database: for each block of rows
 // (read feature-major, as the database keeps them), every map runs its network, bins the
 // block's rows and offers them to its cell winners in turn; the block stays in cache meanwhile.
+template <BlockBinnedArchive Archive>
 void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
-                   std::span<GridArchive* const> archives) {
+                   std::span<Archive* const> archives) {
   static_assert(kRebuildBlockRows % kKernelRows == 0, "whole kernel steps per block");
   static_assert(kDatabasePadding >= kKernelRows, "a partial block's last kernel step stays in the database's buffer");
   const Index block = kRebuildBlockRows;
@@ -108,7 +111,7 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
         for (Index first = chunk; first < chunk_end; first += block) {
           const Index n = std::min(block, chunk_end - first);
           map.map_transposed(seg.base_t + first, seg.base_t_ld, n, targets_t.data(), block);
-          archives[i]->grid_index().cells_of_t(targets_t.data(), block, n, cells.data());
+          archives[i]->cells_of_t(targets_t.data(), block, n, cells.data());
           winners[i].offer(cells.data(), seg.fitness + first, targets_t.data(), block, map.output_size(), n,
                            seg.first_rank + first);
         }
@@ -116,33 +119,32 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
     }
   }
   for (std::size_t i = 0; i < maps.size(); ++i) {
-    GridArchive& archive = *archives[i];
+    Archive& archive = *archives[i];
     const CellWinners& w = winners[i];
     const Index nt = maps[i]->output_size();
-    const bool keep_base = archive.params().base_feature_size > 0;
+    const bool keep_base = archive.base_feature_size() > 0;
     // The winners lie scattered over the database (tens of MB): prefetching a few cells ahead
     // hides the cache misses that otherwise dominated this copy (perf of a full run: 17%).
     constexpr std::size_t kAhead = 8;
     const std::size_t filled = w.fill_order.size();
-    for (std::size_t i = 0; i < filled; ++i) {
-      if (i + kAhead < filled) {
-        const Index ahead = w.rank[static_cast<std::size_t>(w.fill_order[i + kAhead])];
+    for (std::size_t k = 0; k < filled; ++k) {
+      if (k + kAhead < filled) {
+        const Index ahead = w.rank[static_cast<std::size_t>(w.fill_order[k + kAhead])];
         prefetch_row(db.genotype(ahead), db.genotype_size());
         if (keep_base) prefetch_row(db.base_features(ahead), db.base_feature_size());
       }
-      const auto c = static_cast<std::size_t>(w.fill_order[i]);
-      archive.add(db.genotype(w.rank[c]), w.fitness[c], w.measures.data() + c * static_cast<std::size_t>(nt),
-                  keep_base ? db.base_features(w.rank[c]) : nullptr);
+      const auto c = static_cast<std::size_t>(w.fill_order[k]);
+      // Each cell once, into an empty archive: the winner's cell is where the bins put it.
+      archive.place(static_cast<Index>(c), db.genotype(w.rank[c]), w.fitness[c],
+                    w.measures.data() + c * static_cast<std::size_t>(nt), keep_base ? db.base_features(w.rank[c]) : nullptr);
     }
   }
 }
 
-}  // namespace
-
-void rebuild_archives(const Database& db, std::span<const NeuralFeatureMap* const> maps,
-                      std::span<GridArchive* const> archives) {
+template <BlockBinnedArchive Archive>
+void rebuild_all(const Database& db, std::span<const NeuralFeatureMap* const> maps, std::span<Archive* const> archives) {
   check(db, maps, archives);
-  for (GridArchive* a : archives) a->clear();
+  for (Archive* a : archives) a->clear();
   if (db.empty() || maps.empty()) return;
   const auto n = static_cast<Index>(maps.size());
   const Index groups = std::min<Index>(n, std::max(1, tbb::this_task_arena::max_concurrency()));
@@ -159,12 +161,19 @@ void rebuild_archives(const Database& db, std::span<const NeuralFeatureMap* cons
   }
 }
 
+}  // namespace
+
+void rebuild_archives(const Database& db, std::span<const NeuralFeatureMap* const> maps,
+                      std::span<GridArchive* const> archives) {
+  rebuild_all<GridArchive>(db, maps, archives);
+}
+
 void rebuild_archive(const Database& db, const NeuralFeatureMap& map, GridArchive& archive) {
   const NeuralFeatureMap* maps[] = {&map};
   GridArchive* archives[] = {&archive};
-  check(db, maps, archives);
+  check<GridArchive>(db, maps, archives);
   archive.clear();
-  rebuild_group(db, maps, archives);
+  rebuild_group<GridArchive>(db, maps, archives);
 }
 
 }  // namespace qdmeta

@@ -1,8 +1,10 @@
 #pragma once
 // Rebuilding QD-Meta's archives from the database (SPEC.md section 2, "Meta-generation"): each
 // of the lambda fresh maps is cleared, then every database row, oldest first, goes through the
-// map's feature-map into its archive (GridArchive::add with solution = genotype, objective =
-// fitness, measures = target features, and the base features when the archive keeps them).
+// map's feature-map into its archive (as GridArchive::add_batch would, with solution = genotype,
+// objective = fitness, measures = target features, and the base features when the archive keeps
+// them). The code is written against BlockBinnedArchive (archive/archive.hpp); GridArchive is the
+// one archive that models it.
 //
 // The result equals mapping and adding the rows one by one in age order, bit for bit, whatever
 // the thread count: each archive receives its rows sequentially in age order, and a

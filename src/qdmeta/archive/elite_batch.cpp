@@ -1,0 +1,46 @@
+#include "qdmeta/archive/elite_batch.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "qdmeta/core/error.hpp"
+
+namespace qdmeta {
+namespace {
+
+void check_shape(const RowsView& v, Index rows, Index cols, std::string_view what, std::string_view archive) {
+  if (v.rows != rows || v.cols != cols || v.stride < cols || (rows > 0 && v.data == nullptr))
+    throw InputError(fmt::format("{}: the batch's {} are {} x {} but {} x {} were expected", archive, what, v.rows,
+                                 v.cols, rows, cols));
+}
+
+}  // namespace
+
+void check_batch(const EliteBatch& batch, std::size_t status_size, Index solution_size, Index measure_size,
+                 Index base_feature_size, std::string_view archive) {
+  const Index rows = batch.rows();
+  check_shape(batch.solutions, rows, solution_size, "solutions", archive);
+  check_shape(batch.measures, rows, measure_size, "measures", archive);
+  if (base_feature_size > 0) check_shape(batch.base_features, rows, base_feature_size, "base features", archive);
+  const auto n = static_cast<std::size_t>(rows);
+  if (batch.objectives.size() != n)
+    throw InputError(fmt::format("{}: the batch has {} objectives for {} rows", archive, batch.objectives.size(), rows));
+  if (!batch.valid.empty() && batch.valid.size() != n)
+    throw InputError(fmt::format("{}: the batch has {} valid flags for {} rows", archive, batch.valid.size(), rows));
+  if (status_size != 0 && status_size != n)
+    throw InputError(fmt::format("{}: {} status entries given for {} rows", archive, status_size, rows));
+  for (Index r = 0; r < rows; ++r) {
+    if (!batch.is_valid(r)) continue;
+    const Real f = batch.objectives[static_cast<std::size_t>(r)];
+    if (!std::isfinite(f))
+      throw InputError(fmt::format("{}: row {} of the batch has objective {}; objectives must be finite", archive, r, f));
+    const Real* m = batch.measures.row(r);
+    for (Index d = 0; d < measure_size; ++d)
+      if (!std::isfinite(m[d]))
+        throw InputError(fmt::format("{}: row {} of the batch has measure {} = {}; measures must be finite", archive, r,
+                                     d, m[d]));
+  }
+}
+
+}  // namespace qdmeta
