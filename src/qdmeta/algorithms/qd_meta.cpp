@@ -135,19 +135,11 @@ void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
   }
   const auto lambda = params_.meta_population;
   if (phase_ == Phase::kGenerations) {
-    // Generation g of every map, each from its own stream (seed, variation, t, map, g).
-    const Index batch = params_.batch_size;
-    const auto t = static_cast<std::uint64_t>(meta_generation_);
-    const auto g = static_cast<std::uint64_t>(next_generation_);
-    for_each_map(lambda, true, [&](Index i) {
-      const auto m = static_cast<std::size_t>(i);
-      Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), t, static_cast<std::uint64_t>(i), g});
-      if (archives_[m].empty()) random_genotypes(blocks_[m], rng);
-      else generate_offspring(archives_[m], mutation_, rng, blocks_[m]);
-    });
+    // Generation 0's offspring are made here; later ones by the tell() before (see take_results).
+    if (next_generation_ == 0) for_each_map(lambda, true, [&](Index i) { vary_map(i, 0); });
     for (Index i = 0; i < lambda; ++i) {
       const auto m = static_cast<std::size_t>(i);
-      jobs.push_back({&task_, {blocks_[m].data(), batch, n}, block_evaluations_[m].view()});
+      jobs.push_back({&task_, {blocks_[m].data(), params_.batch_size, n}, block_evaluations_[m].view()});
     }
     return;
   }
@@ -172,7 +164,12 @@ bool QdMeta::take_results() {
   const auto lambda = params_.meta_population;
   if (phase_ == Phase::kGenerations) {
     const Index batch = params_.batch_size;
-    const Index g = next_generation_;
+    const int g = next_generation_;
+    const bool last = g + 1 == generations_;
+    // One parallel pass per generation: each map inserts its batch, then makes its next batch
+    // (or, on the last generation, plans its meta-fitness when that may run in parallel). The
+    // same work in separate passes gives the same bits; fusing them saves a fork-join.
+    const bool plan_here = last && task_.shareable();
     for_each_map(lambda, true, [&](Index i) {
       const auto m = static_cast<std::size_t>(i);
       const RowMatrix& block = blocks_[m];
@@ -182,10 +179,20 @@ bool QdMeta::take_results() {
       evaluations_[m].fitness.segment(g * batch, batch) = e.fitness;
       evaluations_[m].base_features.middleRows(g * batch, batch) = e.base_features;
       std::copy(e.valid.begin(), e.valid.end(), evaluations_[m].valid.begin() + static_cast<std::ptrdiff_t>(g * batch));
+      if (!last) vary_map(i, g + 1);
+      else if (plan_here) plan_map(i);
     });
-    if (++next_generation_ < generations_) return false;
-    plan_meta_fitness();
-    if (phase_ == Phase::kMetaScoring) return false;
+    if (!last) {
+      ++next_generation_;
+      return false;
+    }
+    if (!plan_here)
+      for (Index i = 0; i < lambda; ++i) plan_map(i);
+    if (meta_objective_simulates()) {
+      phase_ = Phase::kMetaScoring;
+      return false;
+    }
+    score_meta_fitness();
   } else {
     score_meta_fitness();
   }
@@ -228,37 +235,44 @@ void QdMeta::begin_meta_generation() {
   phase_ = Phase::kGenerations;
 }
 
-// Each map's meta-objective plan (an empty archive scores 0 without one). The objective runs in
+// Generation g of map i, from its own stream (seed, variation, t, map, g).
+void QdMeta::vary_map(Index i, int g) {
+  const auto m = static_cast<std::size_t>(i);
+  Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(meta_generation_),
+                                static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(g)});
+  if (archives_[m].empty()) random_genotypes(blocks_[m], rng);
+  else generate_offspring(archives_[m], mutation_, rng, blocks_[m]);
+}
+
+// Map i's meta-objective plan (an empty archive scores 0 without one). The objective runs in
 // parallel over maps only for a shareable task, as its evaluations did before ask/tell.
-void QdMeta::plan_meta_fitness() {
-  const auto lambda = params_.meta_population;
+void QdMeta::plan_map(Index i) {
+  const auto m = static_cast<std::size_t>(i);
   const Index n = task_.genotype_size();
-  const auto t = static_cast<std::uint64_t>(meta_generation_);
-  for_each_map(lambda, task_.shareable(), [&](Index i) {
-    const auto m = static_cast<std::size_t>(i);
-    const GridArchive& archive = archives_[m];
-    planned_[m] = 0;
-    meta_results_[m] = {};
-    if (archive.empty()) return;
-    RowMatrix& elites = elites_[m];
-    elites.resize(archive.size(), n);
-    Index row = 0;
-    for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), t, static_cast<std::uint64_t>(i)});
-    plans_[m] = meta_objective_->plan(elites, rng);
-    check_meta_plan(*meta_objective_, plans_[m], meta_tasks_);
-    meta_evaluations_[m].resize(plans_[m].batches.size());
-    for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
-      const MetaBatch& b = plans_[m].batches[k];
-      meta_evaluations_[m][k].resize(b.genotypes.rows(),
-                                     meta_tasks_[static_cast<std::size_t>(b.task)].base_feature_size());
-    }
-    planned_[m] = 1;
-  });
-  bool simulates = false;
-  for (std::size_t m = 0; m < planned_.size(); ++m) simulates |= planned_[m] && !plans_[m].batches.empty();
-  if (simulates) phase_ = Phase::kMetaScoring;
-  else score_meta_fitness();
+  const GridArchive& archive = archives_[m];
+  planned_[m] = 0;
+  meta_results_[m] = {};
+  if (archive.empty()) return;
+  RowMatrix& elites = elites_[m];
+  elites.resize(archive.size(), n);
+  Index row = 0;
+  for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
+  Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), static_cast<std::uint64_t>(meta_generation_),
+                                static_cast<std::uint64_t>(i)});
+  plans_[m] = meta_objective_->plan(elites, rng);
+  check_meta_plan(*meta_objective_, plans_[m], meta_tasks_);
+  meta_evaluations_[m].resize(plans_[m].batches.size());
+  for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
+    const MetaBatch& b = plans_[m].batches[k];
+    meta_evaluations_[m][k].resize(b.genotypes.rows(), meta_tasks_[static_cast<std::size_t>(b.task)].base_feature_size());
+  }
+  planned_[m] = 1;
+}
+
+bool QdMeta::meta_objective_simulates() const {
+  for (std::size_t m = 0; m < planned_.size(); ++m)
+    if (planned_[m] && !plans_[m].batches.empty()) return true;
+  return false;
 }
 
 void QdMeta::score_meta_fitness() {

@@ -11,8 +11,8 @@
 //   then, per meta-generation, the ask() that opens it samples CMA-ES, rebuilds the lambda
 //   archives from the database and asks the controller for G; then
 //   for g = 0 .. G-1: lambda jobs, map i's batch_size offspring of generation g, in map order
-//                     (made on oneTBB at ask(), one stream per map; inserted at tell(), the
-//                     maps' archives in parallel);
+//                     (one stream per map; inserted at tell(), the maps in parallel on oneTBB,
+//                     each map then making its generation g + 1 in the same pass);
 //   then one request with every map's meta-objective batches (map-major, each map's in plan
 //   order), or none when the objective simulates nothing (Rastrigin's); the tell() that ends
 //   the meta-generation updates the database (map by map), CMA-ES and the controller.
@@ -80,7 +80,9 @@ class QdMeta final : public Algorithm {
   // Where the meta-generation stands between requests.
   enum class Phase { kIdle, kSeeding, kGenerations, kMetaScoring };
   void begin_meta_generation();
-  void plan_meta_fitness();
+  void vary_map(Index map, int generation);
+  void plan_map(Index map);
+  bool meta_objective_simulates() const;
   void score_meta_fitness();
   void finish_meta_generation();
 
