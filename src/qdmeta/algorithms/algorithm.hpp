@@ -56,7 +56,8 @@ class Algorithm {
  public:
   virtual ~Algorithm() = default;
   virtual std::string name() const = 0;
-  // One generation (the first call evaluates the initial population): ask(), the evaluator's
+  // One step: a generation (QD-Meta: a meta-generation; the first step also evaluates the
+  // initial population), as ask(), the evaluator's
   // evaluation of the jobs, tell(), until the step is complete. Parallel work inside ask() and
   // tell() (QD-Meta's rebuilds, CVT's cell lookups) runs on the evaluator's workers.
   void step(Evaluator& evaluator);
@@ -68,7 +69,8 @@ class Algorithm {
   void tell();
   // The same with the caller's own results, one block per job in job order; throws InputError
   // naming the job when a block's rows or base-feature columns do not match it, or when a valid
-  // row has a non-finite fitness or a base feature outside [0, 1].
+  // row has a non-finite fitness or a base feature outside [0, 1]. Everything is checked before
+  // anything is copied, so a refused call leaves the request pending.
   void tell(std::span<const EvaluationBatch> results);
   bool request_pending() const { return pending_; }
   // True between a step's first ask() and its last tell().
