@@ -1,8 +1,20 @@
 #pragma once
 // What every algorithm offers to the run driver: one step at a time, counters, statistics
-// and its elites as a flat table that io/ can write.
+// and its elites as a flat table that io/ can write; and the ask/tell protocol that a step is
+// made of, for callers that evaluate genotypes themselves.
+//
+// Ask/tell. A step is one or more requests. ask() returns the next request: a list of
+// EvaluationJob (task, genotypes, output view), never empty, whose genotypes and outputs live in
+// the algorithm's own buffers and stay valid until the matching tell(). The caller fills every
+// job's outputs (fitness, base features, valid flag per row: evaluator.evaluate_jobs(jobs), or
+// its own code) and calls tell(), or calls tell(results) with its own blocks, one per job, which
+// are shape-checked and copied in. After tell(), step_in_progress() says whether the step needs
+// more requests. step(evaluator) is exactly that loop, so a step driven by hand gives the same
+// bits as step(). Out-of-order calls throw Error; checkpoints (save()) only between steps.
 #include <cstdint>
+#include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -35,8 +47,26 @@ class Algorithm {
  public:
   virtual ~Algorithm() = default;
   virtual std::string name() const = 0;
-  // One generation (the first call evaluates the initial population).
-  virtual void step(Evaluator& evaluator) = 0;
+  // One step: a generation (QD-Meta: a meta-generation; the first step also evaluates the
+  // initial population), as ask(), the evaluator's
+  // evaluation of the jobs, tell(), until the step is complete. Parallel work inside ask() and
+  // tell() (QD-Meta's rebuilds, CVT's cell lookups) runs on the evaluator's workers.
+  void step(Evaluator& evaluator);
+
+  // The next request (see the protocol above). Throws Error when a request is already pending.
+  std::span<const EvaluationJob> ask();
+  // The pending request's results, written by the caller into the jobs' outputs. Throws Error
+  // when no request is pending.
+  void tell();
+  // The same with the caller's own results, one block per job in job order; throws InputError
+  // naming the job when a block's rows or base-feature columns do not match it, or when a valid
+  // row has a non-finite fitness or a base feature outside [0, 1]. Everything is checked before
+  // anything is copied, so a refused call leaves the request pending.
+  void tell(std::span<const EvaluationBatch> results);
+  bool request_pending() const { return pending_; }
+  // True between a step's first ask() and its last tell().
+  bool step_in_progress() const { return in_step_; }
+
   virtual std::int64_t generation() const = 0;
   virtual EvaluationCounters counters() const = 0;
   virtual ArchiveStats stats() const = 0;
@@ -52,6 +82,24 @@ class Algorithm {
   virtual void load(BinaryReader& in);
   // Algorithm-specific figures for summary.json, as (key, value) (e.g. AURORA's trainings).
   virtual std::vector<std::pair<std::string, double>> summary_extras() const { return {}; }
+
+ protected:
+  // Appends the next request's jobs to `jobs` (empty on entry); at least one.
+  virtual void next_request(std::vector<EvaluationJob>& jobs) = 0;
+  // Takes the results now in the last request's outputs; true when that completes the step.
+  virtual bool take_results() = 0;
+  // Called by step() before a step's first ask(), with its evaluator (CVT makes its centroids).
+  virtual void before_step(Evaluator& /*evaluator*/) {}
+  // True when ask() or tell() runs oneTBB work that step() should confine to the evaluator's
+  // workers (each confinement costs a task arena entry, so cheap algorithms skip it).
+  virtual bool parallel_inside() const { return false; }
+  // Throws Error unless the algorithm is between steps; `what` names the refused operation.
+  void require_between_steps(std::string_view what) const;
+
+ private:
+  std::vector<EvaluationJob> jobs_;
+  bool pending_ = false;
+  bool in_step_ = false;
 };
 
 }  // namespace qdmeta

@@ -145,7 +145,7 @@ void Aurora::control_size() {
   threshold_ *= 1.0 - params_.size_control_gain * static_cast<double>(params_.target_size - archive_.size());
 }
 
-void Aurora::step(Evaluator& evaluator) {
+void Aurora::next_request(std::vector<EvaluationJob>& jobs) {
   const Index n = task_.genotype_size();
   // The first generation, or any that finds the archive empty (every solution so far invalid),
   // draws random genotypes; the others mutate uniformly drawn members.
@@ -159,7 +159,11 @@ void Aurora::step(Evaluator& evaluator) {
     mutate_copies([&](Rng& r) { return archive_.solution(archive_.sample(r)); }, mutation_, rng, genotypes_);
   }
   evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
-  evaluator.evaluate(task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view());
+  jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
+}
+
+bool Aurora::take_results() {
+  const Index n = task_.genotype_size();
   counters_.bottom += genotypes_.rows();
 
   std::vector<Index> valid;
@@ -198,6 +202,7 @@ void Aurora::step(Evaluator& evaluator) {
     }
   }
   ++generation_;
+  return true;
 }
 
 EliteTable Aurora::elites() const {
@@ -227,6 +232,7 @@ std::vector<std::pair<std::string, double>> Aurora::summary_extras() const {
 
 
 void Aurora::save(BinaryWriter& out) const {
+  require_between_steps("save()");
   out.tag("aurora");
   out.value(generation_);
   save_counters(out, counters_);
@@ -248,6 +254,7 @@ void Aurora::save(BinaryWriter& out) const {
 }
 
 void Aurora::load(BinaryReader& in) {
+  require_between_steps("load()");
   in.expect_tag("aurora");
   generation_ = in.value<std::int64_t>("generation");
   counters_ = load_counters(in);

@@ -53,7 +53,6 @@ class Aurora final : public Algorithm {
   Aurora(AuroraParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "aurora"; }
-  void step(Evaluator& evaluator) override;
   std::int64_t generation() const override { return generation_; }
   EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
@@ -72,6 +71,11 @@ class Aurora final : public Algorithm {
   const TrainingReport& last_training() const { return last_training_; }
   // Descriptors (z-scored latent codes, count x latent_size) of raw base-feature rows.
   RowMatrix describe(const Real* base_features, Index count) const;
+
+ protected:
+  // One request per step, one job; tell() trains, rebuilds and inserts on the calling thread.
+  void next_request(std::vector<EvaluationJob>& jobs) override;
+  bool take_results() override;
 
  private:
   void train(const RowMatrix& base_features);

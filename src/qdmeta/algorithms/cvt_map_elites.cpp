@@ -2,7 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+
 #include <cstdio>
+#include <functional>
 
 #include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/core/error.hpp"
@@ -65,14 +70,36 @@ const CvtArchive& CvtMapElites::archive() const {
   return *archive_;
 }
 
-void CvtMapElites::step(Evaluator& evaluator) {
-  prepare(evaluator);
-  CvtArchive& archive = *archive_;
+void CvtMapElites::before_step(Evaluator& evaluator) { prepare(evaluator); }
+
+void CvtMapElites::next_request(std::vector<EvaluationJob>& jobs) {
+  // Driven by hand without prepare(), the centroids are made on one thread (the same bits).
+  if (!archive_) {
+    SerialEvaluator serial;
+    prepare(serial);
+  }
   const Index n = task_.genotype_size();
-  next_genotypes(archive, params_.map_elites, mutation_, seed_, generation_, n, genotypes_, &parents_);
+  next_genotypes(*archive_, params_.map_elites, mutation_, seed_, generation_, n, genotypes_, &parents_);
+  evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
+  jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
+}
+
+namespace {
+// body(0) ... body(n - 1) on oneTBB, one index per task: each index owns its outputs, so the
+// result does not depend on the split (step() confines this to the evaluator's workers).
+void for_each_chunk(Index n, const std::function<void(Index)>& body) {
+  tbb::parallel_for(
+      tbb::blocked_range<Index>(0, n, 1),
+      [&](const tbb::blocked_range<Index>& range) {
+        for (Index i = range.begin(); i < range.end(); ++i) body(i);
+      },
+      tbb::simple_partitioner());
+}
+}  // namespace
+
+bool CvtMapElites::take_results() {
+  CvtArchive& archive = *archive_;
   const Index count = genotypes_.rows();
-  evaluations_.resize(count, task_.base_feature_size());
-  evaluator.evaluate(task_, {genotypes_.data(), count, n}, evaluations_.view());
   // Cells in parallel over fixed row ranges (each row's cell does not depend on the split);
   // then the neighbour lists of the rows that may enter (judged against the archive before the
   // batch: a superset of those that will), in parallel; then insertion in batch order.
@@ -86,7 +113,7 @@ void CvtMapElites::step(Evaluator& evaluator) {
   const Index chunk = params_.lookup_chunk;
   const Index chunks = (count + chunk - 1) / chunk;
   searched_per_chunk_.assign(static_cast<std::size_t>(chunks), 0);
-  evaluator.parallel_for(chunks, [&](Index c) {
+  for_each_chunk(chunks, [&](Index c) {
     const Index first = c * chunk;
     searched_per_chunk_[static_cast<std::size_t>(c)] =
         archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
@@ -101,7 +128,7 @@ void CvtMapElites::step(Evaluator& evaluator) {
   lists_.resize(count, archive.list_length());
   if (archive.list_length() > 0) {
     const auto entering = static_cast<Index>(entering_.size());
-    evaluator.parallel_for((entering + chunk - 1) / chunk, [&](Index c) {
+    for_each_chunk((entering + chunk - 1) / chunk, [&](Index c) {
       for (Index i = c * chunk; i < std::min(entering, (c + 1) * chunk); ++i) {
         const Index r = entering_[static_cast<std::size_t>(i)];
         const auto u = static_cast<std::size_t>(r);
@@ -114,6 +141,7 @@ void CvtMapElites::step(Evaluator& evaluator) {
                         evaluations_.base_features.row(r).data(), lists_, r);
   counters_.bottom += count;
   ++generation_;
+  return true;
 }
 
 ArchiveStats CvtMapElites::stats() const { return archive_ ? archive_->stats() : ArchiveStats{}; }
@@ -121,6 +149,7 @@ ArchiveStats CvtMapElites::stats() const { return archive_ ? archive_->stats() :
 EliteTable CvtMapElites::elites() const { return archive_ ? archive_->elites() : EliteTable{}; }
 
 void CvtMapElites::save(BinaryWriter& out) const {
+  require_between_steps("save()");
   out.tag("cvt_map_elites");
   out.value(generation_);
   out.value(searched_);
@@ -130,6 +159,7 @@ void CvtMapElites::save(BinaryWriter& out) const {
 }
 
 void CvtMapElites::load(BinaryReader& in) {
+  require_between_steps("load()");
   in.expect_tag("cvt_map_elites");
   generation_ = in.value<std::int64_t>("generation");
   searched_ = in.value<std::int64_t>("searched count");

@@ -48,15 +48,15 @@ class CvtMapElites final : public Algorithm {
   CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "cvt-map-elites"; }
-  void step(Evaluator& evaluator) override;
   std::int64_t generation() const override { return generation_; }
   EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override;
   // index = centroid index, measures = descriptor (base features), solutions = genotypes.
   EliteTable elites() const override;
 
-  // Makes or loads the centroids and the empty archive (the first step calls it). k-means runs
-  // on the evaluator's workers; a regenerated cache file is reported on stderr.
+  // Makes or loads the centroids and the empty archive (step() calls it; a first ask() without
+  // it makes them on one thread). k-means runs on the evaluator's workers; a regenerated cache
+  // file is reported on stderr.
   void prepare(Evaluator& evaluator);
   bool prepared() const { return archive_.has_value(); }
   const CvtArchive& archive() const;
@@ -67,6 +67,13 @@ class CvtMapElites final : public Algorithm {
   void save(BinaryWriter& out) const override;
   // Makes or loads the centroids first (on one thread; from the cache when they are there).
   void load(BinaryReader& in) override;
+
+ protected:
+  // One request per step, one job; tell() finds the cells on oneTBB, then inserts in batch order.
+  void next_request(std::vector<EvaluationJob>& jobs) override;
+  bool take_results() override;
+  void before_step(Evaluator& evaluator) override;
+  bool parallel_inside() const override { return true; }
 
  private:
   CvtMapElitesParams params_;

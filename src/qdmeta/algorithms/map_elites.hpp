@@ -92,7 +92,6 @@ class MapElites final : public Algorithm {
             GridArchiveParams archive, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "map-elites"; }
-  void step(Evaluator& evaluator) override;
   std::int64_t generation() const override { return generation_; }
   EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
@@ -101,6 +100,11 @@ class MapElites final : public Algorithm {
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
+
+ protected:
+  // One request per step: the generation's genotypes, one job.
+  void next_request(std::vector<EvaluationJob>& jobs) override;
+  bool take_results() override;
 
  private:
   MapElitesParams params_;

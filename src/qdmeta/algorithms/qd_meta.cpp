@@ -2,8 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "qdmeta/algorithms/map_elites.hpp"
@@ -80,69 +85,126 @@ QdMeta::QdMeta(QdMetaParams params, Task task, std::unique_ptr<MetaObjective> me
   maps_.resize(lambda);
   offspring_.resize(lambda);
   evaluations_.resize(lambda);
+  blocks_.resize(lambda);
+  block_evaluations_.resize(lambda);
+  targets_.resize(lambda);
+  meta_tasks_ = meta_objective_->tasks();
+  elites_.resize(lambda);
+  plans_.resize(lambda);
+  planned_.assign(lambda, std::uint8_t{0});
+  meta_evaluations_.resize(lambda);
   meta_results_.resize(lambda);
   meta_fitness_.resize(lambda);
 }
 
-void QdMeta::seed_database(Evaluator& evaluator) {
-  RowMatrix genotypes(params_.initial_population, task_.genotype_size());
-  Rng rng = Rng::stream(seed_, {key(StreamKey::kInitialPopulation)});
-  random_genotypes(genotypes, rng);
-  EvaluationBatch batch;
-  batch.resize(genotypes.rows(), task_.base_feature_size());
-  evaluator.evaluate(task_, {genotypes.data(), genotypes.rows(), genotypes.cols()}, batch.view());
-  database_.insert_valid(genotypes, batch);
-  counters_.bottom += genotypes.rows();
+namespace {
+
+// body(0) ... body(n - 1), on oneTBB when `parallel`: every index owns its map's buffers and
+// streams, so the result does not depend on the split (step() confines it to the evaluator's
+// workers).
+void for_each_map(Index n, bool parallel, const std::function<void(Index)>& body) {
+  if (!parallel || n < 2) {
+    for (Index i = 0; i < n; ++i) body(i);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<Index>(0, n, 1),
+      [&](const tbb::blocked_range<Index>& range) {
+        for (Index i = range.begin(); i < range.end(); ++i) body(i);
+      },
+      tbb::simple_partitioner());
 }
 
-// Runs G MAP-Elites generations in map i, keeping every offspring for the database, then
-// scores the archive. Touches only map i's buffers and streams, so maps may run in parallel.
-void QdMeta::evolve_map(Index i, int generations, Evaluator& evaluator) {
-  const auto m = static_cast<std::size_t>(i);
+}  // namespace
+
+void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
   const Index n = task_.genotype_size();
-  const Index batch = params_.batch_size;
-  GridArchive& archive = archives_[m];
-  RowMatrix& genotypes = offspring_[m];
-  EvaluationBatch& evaluations = evaluations_[m];
-  genotypes.resize(generations * batch, n);
-  evaluations.resize(generations * batch, task_.base_feature_size());
-  RowMatrix block(batch, n), targets;
-  EvaluationBatch block_evaluations;
-  block_evaluations.resize(batch, task_.base_feature_size());
-  const auto t = static_cast<std::uint64_t>(meta_generation_);
-  for (int g = 0; g < generations; ++g) {
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), t, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(g)});
-    if (archive.empty()) random_genotypes(block, rng);
-    else generate_offspring(archive, mutation_, rng, block);
-    evaluator.evaluate(task_, {block.data(), batch, n}, block_evaluations.view());
-    insert_batch(archive, *maps_[m], block, block_evaluations, targets);
-    genotypes.middleRows(g * batch, batch) = block;
-    evaluations.fitness.segment(g * batch, batch) = block_evaluations.fitness;
-    evaluations.base_features.middleRows(g * batch, batch) = block_evaluations.base_features;
-    std::copy(block_evaluations.valid.begin(), block_evaluations.valid.end(),
-              evaluations.valid.begin() + static_cast<std::ptrdiff_t>(g * batch));
+  if (phase_ == Phase::kIdle) {
+    if (meta_generation_ == 0 && database_.total_inserted() == 0 && counters_.bottom == 0) {
+      seed_genotypes_.resize(params_.initial_population, n);
+      Rng rng = Rng::stream(seed_, {key(StreamKey::kInitialPopulation)});
+      random_genotypes(seed_genotypes_, rng);
+      seed_evaluations_.resize(seed_genotypes_.rows(), task_.base_feature_size());
+      jobs.push_back({&task_, {seed_genotypes_.data(), seed_genotypes_.rows(), n}, seed_evaluations_.view()});
+      phase_ = Phase::kSeeding;
+      return;
+    }
+    begin_meta_generation();
+  } else if (phase_ == Phase::kSeeding) {
+    begin_meta_generation();
   }
-  MetaFitnessResult result;
-  if (!archive.empty()) {
-    RowMatrix elites(archive.size(), n);
-    Index row = 0;
-    for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), t, static_cast<std::uint64_t>(i)});
-    result = meta_objective_->evaluate(elites, rng, evaluator);
-    if (!std::isfinite(result.value))
-      throw Error(fmt::format("meta-objective '{}' returned {} for map {} of meta-generation {}", meta_objective_->name(),
-                              result.value, i, meta_generation_ + 1));
+  const auto lambda = params_.meta_population;
+  if (phase_ == Phase::kGenerations) {
+    // Generation 0's offspring are made here; later ones by the tell() before (see take_results).
+    if (next_generation_ == 0) for_each_map(lambda, true, [&](Index i) { vary_map(i, 0); });
+    for (Index i = 0; i < lambda; ++i) {
+      const auto m = static_cast<std::size_t>(i);
+      jobs.push_back({&task_, {blocks_[m].data(), params_.batch_size, n}, block_evaluations_[m].view()});
+    }
+    return;
   }
-  meta_results_[m] = result;
+  // kMetaScoring: every map's batches, map-major.
+  for (Index i = 0; i < lambda; ++i) {
+    const auto m = static_cast<std::size_t>(i);
+    if (!planned_[m]) continue;
+    for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
+      const MetaBatch& b = plans_[m].batches[k];
+      jobs.push_back({&meta_tasks_[static_cast<std::size_t>(b.task)],
+                      {b.genotypes.data(), b.genotypes.rows(), b.genotypes.cols()}, meta_evaluations_[m][k].view()});
+    }
+  }
 }
 
-void QdMeta::step(Evaluator& evaluator) {
-  if (meta_generation_ == 0 && database_.total_inserted() == 0 && counters_.bottom == 0) seed_database(evaluator);
-  const EvaluationCounters before = counters_;
+bool QdMeta::take_results() {
+  if (phase_ == Phase::kSeeding) {
+    database_.insert_valid(seed_genotypes_, seed_evaluations_);
+    counters_.bottom += seed_genotypes_.rows();
+    return false;  // the meta-generation follows in the same step
+  }
+  const auto lambda = params_.meta_population;
+  if (phase_ == Phase::kGenerations) {
+    const Index batch = params_.batch_size;
+    const int g = next_generation_;
+    const bool last = g + 1 == generations_;
+    // One parallel pass per generation: each map inserts its batch, then makes its next batch
+    // (or, on the last generation, plans its meta-fitness when that may run in parallel). The
+    // same work in separate passes gives the same bits; fusing them saves a fork-join.
+    const bool plan_here = last && task_.shareable();
+    for_each_map(lambda, true, [&](Index i) {
+      const auto m = static_cast<std::size_t>(i);
+      const RowMatrix& block = blocks_[m];
+      const EvaluationBatch& e = block_evaluations_[m];
+      insert_batch(archives_[m], *maps_[m], block, e, targets_[m]);
+      offspring_[m].middleRows(g * batch, batch) = block;
+      evaluations_[m].fitness.segment(g * batch, batch) = e.fitness;
+      evaluations_[m].base_features.middleRows(g * batch, batch) = e.base_features;
+      std::copy(e.valid.begin(), e.valid.end(), evaluations_[m].valid.begin() + static_cast<std::ptrdiff_t>(g * batch));
+      if (!last) vary_map(i, g + 1);
+      else if (plan_here) plan_map(i);
+    });
+    if (!last) {
+      ++next_generation_;
+      return false;
+    }
+    if (!plan_here)
+      for (Index i = 0; i < lambda; ++i) plan_map(i);
+    if (meta_objective_simulates()) {
+      phase_ = Phase::kMetaScoring;
+      return false;
+    }
+    score_meta_fitness();
+  } else {
+    score_meta_fitness();
+  }
+  finish_meta_generation();
+  return true;
+}
+
+// Samples the meta-population, rebuilds every map from the whole database, and chooses G.
+void QdMeta::begin_meta_generation() {
+  before_ = counters_;
   const auto t = static_cast<std::uint64_t>(meta_generation_);
   const auto lambda = params_.meta_population;
-
-  // 1. Sample the meta-population and rebuild every map from the whole database.
   Rng cma_rng = Rng::stream(seed_, {key(StreamKey::kMetaSampling), t});
   const Eigen::MatrixXd& samples = cma_.ask([&cma_rng] { return cma_rng.normal(); });
   std::vector<const NeuralFeatureMap*> map_ptrs;
@@ -154,25 +216,80 @@ void QdMeta::step(Evaluator& evaluator) {
     map_ptrs.push_back(maps_[static_cast<std::size_t>(i)].get());
     archive_ptrs.push_back(&archives_[static_cast<std::size_t>(i)]);
   }
-  evaluator.within_workers([&] { rebuild_archives(database_, map_ptrs, archive_ptrs); });
+  rebuild_archives(database_, map_ptrs, archive_ptrs);
 
-  // 2. One number of generations for the whole meta-population.
+  // One number of generations for the whole meta-population.
   Rng control_rng = Rng::stream(seed_, {key(StreamKey::kControl), t});
   const int generations = controller_->choose_generations(samples, control_rng);
   if (generations < 1) throw Error(fmt::format("controller '{}' chose {} generations", controller_->name(), generations));
-
-  // 3. Evolve and score each map. A shareable task lets maps run in parallel, each evaluating
-  // serially; otherwise maps run in turn and the evaluator parallelises each batch.
-  if (task_.shareable()) {
-    evaluator.parallel_for(lambda, [&](Index i) {
-      SerialEvaluator serial;
-      evolve_map(i, generations, serial);
-    });
-  } else {
-    for (Index i = 0; i < lambda; ++i) evolve_map(i, generations, evaluator);
+  generations_ = generations;
+  next_generation_ = 0;
+  const Index n = task_.genotype_size();
+  const Index batch = params_.batch_size;
+  for (std::size_t m = 0; m < static_cast<std::size_t>(lambda); ++m) {
+    offspring_[m].resize(generations * batch, n);
+    evaluations_[m].resize(generations * batch, task_.base_feature_size());
+    blocks_[m].resize(batch, n);
+    block_evaluations_[m].resize(batch, task_.base_feature_size());
   }
+  phase_ = Phase::kGenerations;
+}
 
-  // 4. The database takes every new solution in a fixed order (map by map, oldest first).
+// Generation g of map i, from its own stream (seed, variation, t, map, g).
+void QdMeta::vary_map(Index i, int g) {
+  const auto m = static_cast<std::size_t>(i);
+  Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(meta_generation_),
+                                static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(g)});
+  if (archives_[m].empty()) random_genotypes(blocks_[m], rng);
+  else generate_offspring(archives_[m], mutation_, rng, blocks_[m]);
+}
+
+// Map i's meta-objective plan (an empty archive scores 0 without one). The objective runs in
+// parallel over maps only for a shareable task, as its evaluations did before ask/tell.
+void QdMeta::plan_map(Index i) {
+  const auto m = static_cast<std::size_t>(i);
+  const Index n = task_.genotype_size();
+  const GridArchive& archive = archives_[m];
+  planned_[m] = 0;
+  meta_results_[m] = {};
+  if (archive.empty()) return;
+  RowMatrix& elites = elites_[m];
+  elites.resize(archive.size(), n);
+  Index row = 0;
+  for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
+  Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), static_cast<std::uint64_t>(meta_generation_),
+                                static_cast<std::uint64_t>(i)});
+  plans_[m] = meta_objective_->plan(elites, rng);
+  check_meta_plan(*meta_objective_, plans_[m], meta_tasks_);
+  meta_evaluations_[m].resize(plans_[m].batches.size());
+  for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
+    const MetaBatch& b = plans_[m].batches[k];
+    meta_evaluations_[m][k].resize(b.genotypes.rows(), meta_tasks_[static_cast<std::size_t>(b.task)].base_feature_size());
+  }
+  planned_[m] = 1;
+}
+
+bool QdMeta::meta_objective_simulates() const {
+  for (std::size_t m = 0; m < planned_.size(); ++m)
+    if (planned_[m] && !plans_[m].batches.empty()) return true;
+  return false;
+}
+
+void QdMeta::score_meta_fitness() {
+  for_each_map(params_.meta_population, task_.shareable(), [&](Index i) {
+    const auto m = static_cast<std::size_t>(i);
+    if (!planned_[m]) return;
+    const MetaFitnessResult result = meta_objective_->score(elites_[m], plans_[m], meta_evaluations_[m]);
+    if (!std::isfinite(result.value))
+      throw Error(fmt::format("meta-objective '{}' returned {} for map {} of meta-generation {}", meta_objective_->name(),
+                              result.value, i, meta_generation_ + 1));
+    meta_results_[m] = result;
+  });
+}
+
+void QdMeta::finish_meta_generation() {
+  const auto lambda = params_.meta_population;
+  // The database takes every new solution in a fixed order (map by map, oldest first).
   for (Index i = 0; i < lambda; ++i) {
     const auto m = static_cast<std::size_t>(i);
     database_.insert_valid(offspring_[m], evaluations_[m]);
@@ -181,13 +298,13 @@ void QdMeta::step(Evaluator& evaluator) {
     meta_fitness_[m] = meta_results_[m].value;
   }
 
-  // 5. CMA-ES and the controller learn from the meta-fitness.
+  // CMA-ES and the controller learn from the meta-fitness.
   cma_.tell(Eigen::Map<const Eigen::VectorXd>(meta_fitness_.data(), lambda), CmaObjective::kMaximise);
-  const std::int64_t spent = params_.count_meta_evaluations ? counters_.total() - before.total()
-                                                            : counters_.bottom - before.bottom;
+  const std::int64_t spent = params_.count_meta_evaluations ? counters_.total() - before_.total()
+                                                            : counters_.bottom - before_.bottom;
   controller_->observe(meta_fitness_, spent);
 
-  // 6. Keep the best map of this meta-generation (first on ties) for the logs and archive.csv.
+  // Keep the best map of this meta-generation (first on ties) for the logs and archive.csv.
   const auto best = static_cast<std::size_t>(std::max_element(meta_fitness_.begin(), meta_fitness_.end()) -
                                              meta_fitness_.begin());
   best_archive_ = archives_[best];
@@ -195,8 +312,10 @@ void QdMeta::step(Evaluator& evaluator) {
   const double mean = std::accumulate(meta_fitness_.begin(), meta_fitness_.end(), 0.0) / static_cast<double>(lambda);
   double sq = 0.0;
   for (double f : meta_fitness_) sq += (f - mean) * (f - mean);
-  record_ = {meta_generation_, meta_fitness_[best], mean, std::sqrt(sq / static_cast<double>(lambda)), generations,
+  record_ = {meta_generation_, meta_fitness_[best], mean, std::sqrt(sq / static_cast<double>(lambda)), generations_,
              controller_->states()};
+  for (MetaPlan& plan : plans_) plan = {};  // the sampled genotypes are not needed any more
+  phase_ = Phase::kIdle;
 }
 
 EliteTable QdMeta::elites() const { return best_archive_.elites(); }
@@ -205,6 +324,7 @@ EliteTable QdMeta::elites() const { return best_archive_.elites(); }
 // The per-map archives and feature-maps are rebuilt at the start of every meta-generation, so
 // only what outlives a meta-generation is saved.
 void QdMeta::save(BinaryWriter& out) const {
+  require_between_steps("save()");
   out.tag("qd_meta");
   out.value(meta_generation_);
   save_counters(out, counters_);
@@ -222,6 +342,7 @@ void QdMeta::save(BinaryWriter& out) const {
 }
 
 void QdMeta::load(BinaryReader& in) {
+  require_between_steps("load()");
   in.expect_tag("qd_meta");
   meta_generation_ = in.value<std::int64_t>("meta-generation");
   counters_ = load_counters(in);
@@ -239,6 +360,37 @@ void QdMeta::load(BinaryReader& in) {
   record_.generations = in.value<std::int32_t>("record generations");
   record_.states = in.value<std::int64_t>("record states");
   controller_->load(in);
+}
+
+// Declared in core/meta_objective.hpp; defined here, where evaluators are known (core/ comes
+// before eval/).
+void check_meta_plan(const MetaObjective& objective, const MetaPlan& plan, std::span<const Task> tasks) {
+  for (std::size_t k = 0; k < plan.batches.size(); ++k) {
+    const MetaBatch& b = plan.batches[k];
+    if (b.task < 0 || b.task >= static_cast<Index>(tasks.size()))
+      throw Error(fmt::format("meta-objective '{}': batch {} names task {}, but tasks() lists {}", objective.name(), k,
+                              b.task, tasks.size()));
+    const Task& task = tasks[static_cast<std::size_t>(b.task)];
+    if (b.genotypes.cols() != task.genotype_size())
+      throw Error(fmt::format("meta-objective '{}': batch {} has genotypes of {} genes, task '{}' expects {}",
+                              objective.name(), k, b.genotypes.cols(), task.name(), task.genotype_size()));
+  }
+}
+
+MetaFitnessResult MetaObjective::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const {
+  const MetaPlan planned = plan(elites, rng);
+  const std::vector<Task> task_list = tasks();
+  check_meta_plan(*this, planned, task_list);
+  std::vector<EvaluationBatch> results(planned.batches.size());
+  std::vector<EvaluationJob> jobs;
+  for (std::size_t k = 0; k < planned.batches.size(); ++k) {
+    const MetaBatch& b = planned.batches[k];
+    const Task& task = task_list[static_cast<std::size_t>(b.task)];
+    results[k].resize(b.genotypes.rows(), task.base_feature_size());
+    jobs.push_back({&task, {b.genotypes.data(), b.genotypes.rows(), b.genotypes.cols()}, results[k].view()});
+  }
+  if (!jobs.empty()) evaluator.evaluate_jobs(jobs);
+  return score(elites, planned, results);
 }
 
 }  // namespace qdmeta

@@ -5,6 +5,18 @@
 // controller), and is scored by the meta-objective; CMA-ES and the controller then update.
 // One step() is one meta-generation (the first also evaluates the initial population, which
 // only seeds the database).
+//
+// Its ask/tell requests, in this order:
+//   (first step only) one job: the initial population, which seeds the database;
+//   then, per meta-generation, the ask() that opens it samples CMA-ES, rebuilds the lambda
+//   archives from the database and asks the controller for G; then
+//   for g = 0 .. G-1: lambda jobs, map i's batch_size offspring of generation g, in map order
+//                     (one stream per map; inserted at tell(), the maps in parallel on oneTBB,
+//                     each map then making its generation g + 1 in the same pass);
+//   then one request with every map's meta-objective batches (map-major, each map's in plan
+//   order), or none when the objective simulates nothing (Rastrigin's); the tell() that ends
+//   the meta-generation updates the database (map by map), CMA-ES and the controller.
+// So a meta-generation is G requests, plus one when the meta-objective simulates.
 #include <memory>
 #include <vector>
 
@@ -42,7 +54,6 @@ class QdMeta final : public Algorithm {
          MutationParams mutation, std::unique_ptr<GenerationController> controller, std::uint64_t seed);
 
   std::string name() const override { return "qd-meta"; }
-  void step(Evaluator& evaluator) override;
   std::int64_t generation() const override { return meta_generation_; }
   EvaluationCounters counters() const override { return counters_; }
   // Statistics and elites of the map with the best meta-fitness of the latest meta-generation.
@@ -51,6 +62,7 @@ class QdMeta final : public Algorithm {
   const MetaGenerationRecord* last_meta_record() const override { return meta_generation_ > 0 ? &record_ : nullptr; }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
+  // Checkpoints only between steps (save() and load() mid-step throw Error).
   void load(BinaryReader& in) override;
 
   const Database& database() const { return database_; }
@@ -59,9 +71,20 @@ class QdMeta final : public Algorithm {
   double best_meta_fitness() const { return record_.meta_fitness_best; }
   const std::vector<double>& meta_fitness() const { return meta_fitness_; }
 
+ protected:
+  void next_request(std::vector<EvaluationJob>& jobs) override;
+  bool take_results() override;
+  bool parallel_inside() const override { return true; }
+
  private:
-  void seed_database(Evaluator& evaluator);
-  void evolve_map(Index map, int generations, Evaluator& evaluator);
+  // Where the meta-generation stands between requests.
+  enum class Phase { kIdle, kSeeding, kGenerations, kMetaScoring };
+  void begin_meta_generation();
+  void vary_map(Index map, int generation);
+  void plan_map(Index map);
+  bool meta_objective_simulates() const;
+  void score_meta_fitness();
+  void finish_meta_generation();
 
   QdMetaParams params_;
   Task task_;
@@ -76,12 +99,27 @@ class QdMeta final : public Algorithm {
   std::vector<std::unique_ptr<NeuralFeatureMap>> maps_;
   std::vector<RowMatrix> offspring_;               // per map: all its new genotypes this meta-generation
   std::vector<EvaluationBatch> evaluations_;       // per map: their evaluations
+  std::vector<RowMatrix> blocks_;                  // per map: the current generation's genotypes
+  std::vector<EvaluationBatch> block_evaluations_; // per map: their evaluations (the request's outputs)
+  std::vector<RowMatrix> targets_;                 // per map: insertion scratch
+  std::vector<Task> meta_tasks_;                   // the meta-objective's tasks(), which its batches index
+  std::vector<RowMatrix> elites_;                  // per map: the genotypes scored by the meta-objective
+  std::vector<MetaPlan> plans_;                    // per map: its meta-objective plan (empty archive: none)
+  std::vector<std::uint8_t> planned_;              // per map: 1 when plans_ holds a plan to score
+  std::vector<std::vector<EvaluationBatch>> meta_evaluations_;  // per map: its plan's batches' results
   std::vector<MetaFitnessResult> meta_results_;
   std::vector<double> meta_fitness_;
   GridArchive best_archive_;
   MetaGenerationRecord record_;
   std::int64_t meta_generation_ = 0;
   EvaluationCounters counters_;
+  // The meta-generation in progress (none between steps).
+  Phase phase_ = Phase::kIdle;
+  int generations_ = 0;        // G of this meta-generation
+  int next_generation_ = 0;    // g of the next generation request
+  EvaluationCounters before_;  // counters when it began
+  RowMatrix seed_genotypes_;
+  EvaluationBatch seed_evaluations_;
 };
 
 }  // namespace qdmeta

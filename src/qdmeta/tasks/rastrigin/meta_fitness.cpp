@@ -1,8 +1,10 @@
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 
 #include <algorithm>
+#include <any>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -50,6 +52,19 @@ void add_translated_terms(const Real* __restrict g, Index n, const double* __res
     const double ax = std::fabs(x);
     reach[r] = reach[r] > ax ? reach[r] : ax;
   }
+}
+
+// The perturbed functions are computed directly, so the whole result is known at plan time.
+MetaPlan analytic_plan(MetaFitnessResult result) {
+  MetaPlan plan;
+  plan.state = result;
+  return plan;
+}
+
+MetaFitnessResult analytic_result(const MetaPlan& plan, const std::string& objective) {
+  const auto* result = std::any_cast<MetaFitnessResult>(&plan.state);
+  if (!result) throw Error(fmt::format("meta-objective '{}': score() was given a plan it did not make", objective));
+  return *result;
 }
 
 void require_fraction(std::string_view field, double value) {
@@ -119,7 +134,14 @@ RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::
   }
 }
 
-MetaFitnessResult RastriginDimensionMeta::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& /*evaluator*/) const {
+MetaPlan RastriginDimensionMeta::plan(const RowMatrix& elites, Rng& rng) const { return analytic_plan(compute(elites, rng)); }
+
+MetaFitnessResult RastriginDimensionMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+                                                std::span<const EvaluationBatch> /*results*/) const {
+  return analytic_result(plan, name());
+}
+
+MetaFitnessResult RastriginDimensionMeta::compute(const RowMatrix& elites, Rng& rng) const {
   const Index dims = elites.cols();
   for (int j : dimensions_)
     if (j >= dims)
@@ -157,8 +179,16 @@ RastriginTranslationMeta::RastriginTranslationMeta(RastriginMetaParams params) :
   params_.validate();
 }
 
-MetaFitnessResult RastriginTranslationMeta::evaluate(const RowMatrix& elites, Rng& rng,
-                                                     Evaluator& /*evaluator*/) const {
+MetaPlan RastriginTranslationMeta::plan(const RowMatrix& elites, Rng& rng) const {
+  return analytic_plan(compute(elites, rng));
+}
+
+MetaFitnessResult RastriginTranslationMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+                                                  std::span<const EvaluationBatch> /*results*/) const {
+  return analytic_result(plan, name());
+}
+
+MetaFitnessResult RastriginTranslationMeta::compute(const RowMatrix& elites, Rng& rng) const {
   const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
   if (n == 0) return {};
   const ColMatrix block = gather(elites, sample_elites(elites.rows(), n, rng));

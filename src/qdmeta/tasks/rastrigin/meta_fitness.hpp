@@ -4,7 +4,8 @@
 // each evaluation (SPEC.md section 2), and sum the per-task scores M + max(-M, f) over it, so
 // bigger archives score more. Higher is better.
 //
-// Random draws, in this order, all from the `rng` given to evaluate():
+// Both are analytic: plan() computes the result (no batches to simulate) and score() returns it.
+// Random draws, in this order, all from the `rng` given to plan() (or evaluate()):
 //   1. the sample: sample_elites(elites.rows(), meta_sample_size(fraction, elites.rows()), rng);
 //   2. Translation only: one set of transforms, rastrigin::sample_meta_transforms(rng, repetitions);
 //      with transform_per_solution, one such set per sampled solution, in sample order.
@@ -45,11 +46,14 @@ class RastriginDimensionMeta final : public MetaObjective {
   // of them, distinct and non-negative (checked against the genotype size in evaluate()).
   RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions);
   std::string name() const override { return "rastrigin-dimension"; }
-  MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const override;
+  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
+  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+                          std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   const std::vector<int>& dimensions() const { return dimensions_; }
 
  private:
+  MetaFitnessResult compute(const RowMatrix& elites, Rng& rng) const;
   RastriginMetaParams params_;
   std::vector<int> dimensions_;
 };
@@ -61,11 +65,14 @@ class RastriginTranslationMeta final : public MetaObjective {
  public:
   explicit RastriginTranslationMeta(RastriginMetaParams params = {});
   std::string name() const override { return "rastrigin-translation"; }
-  MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const override;
+  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
+  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+                          std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   int transform_count() const { return 8 * params_.transform_repetitions; }
 
  private:
+  MetaFitnessResult compute(const RowMatrix& elites, Rng& rng) const;
   RastriginMetaParams params_;
 };
 

@@ -4,7 +4,7 @@
 
 #include <utility>
 
-#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"  // meta_sample_size, sample_elites
 
 namespace qdmeta {
@@ -27,23 +27,28 @@ RhexMetaFitness::RhexMetaFitness(std::string name, RhexMetaParams params, RhexTa
   }
 }
 
-MetaFitnessResult RhexMetaFitness::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const {
+MetaPlan RhexMetaFitness::plan(const RowMatrix& elites, Rng& rng) const {
+  MetaPlan plan;
   const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
-  if (n == 0) return {};
+  if (n == 0) return plan;
   const std::vector<Index> sample = sample_elites(elites.rows(), n, rng);
-  const Index env_count = static_cast<Index>(environments_.size());
-  const Index genes = elites.cols();
-  RowMatrix sampled(n, genes);
+  RowMatrix sampled(n, elites.cols());
   for (Index s = 0; s < n; ++s) sampled.row(s) = elites.row(sample[static_cast<std::size_t>(s)]);
-  std::vector<EvaluationBatch> results(static_cast<std::size_t>(env_count));
-  std::vector<EvaluationJob> jobs;
-  for (Index e = 0; e < env_count; ++e) {
-    EvaluationBatch& r = results[static_cast<std::size_t>(e)];
-    const Task& task = env_tasks_[static_cast<std::size_t>(e)];
-    r.resize(n, task.base_feature_size());
-    jobs.push_back({&task, {sampled.data(), n, genes}, r.view()});
-  }
-  evaluator.evaluate_jobs(jobs);
+  const auto env_count = static_cast<Index>(environments_.size());
+  for (Index e = 0; e < env_count; ++e) plan.batches.push_back({e, sampled});
+  return plan;
+}
+
+MetaFitnessResult RhexMetaFitness::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+                                         std::span<const EvaluationBatch> results) const {
+  if (plan.batches.empty()) return {};
+  const auto env_count = static_cast<Index>(environments_.size());
+  const Index n = plan.batches.front().genotypes.rows();
+  if (results.size() != plan.batches.size() || plan.batches.size() != environments_.size())
+    throw Error(fmt::format("{}: score() got {} result blocks for a plan of {} batches over {} environments", name_,
+                            results.size(), plan.batches.size(), environments_.size()));
+  for (const EvaluationBatch& r : results)
+    if (r.size() != n) throw Error(fmt::format("{}: score() got a block of {} rows for {} sampled solutions", name_, r.size(), n));
   // Solution-major, as the episodes are listed: the sum's order is fixed.
   double sum = 0.0;
   for (Index s = 0; s < n; ++s)

@@ -4,7 +4,7 @@
 // environments, dead = 0. Damage: 2 damage types drawn per replicate x 6 legs; Obstacle: 5 of
 // the 9 courses drawn per replicate. Higher is better.
 //
-// Random draws, all from the `rng` given to evaluate(): the sample only,
+// Random draws, all from the `rng` given to plan() (or evaluate()): the sample only,
 // sample_elites(elites.rows(), meta_sample_size(fraction, elites.rows()), rng); with the default
 // fraction 1 that is a permutation of the whole archive (its order does not change the result).
 #include <cstdint>
@@ -26,11 +26,13 @@ class RhexMetaFitness final : public MetaObjective {
   // `name`: "rhex-damage" or "rhex-obstacle"; `environments`: where each sampled solution walks.
   RhexMetaFitness(std::string name, RhexMetaParams params, RhexTask task, std::vector<rhex::RhexEnvironment> environments);
   std::string name() const override { return name_; }
-  // F = (1 / (n E)) sum_s sum_e f(g_s; e), dead = 0; evaluations = n E. Episodes run as one
-  // evaluate_jobs request (a job per environment, so MPI ranks can share them) and are summed
-  // in a fixed order, so F does not depend on the threads or ranks. f is the task's fitness
-  // (Real, float), as stored in archives.
-  MetaFitnessResult evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const override;
+  // F = (1 / (n E)) sum_s sum_e f(g_s; e), dead = 0; evaluations = n E. plan() lists one batch
+  // per environment (the n sampled genotypes; QD-Meta sends them as one request, so MPI ranks
+  // can share them); score() sums the episodes in a fixed order (solution-major), so F does not
+  // depend on the threads or ranks. f is the task's fitness (Real, float), as stored in archives.
+  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
+  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+                          std::span<const EvaluationBatch> results) const override;
   // One RHex task per environment, in environments() order.
   std::vector<Task> tasks() const override { return env_tasks_; }
   const std::vector<rhex::RhexEnvironment>& environments() const { return environments_; }
