@@ -256,7 +256,7 @@ std::unique_ptr<MetaObjective> read_meta_fitness(ConfigReader& m, const Task& ta
   throw InputError("unreachable meta-fitness kind");
 }
 
-// The [aurora] table (SPEC.md section 6).
+// The [aurora] table (docs/specification.md, AURORA).
 AuroraParams read_aurora(ConfigReader& a) {
   AuroraParams p;
   p.batch_size = a.integer("batch_size", p.batch_size, 1, 10'000'000);

@@ -38,7 +38,7 @@ struct RunProgress {
 };
 using ProgressCallback = std::function<void(const RunProgress&)>;
 
-// The metrics.csv header (DESIGN.md contract plus `generation`).
+// The metrics.csv header (README.md's run-directory table).
 const std::vector<std::string>& metrics_columns();
 // The meta.csv header (QD-Meta): one row per meta-generation.
 const std::vector<std::string>& meta_columns();
