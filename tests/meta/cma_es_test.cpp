@@ -458,7 +458,9 @@ TEST(CmaEsBulkNormals, RngOverloadEqualsPerDrawSourceBitForBit) {
       ASSERT_TRUE(bulk.state() == per_draw.state());
     }
     // The bounded cases really exercised their bounds handling.
-    if (c.bounds == CmaBoundsHandling::kResample) EXPECT_GT(clamped_or_redrawn, 0);
+    if (c.bounds == CmaBoundsHandling::kResample) {
+      EXPECT_GT(clamped_or_redrawn, 0);
+    }
   }
 }
 
