@@ -1,5 +1,6 @@
 // One ask + tell cycle of qdmeta::CmaEs at the meta-genotype sizes of QD-Meta
-// (K = 222 and K = 542 feature-map weights, lambda = 10). The time per iteration is amortised
+// (K = 222 and K = 542 feature-map weights, lambda = 10; neural_feature_map.hpp's
+// N_h N_b + 1 + N_t N_h + 1 for 20 -> 10 -> 2 and 50 -> 10 -> 4). The time per iteration is amortised
 // over the lazy eigendecompositions (one every ceil(interval / lambda) generations);
 // BM_CmaEsDecompose measures one decomposition alone.
 // GCC 12 false -Wmaybe-uninitialized inside Eigen 3.4's SelfAdjointEigenSolver (see cma_es.cpp).
@@ -39,6 +40,38 @@ void BM_CmaEsAskTell(benchmark::State& state) {
       static_cast<double>(cma.state().generation));
 }
 BENCHMARK(BM_CmaEsAskTell)->Arg(222)->Arg(542)->Unit(benchmark::kMicrosecond);
+
+// QD-Meta's sampling: normals from qdmeta::Rng, either through the bulk overload ask(Rng&)
+// (Arg 1 = 1) or one std::function call per draw (0), the form QD-Meta used before; both give
+// the same bits. Frozen, so tell() costs nothing and the time is ask()'s alone.
+void BM_CmaEsAskFrozen(benchmark::State& state) {
+  qdmeta::CmaEsParams p = params_for(state);
+  p.frozen = true;
+  qdmeta::CmaEs cma(p);
+  qdmeta::Rng rng(1);
+  const bool bulk = state.range(1) == 1;
+  const Eigen::VectorXd fitness = Eigen::VectorXd::Zero(10);
+  for (auto _ : state) {
+    const Eigen::MatrixXd& x = bulk ? cma.ask(rng) : cma.ask([&rng] { return rng.normal(); });
+    benchmark::DoNotOptimize(x.data());
+    cma.tell(fitness, qdmeta::CmaObjective::kMaximise);
+  }
+}
+BENCHMARK(BM_CmaEsAskFrozen)->Args({222, 0})->Args({222, 1})->Args({542, 0})->Args({542, 1})
+    ->Unit(benchmark::kMicrosecond);
+
+// One ask + tell as QD-Meta runs it (normals from qdmeta::Rng in bulk).
+void BM_CmaEsAskTellRng(benchmark::State& state) {
+  qdmeta::CmaEs cma(params_for(state));
+  qdmeta::Rng rng(1);
+  Eigen::VectorXd fitness(10);
+  for (auto _ : state) {
+    const Eigen::MatrixXd& x = cma.ask(rng);
+    fitness = x.colwise().squaredNorm().transpose();
+    cma.tell(fitness, qdmeta::CmaObjective::kMaximise);
+  }
+}
+BENCHMARK(BM_CmaEsAskTellRng)->Arg(222)->Arg(542)->Unit(benchmark::kMicrosecond);
 
 void BM_CmaEsDecompose(benchmark::State& state) {
   const Eigen::Index n = state.range(0);

@@ -1,4 +1,4 @@
-// The command line end to end: the files and columns DESIGN.md promises, exit status 2 with a
+// The command line end to end: the files and columns README.md promises, exit status 2 with a
 // one-line message on bad input, refusal to overwrite, and the same bits at any thread count.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -39,7 +39,7 @@ RowMatrix uniform_rows(Index rows, Index cols, float lo, float hi, std::uint64_t
   return m;
 }
 
-// The network of SPEC.md section 2, written out row by row in double precision.
+// The network of docs/specification.md (QD-Meta), written out row by row in double precision.
 std::vector<double> reference(const NeuralFeatureMapShape& s, const std::vector<double>& w, const Real* b) {
   const auto nb = static_cast<std::size_t>(s.inputs);
   const auto nh = static_cast<std::size_t>(s.hidden);

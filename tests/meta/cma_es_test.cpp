@@ -122,7 +122,7 @@ TEST(CmaEsStrategy, TutorialDefaultsFor10D) {
 
 TEST(CmaEsParams, DefaultsAreValidOnceTheDimensionIsSet) {
   CmaEsParams p;
-  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.dimension = 0 is invalid: must be >= 1");
+  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.dimension = 0 is out of range: must be at least 1");
   p.dimension = 222;
   EXPECT_NO_THROW(p.validate());
   EXPECT_EQ(p.population_size, 10);
@@ -135,7 +135,7 @@ TEST(CmaEsParams, ValidateNamesFieldValueAndRule) {
   good.dimension = 3;
   auto p = good;
   p.population_size = 0;
-  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.population_size = 0 is invalid: must be >= 1");
+  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.population_size = 0 is out of range: must be at least 1");
   p = good;
   p.initial_sigma = -0.5;
   EXPECT_INPUT_ERROR(p.validate(),
@@ -167,10 +167,10 @@ TEST(CmaEsParams, ValidateNamesFieldValueAndRule) {
   p = good;
   p.max_resample_attempts = 0;
   EXPECT_INPUT_ERROR(p.validate(),
-                     "CmaEsParams.max_resample_attempts = 0 is invalid: must be >= 1");
+                     "CmaEsParams.max_resample_attempts = 0 is out of range: must be at least 1");
   p = good;
   p.dimension = -4;
-  EXPECT_INPUT_ERROR(CmaEs{p}, "CmaEsParams.dimension = -4 is invalid: must be >= 1");
+  EXPECT_INPUT_ERROR(CmaEs{p}, "CmaEsParams.dimension = -4 is out of range: must be at least 1");
 }
 
 TEST(CmaEsEnums, StringsRoundTripAndUnknownListsValidValues) {
@@ -180,13 +180,14 @@ TEST(CmaEsEnums, StringsRoundTripAndUnknownListsValidValues) {
   }
   EXPECT_EQ(to_string(CmaBoundsHandling::kResample), "resample");
   EXPECT_INPUT_ERROR(cma_bounds_handling_from_string("reflect"),
-                     "unknown CMA-ES bounds handling \"reflect\"; valid values: none, clamp, "
-                     "resample");
+                     "CMA-ES bounds handling = \"reflect\" is not a valid choice: use one of "
+                     "\"none\", \"clamp\", \"resample\"");
   for (auto o : {CmaObjective::kMinimise, CmaObjective::kMaximise}) {
     EXPECT_EQ(cma_objective_from_string(to_string(o)), o);
   }
   EXPECT_INPUT_ERROR(cma_objective_from_string("max"),
-                     "unknown CMA-ES objective \"max\"; valid values: minimise, maximise");
+                     "CMA-ES objective = \"max\" is not a valid choice: use one of \"minimise\", "
+                     "\"maximise\"");
 }
 
 TEST(CmaEsProtocol, MisuseThrowsWithExpectedAndActual) {
@@ -418,6 +419,72 @@ TEST(CmaEs, PopulationOfOneFollowsItsOnlyCandidate) {
     EXPECT_TRUE(cma.state().mean.isApprox(x, 1e-12));
     EXPECT_TRUE(std::isfinite(cma.state().sigma));
     EXPECT_TRUE(cma.state().C.allFinite());
+  }
+}
+
+// ask(Rng&) draws all normals in one pass; it must give the bits of the one-call-per-draw source
+// (the form QD-Meta used before), in every bounds mode and for the frozen control, and leave the
+// generator where that source leaves it.
+TEST(CmaEsBulkNormals, RngOverloadEqualsPerDrawSourceBitForBit) {
+  struct Case {
+    CmaBoundsHandling bounds;
+    double sigma;
+    bool frozen;
+  };
+  for (const Case& c : {Case{CmaBoundsHandling::kClamp, 2.0 / 3.0, false},
+                        Case{CmaBoundsHandling::kResample, 1.5, false},
+                        Case{CmaBoundsHandling::kNone, 0.5, false},
+                        Case{CmaBoundsHandling::kClamp, 2.0 / 3.0, true}}) {
+    CmaEsParams p;
+    p.dimension = 30;
+    p.bounds = c.bounds;
+    p.initial_sigma = c.sigma;
+    p.max_resample_attempts = 5;
+    p.frozen = c.frozen;
+    CmaEs bulk(p);
+    CmaEs per_draw(p);
+    Rng rng_bulk(17);
+    Rng rng_per_draw(17);
+    int clamped_or_redrawn = 0;
+    for (int g = 0; g < 40; ++g) {
+      const Eigen::MatrixXd x = bulk.ask(rng_bulk);
+      const Eigen::MatrixXd y = per_draw.ask([&rng_per_draw] { return rng_per_draw.normal(); });
+      ASSERT_TRUE((x.array() == y.array()).all()) << "bounds " << to_string(c.bounds) << ", generation " << g;
+      ASSERT_TRUE(rng_bulk.state() == rng_per_draw.state());
+      clamped_or_redrawn += (x.array().abs() == 1.0).any() ? 1 : 0;
+      const Eigen::VectorXd f = evaluate(x, sphere);
+      bulk.tell(f, CmaObjective::kMinimise);
+      per_draw.tell(f, CmaObjective::kMinimise);
+      ASSERT_TRUE(bulk.state() == per_draw.state());
+    }
+    // The bounded cases really exercised their bounds handling.
+    if (c.bounds == CmaBoundsHandling::kResample) {
+      EXPECT_GT(clamped_or_redrawn, 0);
+    }
+  }
+}
+
+TEST(CmaEsBulkNormals, DrawsExactlyDimensionTimesLambdaNormalsWithoutBounds) {
+  CmaEsParams p;
+  p.dimension = 7;
+  p.population_size = 6;
+  p.bounds = CmaBoundsHandling::kNone;
+  CmaEs cma(p);
+  Rng rng(5);
+  Rng expected(5);
+  cma.ask(rng);
+  for (int i = 0; i < 7 * 6; ++i) expected.normal();
+  EXPECT_TRUE(rng.state() == expected.state());
+}
+
+TEST(CmaEsEnums, TablesMatchTheStringFunctions) {
+  for (const auto& [value, name] : kCmaBoundsHandlingNames) {
+    EXPECT_EQ(to_string(value), name);
+    EXPECT_EQ(cma_bounds_handling_from_string(name), value);
+  }
+  for (const auto& [value, name] : kCmaObjectiveNames) {
+    EXPECT_EQ(to_string(value), name);
+    EXPECT_EQ(cma_objective_from_string(name), value);
   }
 }
 

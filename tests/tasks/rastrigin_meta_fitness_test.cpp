@@ -1,4 +1,4 @@
-// Rastrigin meta-fitnesses (SPEC.md section 4) against a straightforward double-precision
+// Rastrigin meta-fitnesses (docs/specification.md, Meta-objectives) against a straightforward double-precision
 // computation written here (per solution, plain loops, std::cos), on the same sample: the
 // objectives document their draw order, so the reference reproduces it from the same seed.
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"

@@ -1,6 +1,6 @@
 // Tests of src/qdmeta/tasks/rastrigin/rastrigin.{hpp,cpp} and rastrigin_task.{hpp,cpp}:
 // known answers at hand-computed points (after pagmo2's tests/rastrigin.cpp), the variants of
-// SPEC.md section 4, the vectorised float path against the double reference, and the samplers.
+// docs/specification.md (Rastrigin), the vectorised float path against the double reference, and the samplers.
 //
 // Hand computations used below (x = -5.12 + 10.24 g; t(x) = x^2 - 10 cos(2 pi x) + 10, so that
 // f = -sum_i t(x_i)):

@@ -16,7 +16,7 @@ namespace qdmeta {
 namespace {
 
 using rhex::RhexEnvironment;
-constexpr double kBodyHeight = 0.139;  // SPEC.md: body 0.54 x 0.39 x 0.139 m
+constexpr double kBodyHeight = 0.139;  // docs/specification.md: body 0.54 x 0.39 x 0.139 m
 
 
 RhexParams short_params(double seconds, RhexFeatures features = RhexFeatures::kTrajectory) {

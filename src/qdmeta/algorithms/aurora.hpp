@@ -1,5 +1,5 @@
 #pragma once
-// AURORA-CSC-Uniform (SPEC.md section 6; Grillotti & Cully 2021): MAP-Elites-style evolution
+// AURORA-CSC-Uniform (docs/specification.md, AURORA; Grillotti & Cully 2021): MAP-Elites-style evolution
 // in an unstructured archive whose descriptors are the latent codes of an autoencoder trained
 // on the archive's own base features, with container size control (CSC) steering the archive
 // toward a target size, and uniform parent selection.

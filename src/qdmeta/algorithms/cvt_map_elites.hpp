@@ -1,5 +1,5 @@
 #pragma once
-// CVT-MAP-Elites (Vassiliades et al.; SPEC.md section 6): MAP-Elites whose cells are the
+// CVT-MAP-Elites (Vassiliades et al.; docs/specification.md, CVT-MAP-Elites): MAP-Elites whose cells are the
 // Voronoi cells of k-means centroids in the base-feature space. Same loop as MapElites (random
 // initial population, then batches of mutated elites drawn uniformly); a solution's descriptor is
 // its base features, its cell the nearest centroid. The centroids are made (or read from the
@@ -23,7 +23,7 @@ inline constexpr EnumNames<CvtSearch, 2> kCvtSearchNames{
     {{CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
 
 // Where k-means takes its points: uniform in [0,1]^d, or the base features of feasible random
-// genotypes of the task (SPEC.md section 6 for RHex).
+// genotypes of the task (docs/specification.md, CVT-MAP-Elites, for RHex).
 enum class CvtPoints { kUniform, kRandomDescriptors };
 inline constexpr EnumNames<CvtPoints, 2> kCvtPointsNames{
     {{CvtPoints::kUniform, "uniform"}, {CvtPoints::kRandomDescriptors, "random-descriptors"}}};

@@ -1,5 +1,5 @@
 #pragma once
-// Points for CVT centroids taken from the task itself (SPEC.md section 6, RHex: "4,096 centroids
+// Points for CVT centroids taken from the task itself (docs/specification.md, CVT-MAP-Elites, RHex: "4,096 centroids
 // over 100,000 feasible trajectories from random controllers"): the base features of random
 // genotypes, invalid ("dead") ones skipped, so the cells follow the descriptors a task can
 // actually produce instead of filling [0,1]^d uniformly.

@@ -1,5 +1,5 @@
 #pragma once
-// Plain MAP-Elites over a grid archive (SPEC.md section 1): an initial population of random
+// Plain MAP-Elites over a grid archive (docs/specification.md, MAP-Elites): an initial population of random
 // genotypes, then generations of `batch_size` offspring, each a mutated copy of a parent drawn
 // uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
 #include <algorithm>

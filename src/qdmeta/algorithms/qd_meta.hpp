@@ -1,5 +1,5 @@
 #pragma once
-// QD-Meta (paper Algorithm 1, SPEC.md section 2). CMA-ES evolves feature-maps (meta-genotypes);
+// QD-Meta (paper Algorithm 1, docs/specification.md, QD-Meta). CMA-ES evolves feature-maps (meta-genotypes);
 // each meta-generation every sampled feature-map gets a fresh grid archive rebuilt from the
 // database of all solutions so far, evolves it for G MAP-Elites generations (G from the
 // controller), and is scored by the meta-objective; CMA-ES and the controller then update.

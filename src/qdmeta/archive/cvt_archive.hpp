@@ -1,5 +1,5 @@
 #pragma once
-// A CVT-MAP-Elites archive (Vassiliades et al.; SPEC.md section 6): one cell per centroid, a
+// A CVT-MAP-Elites archive (Vassiliades et al.; docs/specification.md, CVT-MAP-Elites): one cell per centroid, a
 // descriptor belongs to the cell of its nearest centroid (exact, ties to the lowest index), one
 // elite per cell, replaced only by a strictly better objective. Descriptors are the task's base
 // features.

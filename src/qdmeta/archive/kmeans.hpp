@@ -1,5 +1,5 @@
 #pragma once
-// Centroids for CVT archives (SPEC.md section 6): k-means over points drawn uniformly in the
+// Centroids for CVT archives (docs/specification.md, CVT-MAP-Elites): k-means over points drawn uniformly in the
 // base-feature space [0,1]^d. Seeding by k-means++ (on a subsample) or by distinct random
 // points; then full-batch Lloyd iterations or mini-batch updates (Sculley 2010, the authors'
 // choice through scikit-learn). Nearest centroids are exact (archive/nearest_centroid.hpp) and

@@ -1,5 +1,5 @@
 #pragma once
-// AURORA's unstructured archive (SPEC.md section 6; the distance-based container of Cully &
+// AURORA's unstructured archive (docs/specification.md, AURORA; the distance-based container of Cully &
 // Demiris's sferes2 `qd` module): elites live at free points of a descriptor space; a
 // candidate at distance d1 from its nearest member and d2 from its second nearest, against a
 // distance threshold l, is

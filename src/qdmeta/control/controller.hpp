@@ -1,7 +1,7 @@
 #pragma once
 // Dynamic parameter control of QD-Meta: how many MAP-Elites generations each meta-generation
 // runs (one G shared by all maps of the meta-generation). The static controller fixes G; the
-// SARSA(lambda) controller learns it (SPEC.md section 3).
+// SARSA(lambda) controller learns it (docs/specification.md, SARSA(lambda) control).
 #include <Eigen/Core>
 #include <cstdint>
 #include <span>

@@ -150,7 +150,7 @@ void SarsaControl::observe(std::span<const double> meta_fitness, std::int64_t ev
     reward_ = reward(best, best_, evaluations);
     stagnation_ = best > best_ ? 0 : stagnation_ + 1;
   } else {
-    reward_ = 0.0;  // no previous best (SPEC.md section 3: not the authors' uninitialised read)
+    reward_ = 0.0;  // no previous best (docs/fidelity.md: not the authors' uninitialised read)
     stagnation_ = 0;
   }
   best_ = best;

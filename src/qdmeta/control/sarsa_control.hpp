@@ -1,6 +1,6 @@
 #pragma once
 // SARSA(lambda) control of G, the MAP-Elites generations per meta-generation (paper section
-// "Dynamic parameter control", Karafotias et al. 2014; SPEC.md section 3). Actions are
+// "Dynamic parameter control", Karafotias et al. 2014; docs/specification.md, SARSA(lambda) control). Actions are
 // intervals of [min, max] generations; the state is the leaf of a StateTree over a 6-D
 // observation of meta-evolutionary progress; the reward is the relative improvement of the
 // best meta-fitness per evaluation.
@@ -28,7 +28,7 @@ struct SarsaParams {
   void validate() const;
 };
 
-// The observation, in the order of SPEC.md section 3.
+// The observation, in the order of docs/specification.md (SARSA(lambda) control).
 enum ObservationAttribute : int {
   kObsBest = 0,      // best meta-fitness of the previous meta-generation
   kObsMean = 1,      // its mean

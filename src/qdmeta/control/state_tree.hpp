@@ -1,6 +1,6 @@
 #pragma once
 // A U-Tree-style regression tree that discretises a continuous observation into states
-// (Uther & Veloso 1998, as used by Karafotias et al. 2014; SPEC.md section 3). Each leaf is a
+// (Uther & Veloso 1998, as used by Karafotias et al. 2014; docs/specification.md, SARSA(lambda) control). Each leaf is a
 // state: it holds the Q-values and eligibility traces of its actions and the transitions seen
 // from it (the observation and the value r + V(s')). A leaf with enough transitions may split
 // on the attribute threshold whose two sides differ most by a two-sample Kolmogorov-Smirnov

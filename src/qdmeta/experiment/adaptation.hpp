@@ -1,5 +1,5 @@
 #pragma once
-// The test phase (paper section "Experiment setup"; SPEC.md sections 4 and 5): for each unseen
+// The test phase (paper section "Experiment setup"; docs/specification.md, Test phase): for each unseen
 // test function, random search without replacement over the archive's solutions, recording the
 // best score found after each evaluation; then the mean and standard error over the test
 // functions. An archive smaller than the budget is exhausted and its best carried forward.
@@ -27,7 +27,7 @@ AdaptationCurve random_search_adaptation(const RowMatrix& archive, const Adaptat
 // adapt-NAME.csv: `evaluations,best_mean,best_se`, one row per evaluation 1..budget. Atomic.
 void write_adaptation_csv(const std::filesystem::path& path, const AdaptationCurve& curve);
 
-// The generalisation test (SPEC.md section 5, the paper's generalisation table): every archive
+// The generalisation test (docs/specification.md, Test phase; the paper's generalisation table): every archive
 // solution in every environment of a group, no search. mean = over solutions x environments
 // (dead = 0 is the task's business); se = SD over environments of their archive means / sqrt(E).
 struct GeneralisationRow {

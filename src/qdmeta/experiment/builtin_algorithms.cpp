@@ -163,7 +163,7 @@ std::unique_ptr<GenerationController> read_control(ConfigReader& c) {
   throw InputError("unreachable control kind");
 }
 
-// The [aurora] table (SPEC.md section 6).
+// The [aurora] table (docs/specification.md, AURORA).
 AuroraParams read_aurora(ConfigReader& a) {
   AuroraParams p;
   p.batch_size = a.integer("batch_size", p.batch_size, 1, 10'000'000);

@@ -151,7 +151,7 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
   Matrix raw(n, params_.input_size);
   for (Index i = 0; i < n; ++i) raw.row(i) = inputs.row(chosen[static_cast<std::size_t>(i)]).cast<double>();
 
-  // z-scoring over the training set: population SD plus epsilon (SPEC.md section 6).
+  // z-scoring over the training set: population SD plus epsilon (docs/specification.md, AURORA).
   input_mean_ = raw.colwise().mean();
   Matrix x = raw.rowwise() - input_mean_;
   input_scale_ = (x.colwise().squaredNorm() / static_cast<double>(n)).cwiseSqrt().array() + params_.input_sd_epsilon;

@@ -1,5 +1,5 @@
 #pragma once
-// AURORA's learned feature-map (SPEC.md section 6): an MLP autoencoder
+// AURORA's learned feature-map (docs/specification.md, AURORA): an MLP autoencoder
 //   input -> 32 -> 8 -> latent -> 8 -> 32 -> input
 // with ReLU after every hidden layer and linear latent and output layers, trained by Adam on
 // the mean squared reconstruction error of z-scored inputs. Written with Eigen: no Debian

@@ -1,5 +1,5 @@
 #pragma once
-// QD-Meta's feature-map (SPEC.md section 2): a one-hidden-layer network whose weights are the
+// QD-Meta's feature-map (docs/specification.md, QD-Meta): a one-hidden-layer network whose weights are the
 // meta-genotype w itself, used directly (no transform):
 //   h = S_{N_b}(W1 b + B1),  beta = S_{N_h}(W2 h + B2),  S_N(x) = 1 / (1 + exp(-alpha x / (N + 1))).
 // Layout of w: W1 row-major (N_h x N_b), B1 (one scalar shared by the hidden layer), W2

@@ -10,8 +10,9 @@
 
 #include "qdmeta/meta/cma_es.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <numeric>
 #include <utility>
@@ -21,27 +22,18 @@
 namespace qdmeta {
 namespace {
 
-// Shortest round-trip text of a double ("0.5", "nan", "-inf").
-std::string format_double(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
+// Messages for a rule that core/params.hpp's require_* helpers do not express (fmt prints a
+// double in its shortest round-trip form: "0.5", "nan", "-inf").
+template <class Value>
+[[noreturn]] void invalid_param(std::string_view field, const Value& value, std::string_view rule) {
+  throw InputError(fmt::format("CmaEsParams.{} = {} is invalid: {}", field, value, rule));
 }
 
-[[noreturn]] void invalid_param(const std::string& field, const std::string& value,
-                                const std::string& rule) {
-  throw InputError("CmaEsParams." + field + " = " + value + " is invalid: " + rule);
+[[noreturn]] void invalid_state(std::string_view what) {
+  throw InputError(fmt::format("CmaEs::set_state: {}", what));
 }
 
-[[noreturn]] void invalid_state(const std::string& what) {
-  throw InputError("CmaEs::set_state: " + what);
-}
-
-std::string shape(Eigen::Index rows, Eigen::Index cols) {
-  return std::to_string(rows) + "x" + std::to_string(cols);
-}
+std::string shape(Eigen::Index rows, Eigen::Index cols) { return fmt::format("{}x{}", rows, cols); }
 
 // Eigen's operator== asserts on a size mismatch; states of different sizes are just unequal.
 template <class A, class B>
@@ -80,83 +72,51 @@ CmaEsStrategy make_strategy(int n, int lambda) {
 }  // namespace
 
 std::string to_string(CmaBoundsHandling value) {
-  switch (value) {
-    case CmaBoundsHandling::kNone: return "none";
-    case CmaBoundsHandling::kClamp: return "clamp";
-    case CmaBoundsHandling::kResample: return "resample";
-  }
-  return "unknown(" + std::to_string(static_cast<int>(value)) + ")";
+  return std::string(enum_to_string(kCmaBoundsHandlingNames, value));
 }
 
 CmaBoundsHandling cma_bounds_handling_from_string(std::string_view text) {
-  for (auto value : {CmaBoundsHandling::kNone, CmaBoundsHandling::kClamp,
-                     CmaBoundsHandling::kResample}) {
-    if (text == to_string(value)) return value;
-  }
-  throw InputError("unknown CMA-ES bounds handling \"" + std::string(text) +
-                   "\"; valid values: none, clamp, resample");
+  return enum_from_string(kCmaBoundsHandlingNames, "CMA-ES bounds handling", text);
 }
 
-std::string to_string(CmaObjective value) {
-  switch (value) {
-    case CmaObjective::kMinimise: return "minimise";
-    case CmaObjective::kMaximise: return "maximise";
-  }
-  return "unknown(" + std::to_string(static_cast<int>(value)) + ")";
-}
+std::string to_string(CmaObjective value) { return std::string(enum_to_string(kCmaObjectiveNames, value)); }
 
 CmaObjective cma_objective_from_string(std::string_view text) {
-  for (auto value : {CmaObjective::kMinimise, CmaObjective::kMaximise}) {
-    if (text == to_string(value)) return value;
-  }
-  throw InputError("unknown CMA-ES objective \"" + std::string(text) +
-                   "\"; valid values: minimise, maximise");
+  return enum_from_string(kCmaObjectiveNames, "CMA-ES objective", text);
 }
 
 void CmaEsParams::validate() const {
-  if (dimension < 1) invalid_param("dimension", std::to_string(dimension), "must be >= 1");
-  if (population_size < 1) invalid_param("population_size", std::to_string(population_size), "must be >= 1");
+  require_at_least("CmaEsParams.dimension", dimension, 1);
+  require_at_least("CmaEsParams.population_size", population_size, 1);
   if (!std::isfinite(initial_sigma) || initial_sigma <= 0.0) {
-    invalid_param("initial_sigma", format_double(initial_sigma), "must be finite and > 0");
+    invalid_param("initial_sigma", initial_sigma, "must be finite and > 0");
   }
-  if (!std::isfinite(initial_mean)) {
-    invalid_param("initial_mean", format_double(initial_mean), "must be finite");
-  }
+  if (!std::isfinite(initial_mean)) invalid_param("initial_mean", initial_mean, "must be finite");
   if (!x0.empty() && x0.size() != static_cast<std::size_t>(dimension)) {
-    invalid_param("x0", "a vector of size " + std::to_string(x0.size()),
-                  "must be empty or have dimension = " + std::to_string(dimension) + " entries");
+    invalid_param("x0", fmt::format("a vector of size {}", x0.size()),
+                  fmt::format("must be empty or have dimension = {} entries", dimension));
   }
   for (std::size_t i = 0; i < x0.size(); ++i) {
-    if (!std::isfinite(x0[i])) {
-      invalid_param("x0[" + std::to_string(i) + "]", format_double(x0[i]), "must be finite");
-    }
+    if (!std::isfinite(x0[i])) invalid_param(fmt::format("x0[{}]", i), x0[i], "must be finite");
   }
-  if (bounds != CmaBoundsHandling::kNone && bounds != CmaBoundsHandling::kClamp &&
-      bounds != CmaBoundsHandling::kResample) {
-    invalid_param("bounds", to_string(bounds), "must be one of none, clamp, resample");
+  if (enum_to_string(kCmaBoundsHandlingNames, bounds) == "?") {
+    invalid_param("bounds", static_cast<int>(bounds), "must be one of none, clamp, resample");
   }
-  if (max_resample_attempts < 1) {
-    invalid_param("max_resample_attempts", std::to_string(max_resample_attempts),
-                  "must be >= 1");
-  }
+  require_at_least("CmaEsParams.max_resample_attempts", max_resample_attempts, 1);
   if (bounds == CmaBoundsHandling::kNone) return;
-  if (!std::isfinite(lower_bound)) {
-    invalid_param("lower_bound", format_double(lower_bound), "must be finite");
-  }
+  if (!std::isfinite(lower_bound)) invalid_param("lower_bound", lower_bound, "must be finite");
   if (!std::isfinite(upper_bound) || upper_bound <= lower_bound) {
-    invalid_param("upper_bound", format_double(upper_bound),
-                  "must be finite and > lower_bound = " + format_double(lower_bound));
+    invalid_param("upper_bound", upper_bound, fmt::format("must be finite and > lower_bound = {}", lower_bound));
   }
-  const auto check_inside = [&](const std::string& field, double value) {
+  const auto check_inside = [&](std::string_view field, double value) {
     if (value < lower_bound || value > upper_bound) {
-      invalid_param(field, format_double(value),
-                    "must lie in [lower_bound, upper_bound] = [" + format_double(lower_bound) +
-                        ", " + format_double(upper_bound) + "] when bounds = " +
-                        to_string(bounds));
+      invalid_param(field, value,
+                    fmt::format("must lie in [lower_bound, upper_bound] = [{}, {}] when bounds = {}",
+                                lower_bound, upper_bound, to_string(bounds)));
     }
   };
   if (x0.empty()) check_inside("initial_mean", initial_mean);
-  for (std::size_t i = 0; i < x0.size(); ++i) check_inside("x0[" + std::to_string(i) + "]", x0[i]);
+  for (std::size_t i = 0; i < x0.size(); ++i) check_inside(fmt::format("x0[{}]", i), x0[i]);
 }
 
 bool operator==(const CmaEsState& a, const CmaEsState& b) {
@@ -191,46 +151,65 @@ CmaEs::CmaEs(CmaEsParams params) : params_(std::move(params)) {
   strategy_ = make_strategy(params_.dimension, params_.population_size);
   state_ = initial_state(params_);
   initial_ = state_;
-  z_.resize(params_.dimension);
+  z_.resize(params_.dimension, params_.population_size);
   y_.resize(params_.dimension, strategy_.mu);
   order_.resize(static_cast<std::size_t>(params_.population_size));
 }
 
-void CmaEs::sample_column(int column, const std::function<double()>& standard_normal) {
+// Draws the normals column by column (the order every source sees), scales them by D, and maps
+// them through B, sigma and the mean of the distribution in force.
+template <class FillNormals>
+const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
+  if (state_.awaiting_tell) {
+    throw InputError(fmt::format("CmaEs::ask: called twice without tell; tell the fitness of the {} pending "
+                                 "candidates first",
+                                 params_.population_size));
+  }
+  const int n = params_.dimension;
+  const int lambda = params_.population_size;
   const CmaEsState& dist = params_.frozen ? initial_ : state_;
-  for (Eigen::Index i = 0; i < z_.size(); ++i) z_(i) = dist.D(i) * standard_normal();
-  state_.samples.col(column).noalias() = dist.B * z_;
-  state_.samples.col(column) = dist.mean + dist.sigma * state_.samples.col(column);
+  state_.samples.resize(n, lambda);
+  const auto sample_columns = [&](int first, int count) {
+    auto z = z_.middleCols(first, count);
+    fill_normals(z.data(), z.size());
+    z = dist.D.asDiagonal() * z;
+    for (int k = first; k < first + count; ++k) {
+      // One matrix-vector product per column: the arithmetic (and so the bits) of the original
+      // per-sample code, which a matrix-matrix product would not keep.
+      state_.samples.col(k).noalias() = dist.B * z_.col(k);
+      state_.samples.col(k) = dist.mean + dist.sigma * state_.samples.col(k);
+    }
+  };
+  const double lo = params_.lower_bound;
+  const double hi = params_.upper_bound;
+  if (params_.bounds == CmaBoundsHandling::kResample) {
+    const auto inside = [&](int column) {
+      const auto x = state_.samples.col(column).array();
+      return (x >= lo).all() && (x <= hi).all();
+    };
+    for (int k = 0; k < lambda; ++k) {
+      sample_columns(k, 1);
+      for (int attempt = 1; attempt < params_.max_resample_attempts && !inside(k); ++attempt) sample_columns(k, 1);
+    }
+  } else {
+    sample_columns(0, lambda);
+  }
+  if (params_.bounds != CmaBoundsHandling::kNone) state_.samples = state_.samples.cwiseMax(lo).cwiseMin(hi);
+  state_.awaiting_tell = true;
+  return state_.samples;
+}
+
+const Eigen::MatrixXd& CmaEs::ask(Rng& rng) {
+  return ask_with([&rng](double* out, Eigen::Index count) {
+    for (Eigen::Index i = 0; i < count; ++i) out[i] = rng.normal();
+  });
 }
 
 const Eigen::MatrixXd& CmaEs::ask(const std::function<double()>& standard_normal) {
-  if (state_.awaiting_tell) {
-    throw InputError("CmaEs::ask: called twice without tell; tell the fitness of the " +
-                     std::to_string(params_.population_size) + " pending candidates first");
-  }
   if (!standard_normal) throw InputError("CmaEs::ask: the standard-normal source is empty");
-  const int n = params_.dimension;
-  const int lambda = params_.population_size;
-  state_.samples.resize(n, lambda);
-  const double lo = params_.lower_bound;
-  const double hi = params_.upper_bound;
-  const auto inside = [&](int column) {
-    const auto x = state_.samples.col(column).array();
-    return (x >= lo).all() && (x <= hi).all();
-  };
-  for (int k = 0; k < lambda; ++k) {
-    sample_column(k, standard_normal);
-    if (params_.bounds == CmaBoundsHandling::kResample) {
-      for (int attempt = 1; attempt < params_.max_resample_attempts && !inside(k); ++attempt) {
-        sample_column(k, standard_normal);
-      }
-    }
-  }
-  if (params_.bounds != CmaBoundsHandling::kNone) {
-    state_.samples = state_.samples.cwiseMax(lo).cwiseMin(hi);
-  }
-  state_.awaiting_tell = true;
-  return state_.samples;
+  return ask_with([&standard_normal](double* out, Eigen::Index count) {
+    for (Eigen::Index i = 0; i < count; ++i) out[i] = standard_normal();
+  });
 }
 
 void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
@@ -239,18 +218,16 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
     throw InputError("CmaEs::tell: called without a pending ask; call ask() first");
   }
   if (fitness.size() != lambda) {
-    throw InputError("CmaEs::tell: expected " + std::to_string(lambda) + " fitness values, got " +
-                     std::to_string(fitness.size()));
+    throw InputError(fmt::format("CmaEs::tell: expected {} fitness values, got {}", lambda, fitness.size()));
   }
   for (Eigen::Index i = 0; i < fitness.size(); ++i) {
     if (std::isnan(fitness(i))) {
-      throw InputError("CmaEs::tell: fitness value " + std::to_string(i) +
-                       " is NaN; expected a number");
+      throw InputError(fmt::format("CmaEs::tell: fitness value {} is NaN; expected a number", i));
     }
   }
   if (objective != CmaObjective::kMinimise && objective != CmaObjective::kMaximise) {
-    throw InputError("CmaEs::tell: objective = " + to_string(objective) +
-                     " is invalid; valid values: minimise, maximise");
+    throw InputError(fmt::format("CmaEs::tell: objective = {} is invalid; valid values: minimise, maximise",
+                                 static_cast<int>(objective)));
   }
   state_.awaiting_tell = false;
   state_.generation += 1;
@@ -304,8 +281,8 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
 void CmaEs::decompose() {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(state_.C);
   if (solver.info() != Eigen::Success) {
-    throw Error("CmaEs: eigendecomposition of the covariance matrix failed at generation " +
-                std::to_string(state_.generation));
+    throw Error(fmt::format("CmaEs: eigendecomposition of the covariance matrix failed at generation {}",
+                            state_.generation));
   }
   // Rounding can push tiny eigenvalues to or below zero; keep C^{-1/2} finite.
   const Eigen::VectorXd& eigenvalues = solver.eigenvalues();
@@ -321,14 +298,12 @@ void CmaEs::set_state(const CmaEsState& state) {
   const Eigen::Index lambda = params_.population_size;
   const auto check_vector = [&](const char* name, const Eigen::VectorXd& v) {
     if (v.size() != n) {
-      invalid_state(std::string(name) + " has size " + std::to_string(v.size()) +
-                    ", expected dimension " + std::to_string(n));
+      invalid_state(fmt::format("{} has size {}, expected dimension {}", name, v.size(), n));
     }
   };
   const auto check_square = [&](const char* name, const Eigen::MatrixXd& m) {
     if (m.rows() != n || m.cols() != n) {
-      invalid_state(std::string(name) + " is " + shape(m.rows(), m.cols()) + ", expected " +
-                    shape(n, n));
+      invalid_state(fmt::format("{} is {}, expected {}", name, shape(m.rows(), m.cols()), shape(n, n)));
     }
   };
   check_vector("mean", state.mean);
@@ -338,7 +313,7 @@ void CmaEs::set_state(const CmaEsState& state) {
   check_square("C", state.C);
   check_square("B", state.B);
   if (!std::isfinite(state.sigma) || state.sigma <= 0.0) {
-    invalid_state("sigma = " + format_double(state.sigma) + ", expected finite and > 0");
+    invalid_state(fmt::format("sigma = {}, expected finite and > 0", state.sigma));
   }
   if (!(state.D.array() > 0.0).all()) invalid_state("D has entries <= 0, expected all > 0");
   if (state.generation < 0 || state.evaluations < 0 || state.eigen_evaluations < 0 ||
@@ -347,8 +322,8 @@ void CmaEs::set_state(const CmaEsState& state) {
   }
   const bool sized = state.samples.rows() == n && state.samples.cols() == lambda;
   if ((state.awaiting_tell || state.samples.size() != 0) && !sized) {
-    invalid_state("samples is " + shape(state.samples.rows(), state.samples.cols()) +
-                  ", expected " + shape(n, lambda));
+    invalid_state(fmt::format("samples is {}, expected {}", shape(state.samples.rows(), state.samples.cols()),
+                              shape(n, lambda)));
   }
   state_ = state;
 }

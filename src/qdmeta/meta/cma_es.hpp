@@ -5,7 +5,7 @@
 //
 // Usage:
 //   qdmeta::CmaEs cma(params);                    // params.validate() is called
-//   const Eigen::MatrixXd& x = cma.ask(rng);      // n x lambda, one candidate per column
+//   const Eigen::MatrixXd& x = cma.ask(rng);      // qdmeta::Rng: n x lambda, one candidate per column
 //   cma.tell(fitness, qdmeta::CmaObjective::kMaximise);
 //
 // The protocol is checked: tell() without a pending ask(), ask() twice in a row, a fitness
@@ -22,6 +22,8 @@
 #include <Eigen/Dense>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/params.hpp"
+#include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
 
@@ -31,19 +33,24 @@ enum class CmaBoundsHandling {
   kClamp,     // clamp each coordinate; the clamped point is returned and used in the update
   kResample,  // redraw the candidate (up to max_resample_attempts times), then clamp
 };
+inline constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsHandlingNames{{{CmaBoundsHandling::kNone, "none"},
+                                                                      {CmaBoundsHandling::kClamp, "clamp"},
+                                                                      {CmaBoundsHandling::kResample, "resample"}}};
 std::string to_string(CmaBoundsHandling value);
 // Accepts "none", "clamp", "resample"; anything else throws InputError listing those.
 CmaBoundsHandling cma_bounds_handling_from_string(std::string_view text);
 
 // Whether tell() receives values to minimise or to maximise (QD-Meta maximises meta-fitness).
 enum class CmaObjective { kMinimise, kMaximise };
+inline constexpr EnumNames<CmaObjective, 2> kCmaObjectiveNames{
+    {{CmaObjective::kMinimise, "minimise"}, {CmaObjective::kMaximise, "maximise"}}};
 std::string to_string(CmaObjective value);
 // Accepts "minimise", "maximise"; anything else throws InputError listing those.
 CmaObjective cma_objective_from_string(std::string_view text);
 
 struct CmaEsParams {
   int dimension = 0;                 // n, number of search variables (required, >= 1)
-  int population_size = 10;          // lambda, candidates per ask (>= 2); mu = lambda / 2
+  int population_size = 10;          // lambda, candidates per ask (>= 1); mu = max(1, lambda / 2)
   double initial_sigma = 2.0 / 3.0;  // sigma0, initial step size (> 0; range / 3 for [-1, 1])
   double initial_mean = 0.0;         // every coordinate of the initial mean (unless x0 is set)
   std::vector<double> x0;            // optional initial mean; if non-empty its size is n
@@ -97,16 +104,21 @@ class CmaEs {
   explicit CmaEs(CmaEsParams params);
 
   // Samples lambda candidates (columns of an n x lambda matrix) from N(m, sigma^2 C), with
-  // bounds handling applied. `standard_normal` must return independent N(0, 1) draws; it is the
-  // only source of randomness. The reference stays valid until the next ask() or set_state().
+  // bounds handling applied, drawing the n x lambda standard normals from rng.normal() in one
+  // pass (column by column; with kResample one column at a time, as each may be redrawn). The
+  // reference stays valid until the next ask() or set_state().
+  const Eigen::MatrixXd& ask(Rng& rng);
+
+  // The same from any source of independent N(0, 1) draws, one call per draw, in the same order:
+  // ask([&rng] { return rng.normal(); }) gives the same bits as ask(rng).
   const Eigen::MatrixXd& ask(const std::function<double()>& standard_normal);
 
-  // Convenience: draws the normals from a seeded UniformRandomBitGenerator through
+  // Convenience: draws the normals from another UniformRandomBitGenerator through
   // std::normal_distribution (so the exact sequence depends on the standard library).
-  template <class Rng>
-  const Eigen::MatrixXd& ask(Rng& rng) {
+  template <class Urbg>
+  const Eigen::MatrixXd& ask(Urbg& urbg) {
     std::normal_distribution<double> normal(0.0, 1.0);
-    return ask(std::function<double()>([&rng, &normal] { return normal(rng); }));
+    return ask(std::function<double()>([&urbg, &normal] { return normal(urbg); }));
   }
 
   // Updates the distribution from the fitness of the pending candidates, in ask() order.
@@ -127,7 +139,9 @@ class CmaEs {
   static CmaEsState initial_state(const CmaEsParams& params);
 
  private:
-  void sample_column(int column, const std::function<double()>& standard_normal);
+  // fill_normals(double* out, Eigen::Index count) writes `count` independent N(0, 1) draws.
+  template <class FillNormals>
+  const Eigen::MatrixXd& ask_with(FillNormals&& fill_normals);
   void decompose();
 
   CmaEsParams params_;
@@ -135,7 +149,7 @@ class CmaEs {
   CmaEsState state_;
   CmaEsState initial_;  // the frozen control samples from this distribution forever
   // Scratch buffers, not state.
-  Eigen::VectorXd z_;
+  Eigen::MatrixXd z_;  // standard normals scaled by D, n x lambda
   Eigen::MatrixXd y_;
   std::vector<int> order_;
 };

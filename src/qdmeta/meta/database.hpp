@@ -1,5 +1,5 @@
 #pragma once
-// QD-Meta's database (SPEC.md section 2): a circular buffer of <genotype, base features,
+// QD-Meta's database (docs/specification.md, QD-Meta): a circular buffer of <genotype, base features,
 // fitness> that keeps the newest `capacity` valid bottom-level evaluations, overwriting the
 // oldest. Storage is struct-of-arrays and contiguous (one row-major block for genotypes, one
 // for base features, one array of fitness), so a rebuild reads the stored rows oldest-first as

@@ -1,5 +1,5 @@
 #pragma once
-// Rebuilding QD-Meta's archives from the database (SPEC.md section 2, "Meta-generation"): each
+// Rebuilding QD-Meta's archives from the database (docs/specification.md, QD-Meta): each
 // of the lambda fresh maps is cleared, then every database row, oldest first, goes through the
 // map's feature-map into its archive (as GridArchive::add_batch would, with solution = genotype,
 // objective = fitness, measures = target features, and the base features when the archive keeps

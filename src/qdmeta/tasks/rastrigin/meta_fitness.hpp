@@ -1,7 +1,7 @@
 #pragma once
-// QD-Meta's Rastrigin meta-fitnesses (SPEC.md section 4): the Dimension and the Translation
+// QD-Meta's Rastrigin meta-fitnesses (docs/specification.md, Meta-objectives): the Dimension and the Translation
 // meta-fitness of an archive. Both score a uniform sample of the archive's elites, drawn anew in
-// each evaluation (SPEC.md section 2), and sum the per-task scores M + max(-M, f) over it, so
+// each evaluation (docs/specification.md, QD-Meta), and sum the per-task scores M + max(-M, f) over it, so
 // bigger archives score more. Higher is better.
 //
 // Both are analytic: plan() computes the result (no batches to simulate) and score() returns it.

@@ -1,5 +1,5 @@
 #pragma once
-// The 20-D Rastrigin benchmark of the paper (SPEC.md section 4) as pure functions of a genotype
+// The 20-D Rastrigin benchmark of the paper (docs/specification.md, Rastrigin) as pure functions of a genotype
 // g in [0,1]^N, mapped to x = -5.12 + 10.24 g. Maximisation: f <= 0, optimum 0 at g = 0.5.
 // The scalar functions are the reference (double); evaluate_batch is the vectorised hot path.
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// The Rastrigin test phase (SPEC.md section 4): 120 dimension-noise functions (distinct pairs
+// The Rastrigin test phase (docs/specification.md, Test phase): 120 dimension-noise functions (distinct pairs
 // of dimensions replaced by 10 sin(6 pi x)) and the 120-point translation grid. Scores are
 // max(-M, f), the per-task score minus M, so an out-of-range translation counts as -M.
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// The RHex gait controller (SPEC.md section 5): one Buehler clock per leg turns time into a hip
+// The RHex gait controller (docs/specification.md, RHex): one Buehler clock per leg turns time into a hip
 // target angle, and a PI servo turns the target into a hip torque. DART-free, so it is tested
 // against hand-computed values without a simulator.
 #include <array>

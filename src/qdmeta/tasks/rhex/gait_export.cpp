@@ -15,7 +15,7 @@ void require_poses(const EpisodeResult& episode) {
 }
 
 // The page: frames as a JSON array of [t, x, y, z, roll, pitch, yaw, leg0..leg5]; geometry from
-// SPEC.md section 5 (body 0.54 x 0.39 x 0.139 m, hips, legs of diameter 0.154 m).
+// docs/specification.md, RHex (body 0.54 x 0.39 x 0.139 m, hips, legs of diameter 0.154 m).
 constexpr const char* kPage = R"HTML(<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{title}</title>
 <style>body{{font-family:sans-serif;margin:1em}} svg{{border:1px solid #ccc;background:#fcfcfc;display:block;margin:0.5em 0}}</style>

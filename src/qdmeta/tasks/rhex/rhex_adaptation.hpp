@@ -1,5 +1,5 @@
 #pragma once
-// The RHex test phase (paper section "Experiment setup"; SPEC.md section 5): a family of
+// The RHex test phase (paper section "Experiment setup"; docs/specification.md, Test phase): a family of
 // environments (damaged legs or obstacle courses) in which archive controllers are scored by
 // their forward distance, dead = 0. The families are the complements of the training sets that
 // the Damage and Obstacle meta-fitnesses draw per replicate, so every condition of a replicate
@@ -18,7 +18,7 @@ class RhexAdaptationTests final : public AdaptationTests {
   RhexAdaptationTests(std::string name, RhexTask task, std::vector<rhex::RhexEnvironment> environments);
   std::string name() const override { return name_; }
   Index count() const override { return static_cast<Index>(environments_.size()); }
-  Index default_budget() const override { return 50; }  // SPEC.md section 5
+  Index default_budget() const override { return 50; }  // docs/specification.md, Test phase
   // One episode per row, run through evaluator.parallel_for; score = forward distance (m), dead = 0.
   void score(Index test, const RowMatrix& genotypes, Evaluator& evaluator, std::span<double> out) const override;
   const std::vector<rhex::RhexEnvironment>& environments() const { return environments_; }

@@ -68,7 +68,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
     case RhexMetaKind::kObstacle: {
       const auto count = m.integer("course_count", 5, 1, 9);
       Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), kCourseDraw});
-      std::vector<std::int64_t> drawn;  // SPEC.md's numbering 1..9
+      std::vector<std::int64_t> drawn;  // docs/specification.md's numbering 1..9
       for (rhex::ObstacleCourse c : draw_courses(rng, static_cast<int>(count))) drawn.push_back(static_cast<int>(c));
       const auto given = m.integers("courses", drawn, 1, 9, static_cast<std::size_t>(count),
                                     static_cast<std::size_t>(count), "course_count entries in 1..9");

@@ -1,6 +1,6 @@
 #pragma once
 // What the RHex robot walks in: the intact robot on flat ground, one damaged leg, or one of the
-// nine obstacle courses (SPEC.md section 5). DART-free.
+// nine obstacle courses (docs/specification.md, RHex). DART-free.
 #include <string>
 
 #include "qdmeta/core/params.hpp"
@@ -21,7 +21,7 @@ inline constexpr EnumNames<DamageType, 5> kDamageTypeNames{{{DamageType::kNone, 
                                                             {DamageType::kBlockedHip, "blocked-hip"},
                                                             {DamageType::kPassiveHip, "passive-hip"}}};
 
-// Courses numbered as in SPEC.md (1..9); kFlat is the normal, unobstructed floor.
+// Courses numbered as in docs/specification.md (1..9); kFlat is the normal, unobstructed floor.
 enum class ObstacleCourse {
   kFlat = 0,
   kSphere = 1,
@@ -47,7 +47,7 @@ inline constexpr EnumNames<ObstacleCourse, 10> kObstacleCourseNames{{{ObstacleCo
 
 struct RhexEnvironment {
   DamageType damage = DamageType::kNone;
-  int leg = 0;  // the damaged leg, 0..5 (SPEC.md's numbering); ignored without damage
+  int leg = 0;  // the damaged leg, 0..5 (docs/specification.md's numbering); ignored without damage
   ObstacleCourse course = ObstacleCourse::kFlat;
 
   static RhexEnvironment damaged(DamageType type, int leg) { return {type, leg, ObstacleCourse::kFlat}; }

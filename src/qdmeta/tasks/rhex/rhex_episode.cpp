@@ -1,4 +1,4 @@
-// One RHex episode: walk, watch for turnover, settle, measure (SPEC.md section 5).
+// One RHex episode: walk, watch for turnover, settle, measure (docs/specification.md, RHex).
 #include "qdmeta/tasks/rhex/rhex_episode.hpp"
 
 #include <dart/collision/CollisionObject.hpp>

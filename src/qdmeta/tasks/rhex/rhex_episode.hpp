@@ -1,5 +1,5 @@
 #pragma once
-// One RHex episode (SPEC.md section 5): build the world, walk for `duration` seconds under the
+// One RHex episode (docs/specification.md, RHex): build the world, walk for `duration` seconds under the
 // Buehler-clock controller, let the robot settle, and report what the task and the tests need.
 // DART-free header: DART stays inside rhex_world.cpp and rhex_episode.cpp.
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// The two base-feature spaces of the RHex task (SPEC.md section 5), computed from what an episode
+// The two base-feature spaces of the RHex task (docs/specification.md, RHex), computed from what an episode
 // records. DART-free: tested on hand-made records.
 #include <array>
 #include <vector>

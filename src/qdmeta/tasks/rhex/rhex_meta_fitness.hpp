@@ -1,5 +1,5 @@
 #pragma once
-// QD-Meta's RHex meta-fitnesses (paper eqs. meta-damage and meta-obstacle, SPEC.md section 5):
+// QD-Meta's RHex meta-fitnesses (paper eqs. meta-damage and meta-obstacle, docs/specification.md, Meta-objectives):
 // the mean forward distance of a sample of the archive (by default all of it) over a set of
 // environments, dead = 0. Damage: 2 damage types drawn per replicate x 6 legs; Obstacle: 5 of
 // the 9 courses drawn per replicate. Higher is better.

@@ -1,4 +1,4 @@
-// The RHex robot built programmatically (SPEC.md section 5): a box body on a free joint and six
+// The RHex robot built programmatically (docs/specification.md, RHex): a box body on a free joint and six
 // half-circle legs of 8 plates on revolute hips about the lateral (y) axis.
 #include <dart/dynamics/BodyNode.hpp>
 #include <dart/dynamics/BoxShape.hpp>

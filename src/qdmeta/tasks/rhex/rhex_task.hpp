@@ -1,5 +1,5 @@
 #pragma once
-// The RHex hexapod as a Task (SPEC.md section 5): 24 genes -> Buehler-clock gait -> one DART
+// The RHex hexapod as a Task (docs/specification.md, RHex): 24 genes -> Buehler-clock gait -> one DART
 // episode -> fitness (forward distance, m), base features (50-D trajectory or 15-D
 // feature-sets), valid = 0 when the robot turned over or never settled. DART-free header.
 #include <string>

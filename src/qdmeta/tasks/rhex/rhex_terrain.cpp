@@ -1,6 +1,6 @@
-// Floors and obstacle courses (SPEC.md section 5). Floors are 0.2 m thick boxes with their top at
+// Floors and obstacle courses (docs/specification.md, RHex). Floors are 0.2 m thick boxes with their top at
 // z = 0; x is forward, the robot starts over the origin. Everything is one immobile skeleton.
-// Where SPEC.md leaves a dimension open, the choice is documented in docs/fidelity.md.
+// Where docs/specification.md leaves a dimension open, the choice is documented in docs/fidelity.md.
 #include <dart/dynamics/BodyNode.hpp>
 #include <dart/dynamics/BoxShape.hpp>
 #include <dart/dynamics/ShapeNode.hpp>
