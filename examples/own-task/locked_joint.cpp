@@ -27,18 +27,25 @@ qdmeta::RowMatrix with_joint_locked(qdmeta::RowMatrix genotypes, int joint) {
 LockedJointMeta::LockedJointMeta(qdmeta::Task arm, int joint, double sample_fraction)
     : arm_(std::move(arm)), joint_(joint), sample_fraction_(sample_fraction) {}
 
-qdmeta::MetaFitnessResult LockedJointMeta::evaluate(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng,
-                                                    qdmeta::Evaluator& evaluator) const {
-  if (elites.rows() == 0) return {};
+qdmeta::MetaPlan LockedJointMeta::plan(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng) const {
+  qdmeta::MetaPlan plan;
+  if (elites.rows() == 0) return plan;
   const auto size = std::max<qdmeta::Index>(1, std::lround(sample_fraction_ * static_cast<double>(elites.rows())));
   qdmeta::RowMatrix sample(size, elites.cols());
   for (qdmeta::Index i = 0; i < size; ++i)  // with replacement: simple, and unbiased for the mean
     sample.row(i) = elites.row(static_cast<qdmeta::Index>(rng.below(static_cast<std::uint64_t>(elites.rows()))));
-  const qdmeta::Vector fitness = fitness_of(arm_, with_joint_locked(std::move(sample), joint_), evaluator);
+  plan.batches.push_back({0, with_joint_locked(std::move(sample), joint_)});
+  return plan;
+}
+
+qdmeta::MetaFitnessResult LockedJointMeta::score(const qdmeta::RowMatrix& elites, const qdmeta::MetaPlan& plan,
+                                                 std::span<const qdmeta::EvaluationBatch> results) const {
+  if (plan.batches.empty()) return {};
   // The mean score (fitness above the worst) times the archive's size: an archive is rewarded
   // for elites that work with the joint locked, and for having many of them.
+  const qdmeta::Vector& fitness = results[0].fitness;
   const double mean_score = fitness.cast<double>().mean() - kWorstFitness;
-  return {mean_score * static_cast<double>(elites.rows()), size};
+  return {mean_score * static_cast<double>(elites.rows()), fitness.size()};
 }
 
 void LockedJointTests::score(qdmeta::Index test, const qdmeta::RowMatrix& genotypes, qdmeta::Evaluator& evaluator,

@@ -5,6 +5,7 @@
 #include <qdmeta/core/adaptation_tests.hpp>
 #include <qdmeta/core/meta_objective.hpp>
 
+#include <span>
 #include <string>
 
 namespace arm {
@@ -16,8 +17,11 @@ class LockedJointMeta final : public qdmeta::MetaObjective {
  public:
   LockedJointMeta(qdmeta::Task arm, int joint, double sample_fraction);
   std::string name() const override { return "arm-locked-joint"; }
-  qdmeta::MetaFitnessResult evaluate(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng,
-                                     qdmeta::Evaluator& evaluator) const override;
+  // The sample to re-evaluate, with the joint locked: one batch of tasks()[0].
+  qdmeta::MetaPlan plan(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng) const override;
+  // The estimate from that batch's fitness.
+  qdmeta::MetaFitnessResult score(const qdmeta::RowMatrix& elites, const qdmeta::MetaPlan& plan,
+                                  std::span<const qdmeta::EvaluationBatch> results) const override;
   std::vector<qdmeta::Task> tasks() const override { return {arm_}; }
 
  private:

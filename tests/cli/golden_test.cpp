@@ -53,8 +53,8 @@ INSTANTIATE_TEST_SUITE_P(EveryAlgorithm, Golden,
                                            GoldenCase{"aurora", 1}, GoldenCase{"aurora", 2},
                                            GoldenCase{"qd-meta-translation", 1}, GoldenCase{"qd-meta-translation", 2},
                                            GoldenCase{"qd-meta-dimension", 1}, GoldenCase{"qd-meta-dimension", 2}),
-                         [](const auto& info) {
-                           std::string n = info.param.name + "_t" + std::to_string(info.param.threads);
+                         [](const auto& test_info) {
+                           std::string n = test_info.param.name + "_t" + std::to_string(test_info.param.threads);
                            for (char& ch : n)
                              if (ch == '-') ch = '_';
                            return n;

@@ -270,9 +270,9 @@ TEST_P(NeuralFeatureMapShapes, OutputsStayInUnitIntervalUnderExtremes) {
 INSTANTIATE_TEST_SUITE_P(PaperShapes, NeuralFeatureMapShapes,
                          ::testing::Values(shape_of(20, 10, 2), shape_of(50, 10, 4), shape_of(15, 10, 4),
                                            shape_of(3, 7, 1), shape_of(20, 13, 3), shape_of(2, 70, 2)),
-                         [](const auto& info) {
-                           return "b" + std::to_string(info.param.inputs) + "h" + std::to_string(info.param.hidden) +
-                                  "t" + std::to_string(info.param.outputs);
+                         [](const auto& test_info) {
+                           return "b" + std::to_string(test_info.param.inputs) + "h" + std::to_string(test_info.param.hidden) +
+                                  "t" + std::to_string(test_info.param.outputs);
                          });
 
 TEST(TransposeRows, EqualsEigenTranspose) {

@@ -206,7 +206,7 @@ void QdMeta::begin_meta_generation() {
   const auto t = static_cast<std::uint64_t>(meta_generation_);
   const auto lambda = params_.meta_population;
   Rng cma_rng = Rng::stream(seed_, {key(StreamKey::kMetaSampling), t});
-  const Eigen::MatrixXd& samples = cma_.ask([&cma_rng] { return cma_rng.normal(); });
+  const Eigen::MatrixXd& samples = cma_.ask(cma_rng);
   std::vector<const NeuralFeatureMap*> map_ptrs;
   std::vector<GridArchive*> archive_ptrs;
   for (Index i = 0; i < lambda; ++i) {
