@@ -74,11 +74,7 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>* measures, Index b
     measures->assign(m.begin(), m.end());
   }
   p.solution_size = 1;  // completed by the algorithm from the task
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(a.source() + ": " + e.what());
-  }
+  naming_source(a, [&] { p.validate(); });
   return p;
 }
 

@@ -92,4 +92,15 @@ class ConfigReader {
   std::set<std::string, std::less<>> known_;
 };
 
+// Runs `f` (e.g. a task's constructor, which checks its own parameters) and prefixes the
+// InputError it may throw with the config file of `table`, as the reader's own messages are.
+template <class F>
+auto naming_source(const ConfigReader& table, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError(table.source() + ": " + e.what());
+  }
+}
+
 }  // namespace qdmeta

@@ -12,15 +12,6 @@
 namespace qdmeta {
 namespace {
 
-template <class F>
-auto naming_file(const ConfigReader& r, F&& f) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", r.source(), e.what()));
-  }
-}
-
 Task read_rastrigin_task(ConfigReader& t) {
   RastriginParams p;
   p.dimensions = static_cast<int>(t.integer("dimensions", p.dimensions, 1, 10000));
@@ -48,7 +39,7 @@ std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& 
   const auto given = m.integers("dimensions", drawn, 0, n - 1, static_cast<std::size_t>(p.dimension_count),
                                 static_cast<std::size_t>(p.dimension_count), "dimension_count distinct entries in [0, N)");
   std::vector<int> dims(given.begin(), given.end());
-  return naming_file(m, [&]() -> std::unique_ptr<MetaObjective> {
+  return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();
     return std::make_unique<RastriginDimensionMeta>(p, dims);
   });
@@ -58,7 +49,7 @@ std::unique_ptr<MetaObjective> read_translation_meta(ConfigReader& m, const Task
   RastriginMetaParams p = read_common(m, task);
   p.transform_repetitions = static_cast<int>(m.integer("transform_repetitions", p.transform_repetitions, 1, 1000));
   p.transform_per_solution = m.boolean("transform_per_solution", p.transform_per_solution);
-  return naming_file(m, [&]() -> std::unique_ptr<MetaObjective> {
+  return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();
     return std::make_unique<RastriginTranslationMeta>(p);
   });

@@ -17,15 +17,6 @@ constexpr EnumNames<RhexMetaKind, 2> kRhexMetaNames{{{RhexMetaKind::kDamage, "da
 // Salts of the per-replicate draws (training damages, training courses).
 constexpr std::uint64_t kDamageDraw = 0xDA3A6E, kCourseDraw = 0xC0025E;
 
-template <class F>
-auto naming_file(const ConfigReader& r, F&& f) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", r.source(), e.what()));
-  }
-}
-
 Task read_rhex_task(ConfigReader& t) {
   RhexParams p;
   p.features = t.choice("features", p.features, kRhexFeaturesNames);
@@ -39,7 +30,7 @@ Task read_rhex_task(ConfigReader& t) {
   p.environment.damage = t.choice("damage", p.environment.damage, rhex::kDamageTypeNames);
   p.environment.leg = static_cast<int>(t.integer("damaged_leg", p.environment.leg, 0, 5));
   p.environment.course = t.choice("course", p.environment.course, rhex::kObstacleCourseNames);
-  return naming_file(t, [&] { return Task(RhexTask(p)); });
+  return naming_source(t, [&] { return Task(RhexTask(p)); });
 }
 
 // [meta_fitness] of `kind` (its `kind` key is read by the task registry, or by the caller).
@@ -61,7 +52,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
                                     static_cast<std::size_t>(count), "damage_type_count entries in 1..4");
       std::vector<rhex::DamageType> types;
       for (auto d : given) types.push_back(static_cast<rhex::DamageType>(d));
-      return naming_file(m, [&] {
+      return naming_source(m, [&] {
         return std::make_unique<RhexMetaFitness>("rhex-damage", p, RhexTask(params), damage_environments(types));
       });
     }
@@ -74,7 +65,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
                                     static_cast<std::size_t>(count), "course_count entries in 1..9");
       std::vector<rhex::RhexEnvironment> envs;
       for (auto c : given) envs.push_back(rhex::RhexEnvironment::obstacle(static_cast<rhex::ObstacleCourse>(c)));
-      return naming_file(m, [&] { return std::make_unique<RhexMetaFitness>("rhex-obstacle", p, RhexTask(params), envs); });
+      return naming_source(m, [&] { return std::make_unique<RhexMetaFitness>("rhex-obstacle", p, RhexTask(params), envs); });
     }
   }
   throw InputError("unreachable RHex meta-fitness kind");
