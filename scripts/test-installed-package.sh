@@ -45,7 +45,7 @@ d = sys.argv[1]
 summary = json.load(open(f"{d}/summary.json"))
 config = tomllib.load(open(f"{d}/config.toml", "rb"))
 assert config["task"]["name"] == "arm", config["task"]
-assert summary.get("task", "arm") == "arm", summary.get("task")
+assert summary["task"] == "arm", summary["task"]
 assert summary["stop_reason"] == "budget", summary["stop_reason"]
 PY
 }

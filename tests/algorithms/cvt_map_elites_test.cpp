@@ -10,6 +10,8 @@
 #include <filesystem>
 
 #include "qdmeta/algorithms/descriptor_points.hpp"
+#include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
@@ -55,6 +57,49 @@ TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
   EXPECT_EQ(ta.index, tb.index);
   EXPECT_EQ(ta.objective, tb.objective);
   EXPECT_TRUE(ta.solutions == tb.solutions);
+}
+
+// The generic MAP-Elites over a CVT archive (the base features as descriptors) is
+// CVT-MAP-Elites: same parents, same cells, same elites, bit for bit.
+TEST(CvtMapElites, GenericMapElitesOverACvtArchiveIsCvtMapElites) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(5, CvtSearch::kBruteForce);
+  cvt.prepare(evaluator);
+  const Task task{RastriginTask()};
+  const Index nb = task.base_feature_size();
+  std::vector<int> all(static_cast<std::size_t>(nb));
+  for (int i = 0; i < static_cast<int>(nb); ++i) all[static_cast<std::size_t>(i)] = i;
+  CvtArchive archive(CvtArchiveParams{task.genotype_size(), task.qd_offset(), 0}, cvt.archive().centroids());
+  BasicMapElites<CvtArchive> generic({}, task, std::make_unique<SelectFeatureMap>(nb, all), std::move(archive), {}, 5);
+  for (int g = 0; g < 25; ++g) {
+    cvt.step(evaluator);
+    generic.step(evaluator);
+  }
+  const EliteTable a = cvt.elites(), b = generic.elites();
+  ASSERT_GT(a.size(), 100);
+  EXPECT_EQ(a.index, b.index);
+  EXPECT_EQ(a.objective, b.objective);
+  EXPECT_TRUE(a.solutions == b.solutions);
+  EXPECT_TRUE(a.measures == b.measures);
+  EXPECT_EQ(cvt.counters(), generic.counters());
+}
+
+TEST(CvtMapElites, GenericMapElitesRefusesAnArchiveOfAnotherGenotypeSize) {
+  SerialEvaluator evaluator;
+  CvtMapElites cvt = make_cvt(5, CvtSearch::kBruteForce);
+  cvt.prepare(evaluator);
+  const Task task{RastriginTask()};
+  const Index nb = task.base_feature_size();
+  std::vector<int> all(static_cast<std::size_t>(nb));
+  for (int i = 0; i < static_cast<int>(nb); ++i) all[static_cast<std::size_t>(i)] = i;
+  try {
+    CvtArchive wrong(CvtArchiveParams{task.genotype_size() + 1, 0.0, 0}, cvt.archive().centroids());
+    BasicMapElites<CvtArchive>({}, task, std::make_unique<SelectFeatureMap>(nb, all), std::move(wrong), {}, 5);
+    FAIL() << "an archive of the wrong solution size was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("solutions of 21 genes but task 'rastrigin' has 20"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {

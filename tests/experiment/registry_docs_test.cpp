@@ -81,7 +81,7 @@ TEST_F(RegistryDocs, ConfigMdListsTheRegisteredTasksAndThoseThisBuildLacks) {
 
 TEST_F(RegistryDocs, ConfigMdListsEachTasksMetaObjectives) {
   for (const std::string& task : registered_task_names()) {
-    const TaskPlugin* plugin = find_task_plugin(task);
+    const auto plugin = find_task_plugin(task);
     ASSERT_NE(plugin, nullptr);
     std::vector<std::string> kinds;
     for (const auto& [kind, reader] : plugin->meta_objectives) kinds.push_back(kind);
@@ -110,6 +110,31 @@ TEST_F(RegistryDocs, ARegisteredTaskIsBuiltAndListed) {
   const auto names = registered_task_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "rastrigin-copy"), names.end());
   EXPECT_NE(describe_adaptation_tests().find("rastrigin-copy: dimension, translation"), std::string::npos);
+}
+
+// A found plugin or builder is a snapshot: registering again under its name (or adding a
+// meta-objective to it) replaces what later lookups find, never what a caller holds.
+TEST_F(RegistryDocs, ALookupSurvivesReRegistration) {
+  TaskPlugin plugin = *find_task_plugin("rastrigin");
+  plugin.adaptation_tests = {"first"};
+  register_task_plugin("rastrigin-snapshot", plugin);
+  const auto held = find_task_plugin("rastrigin-snapshot");
+  plugin.adaptation_tests = {"second"};
+  register_task_plugin("rastrigin-snapshot", plugin);
+  register_meta_objective("rastrigin-snapshot", "added", plugin.meta_objectives.front().second);
+  EXPECT_EQ(held->adaptation_tests, std::vector<std::string>{"first"});
+  EXPECT_EQ(held->meta_objectives.size(), plugin.meta_objectives.size());
+  const auto now = find_task_plugin("rastrigin-snapshot");
+  EXPECT_EQ(now->adaptation_tests, std::vector<std::string>{"second"});
+  EXPECT_EQ(now->meta_objectives.back().first, "added");
+
+  const auto builder = find_algorithm("map-elites");
+  ASSERT_NE(builder, nullptr);
+  register_algorithm("map-elites-snapshot", *builder);
+  const auto held_builder = find_algorithm("map-elites-snapshot");
+  register_algorithm("map-elites-snapshot", [](AlgorithmBuild&) -> std::unique_ptr<Algorithm> { return nullptr; });
+  EXPECT_NE(held_builder.get(), find_algorithm("map-elites-snapshot").get());
+  EXPECT_TRUE(static_cast<bool>(*held_builder));
 }
 
 // Each ```cpp block of docs/library.md appears, verbatim, in one file of examples/own-task/.

@@ -222,10 +222,11 @@ TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {
   const auto j = nlohmann::ordered_json::parse(in);
   std::vector<std::string> keys;
   for (const auto& item : j.items()) keys.push_back(item.key());
-  EXPECT_EQ(keys, (std::vector<std::string>{"algorithm", "stop_reason", "message", "seed", "budget", "budget_counts",
+  EXPECT_EQ(keys, (std::vector<std::string>{"algorithm", "task", "stop_reason", "message", "seed", "budget", "budget_counts",
                                             "evals", "evals_bottom", "evals_meta", "generations", "num_elites",
                                             "coverage", "qd_score", "norm_qd_score", "obj_max", "obj_mean", "threads",
                                             "wall_seconds", "evals_per_second"}));
+  EXPECT_EQ(j["task"], "rastrigin");
   EXPECT_EQ(j["stop_reason"], "budget");
   EXPECT_EQ(j["evals"], 10'400);
   EXPECT_EQ(j["generations"], r.generations);

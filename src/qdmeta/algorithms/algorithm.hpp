@@ -33,6 +33,10 @@ struct EvaluationCounters {
   bool operator==(const EvaluationCounters&) const = default;
 };
 
+// Evaluation counters in checkpoints (shared by every algorithm).
+void save_counters(BinaryWriter& out, const EvaluationCounters& c);
+EvaluationCounters load_counters(BinaryReader& in);
+
 // One meta-generation of QD-Meta, for meta.csv.
 struct MetaGenerationRecord {
   std::int64_t meta_generation = 0;

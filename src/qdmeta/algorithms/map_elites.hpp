@@ -1,8 +1,10 @@
 #pragma once
-// Plain MAP-Elites over a grid archive (docs/specification.md, MAP-Elites): an initial population of random
+// Plain MAP-Elites (docs/specification.md, MAP-Elites): an initial population of random
 // genotypes, then generations of `batch_size` offspring, each a mutated copy of a parent drawn
-// uniformly from the filled cells; no crossover. Target features come from a FeatureMap.
+// uniformly from the filled cells; no crossover. Descriptors come from a FeatureMap; the
+// archive is a grid (the paper's) or any other EliteArchive.
 #include <algorithm>
+#include <concepts>
 #include <memory>
 #include <vector>
 
@@ -85,18 +87,28 @@ Index insert_batch(Archive& archive, const FeatureMap& feature_map, const RowMat
                             evaluations.valid});
 }
 
-class MapElites final : public Algorithm {
+// MAP-Elites over any archive that models EliteArchive (archive/archive.hpp): the grid of
+// the paper (MapElites), a CVT archive, or a user's own. The archive holds the task's genotypes
+// and is usually handed in empty (with elites, the first generation mutates them: a warm
+// start); the feature-map turns base features into its descriptors.
+template <EliteArchive Archive>
+class BasicMapElites final : public Algorithm {
  public:
-  // `archive` gets its solution size from the task; its qd_offset from the task too.
-  MapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureMap> feature_map,
-            GridArchiveParams archive, MutationParams mutation, std::uint64_t seed);
+  BasicMapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureMap> feature_map, Archive archive,
+                 MutationParams mutation, std::uint64_t seed);
+  // A grid archive from its parameters, completed from the task (solution size, qd_offset).
+  BasicMapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureMap> feature_map,
+                 GridArchiveParams archive, MutationParams mutation, std::uint64_t seed)
+    requires std::same_as<Archive, GridArchive>
+      : BasicMapElites(params, task, std::move(feature_map), GridArchive(complete_grid(std::move(archive), task)),
+                       mutation, seed) {}
 
   std::string name() const override { return "map-elites"; }
   std::int64_t generation() const override { return generation_; }
   EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
-  EliteTable elites() const override;
-  const GridArchive& archive() const { return archive_; }
+  EliteTable elites() const override { return archive_.elites(); }
+  const Archive& archive() const { return archive_; }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
@@ -107,10 +119,16 @@ class MapElites final : public Algorithm {
   bool take_results() override;
 
  private:
+  static GridArchiveParams complete_grid(GridArchiveParams p, const Task& task) {
+    p.solution_size = task.genotype_size();
+    p.qd_offset = task.qd_offset();
+    return p;
+  }
+
   MapElitesParams params_;
   Task task_;
   std::unique_ptr<FeatureMap> feature_map_;
-  GridArchive archive_;
+  Archive archive_;
   Mutation mutation_;
   std::uint64_t seed_;
   std::int64_t generation_ = 0;
@@ -120,8 +138,59 @@ class MapElites final : public Algorithm {
   RowMatrix targets_;
 };
 
-// Evaluation counters in checkpoints (shared by every algorithm).
-void save_counters(BinaryWriter& out, const EvaluationCounters& c);
-EvaluationCounters load_counters(BinaryReader& in);
+// The paper's MAP-Elites: a grid over the feature-map's target features.
+using MapElites = BasicMapElites<GridArchive>;
+extern template class BasicMapElites<GridArchive>;
+
+// Checks that the feature-map and the archive fit `task` (InputError naming what differs).
+void check_map_elites_parts(const Task& task, const FeatureMap* feature_map, Index archive_solution_size,
+                            Index archive_dimensions);
+
+template <EliteArchive Archive>
+BasicMapElites<Archive>::BasicMapElites(MapElitesParams params, Task task, std::unique_ptr<FeatureMap> feature_map,
+                                        Archive archive, MutationParams mutation, std::uint64_t seed)
+    : params_(params),
+      task_(std::move(task)),
+      feature_map_(std::move(feature_map)),
+      archive_(std::move(archive)),
+      mutation_(mutation),
+      seed_(seed) {
+  params_.validate();
+  check_map_elites_parts(task_, feature_map_.get(), archive_.solution_size(), archive_.dimensions());
+}
+
+template <EliteArchive Archive>
+void BasicMapElites<Archive>::next_request(std::vector<EvaluationJob>& jobs) {
+  const Index n = task_.genotype_size();
+  next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
+  evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
+  jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
+}
+
+template <EliteArchive Archive>
+bool BasicMapElites<Archive>::take_results() {
+  insert_batch(archive_, *feature_map_, genotypes_, evaluations_, targets_);
+  counters_.bottom += genotypes_.rows();
+  ++generation_;
+  return true;
+}
+
+template <EliteArchive Archive>
+void BasicMapElites<Archive>::save(BinaryWriter& out) const {
+  require_between_steps("save()");
+  out.tag("map_elites");
+  out.value(generation_);
+  save_counters(out, counters_);
+  archive_.save(out);
+}
+
+template <EliteArchive Archive>
+void BasicMapElites<Archive>::load(BinaryReader& in) {
+  require_between_steps("load()");
+  in.expect_tag("map_elites");
+  generation_ = in.value<std::int64_t>("generation");
+  counters_ = load_counters(in);
+  archive_.load(in);
+}
 
 }  // namespace qdmeta

@@ -13,9 +13,9 @@ namespace {
 
 struct Registry {
   std::mutex mutex;
-  // Registration order is the order the CLI and docs/config.md list them in; unique_ptr keeps
-  // a found builder in place while others are added.
-  std::vector<std::pair<std::string, std::unique_ptr<AlgorithmBuilder>>> builders;
+  // Registration order is the order the CLI and docs/config.md list them in; shared snapshots
+  // keep a found builder valid while others are added or it is replaced.
+  std::vector<std::pair<std::string, std::shared_ptr<const AlgorithmBuilder>>> builders;
 };
 
 Registry& registry() {
@@ -33,18 +33,18 @@ void register_algorithm(const std::string& name, AlgorithmBuilder builder) {
   ensure_core_plugins();
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
-  auto owned = std::make_unique<AlgorithmBuilder>(std::move(builder));
+  auto owned = std::make_shared<const AlgorithmBuilder>(std::move(builder));
   const auto same = std::find_if(r.builders.begin(), r.builders.end(), [&](const auto& b) { return b.first == name; });
   if (same != r.builders.end()) same->second = std::move(owned);
   else r.builders.emplace_back(name, std::move(owned));
 }
 
-const AlgorithmBuilder* find_algorithm(std::string_view name) {
+std::shared_ptr<const AlgorithmBuilder> find_algorithm(std::string_view name) {
   ensure_core_plugins();
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
   for (const auto& [n, builder] : r.builders)
-    if (n == name) return builder.get();
+    if (n == name) return builder;
   return nullptr;
 }
 

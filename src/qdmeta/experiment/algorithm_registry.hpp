@@ -37,8 +37,9 @@ using AlgorithmBuilder = std::function<std::unique_ptr<Algorithm>(AlgorithmBuild
 // Registers (or replaces) the builder for `name`. Thread-safe. The first registered name
 // ("map-elites") is the config's default.
 void register_algorithm(const std::string& name, AlgorithmBuilder builder);
-// The builder registered under `name`, or nullptr.
-const AlgorithmBuilder* find_algorithm(std::string_view name);
+// The builder registered under `name`, or nullptr: a snapshot, which later registrations (of this
+// name too) leave unchanged.
+std::shared_ptr<const AlgorithmBuilder> find_algorithm(std::string_view name);
 // Registered names in registration order.
 std::vector<std::string> registered_algorithm_names();
 

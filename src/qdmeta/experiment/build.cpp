@@ -56,7 +56,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   const std::vector<std::string> algorithms = registered_algorithm_names();
   const std::string valid_algorithms = quoted(algorithms);
   s.algorithm = root.string("algorithm", algorithms.front(), valid_algorithms);
-  const AlgorithmBuilder* builder = find_algorithm(s.algorithm);
+  const auto builder = find_algorithm(s.algorithm);
   if (builder == nullptr)
     throw InputError(fmt::format("{}: algorithm = \"{}\" is not a valid choice: use one of {}", source, s.algorithm,
                                  valid_algorithms));
@@ -73,6 +73,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
 
   ConfigReader task_table = root.table("task");
   Task task = read_registered_task(task_table);
+  s.task = task.name();
   ConfigReader mutation_table = root.table("mutation");
   const MutationParams mutation = read_mutation(mutation_table);
   built.evaluation_tasks.push_back(task);
@@ -105,7 +106,7 @@ std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& confi
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");
   const Task task = read_registered_task(task_table);
-  const TaskPlugin* plugin = find_task_plugin(task.name());
+  const auto plugin = find_task_plugin(task.name());
   const auto& names = plugin->adaptation_tests;
   if (!plugin->read_adaptation_tests || names.empty())
     throw InputError(fmt::format("task '{}' has no test phase", task.name()));
@@ -121,7 +122,7 @@ std::vector<std::unique_ptr<AdaptationTests>> build_generalisation_groups(const 
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");
   const Task task = read_registered_task(task_table);
-  const TaskPlugin* plugin = find_task_plugin(task.name());
+  const auto plugin = find_task_plugin(task.name());
   if (plugin->generalisation_groups.empty())
     throw InputError(fmt::format("task '{}' has no generalisation test: valid tests are {}", task.name(),
                                  listed(plugin->adaptation_tests)));

@@ -23,6 +23,7 @@ inline constexpr EnumNames<BudgetCount, 2> kBudgetCountNames{{{BudgetCount::kBot
 
 struct RunSettings {
   std::string algorithm;
+  std::string task;  // [task] name
   std::uint64_t seed = 1;
   std::int64_t budget = 0;  // evaluations; the run stops at the first generation at or past it
   BudgetCount counts = BudgetCount::kBottom;

@@ -182,74 +182,53 @@ AuroraParams read_aurora(ConfigReader& a) {
 }
 
 std::unique_ptr<Algorithm> build_map_elites(AlgorithmBuild& b) {
-  ConfigReader& root = b.root;
-  Task& task = b.task;
-  const MutationParams& mutation = b.mutation;
-  const RunSettings& s = b.settings;
-  BuiltRun& built = b.built;
-  const bool make = b.make;
-  std::unique_ptr<Algorithm> algorithm;
-  ConfigReader me = root.table("map_elites");
+  ConfigReader me = b.root.table("map_elites");
   const MapElitesParams p = read_map_elites(me);
-  ConfigReader archive_table = root.table("archive");
+  ConfigReader archive_table = b.root.table("archive");
   std::vector<int> measures;
-  GridArchiveParams grid = read_grid(archive_table, &measures, task.base_feature_size());
-  auto feature_map = std::make_unique<SelectFeatureMap>(task.base_feature_size(), measures);
+  GridArchiveParams grid = read_grid(archive_table, &measures, b.task.base_feature_size());
+  auto feature_map = std::make_unique<SelectFeatureMap>(b.task.base_feature_size(), measures);
   me.finish();
   archive_table.finish();
-  built.memory.add("the archive", "archive.bins (cells) x genes", grid_bytes(grid, task, false));
-  add_map_elites_memory(built.memory, p, task);
+  b.built.memory.add("the archive", "archive.bins (cells) x genes", grid_bytes(grid, b.task, false));
+  add_map_elites_memory(b.built.memory, p, b.task);
   b.check_memory();
-  if (make)
-    algorithm =
-        std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid), mutation, s.seed);
-  return algorithm;
+  if (!b.make) return nullptr;
+  return std::make_unique<MapElites>(p, std::move(b.task), std::move(feature_map), std::move(grid), b.mutation,
+                                     b.settings.seed);
 }
 
 std::unique_ptr<Algorithm> build_cvt_map_elites(AlgorithmBuild& b) {
-  ConfigReader& root = b.root;
-  Task& task = b.task;
-  const MutationParams& mutation = b.mutation;
-  const RunSettings& s = b.settings;
-  BuiltRun& built = b.built;
-  const bool make = b.make;
-  std::unique_ptr<Algorithm> algorithm;
-  ConfigReader me = root.table("map_elites");
-  ConfigReader cvt = root.table("cvt");
+  ConfigReader me = b.root.table("map_elites");
+  ConfigReader cvt = b.root.table("cvt");
   CvtMapElitesParams p = read_cvt(cvt);
   p.map_elites = read_map_elites(me);
   // The descriptors' centroids depend on every task setting (episode length, features ...).
-  if (const auto* task_resolved = built.resolved["task"].as_table())
-    p.task_key = fmt::format("{}-{:016x}", task.name(), config_fingerprint(*task_resolved));
+  if (const auto* task_resolved = b.built.resolved["task"].as_table())
+    p.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
   me.finish();
   cvt.finish();
   {
     const auto cells = static_cast<double>(p.kmeans.centroids);
-    const auto nb = static_cast<double>(task.base_feature_size());
+    const auto nb = static_cast<double>(b.task.base_feature_size());
     const double lists = p.search == CvtSearch::kParentBound
                              ? static_cast<double>(std::min(p.neighbours, p.kmeans.centroids)) * sizeof(Index)
                              : 0.0;
-    built.memory.add("the archive and its neighbour lists", "cvt.centroids x (genes + base features + cvt.neighbours)",
-                     cells * (kFloat + 1 + kFloat * (static_cast<double>(task.genotype_size()) + 2 * nb) + lists));
-    built.memory.add("k-means's points", "cvt.samples x base features",
-                     static_cast<double>(p.kmeans.samples) * (kFloat * nb + sizeof(Index) + sizeof(float)) +
-                         static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
-    add_map_elites_memory(built.memory, p.map_elites, task);
+    b.built.memory.add("the archive and its neighbour lists",
+                       "cvt.centroids x (genes + base features + cvt.neighbours)",
+                       cells * (kFloat + 1 + kFloat * (static_cast<double>(b.task.genotype_size()) + 2 * nb) + lists));
+    b.built.memory.add("k-means's points", "cvt.samples x base features",
+                       static_cast<double>(p.kmeans.samples) * (kFloat * nb + sizeof(Index) + sizeof(float)) +
+                           static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
+    add_map_elites_memory(b.built.memory, p.map_elites, b.task);
   }
   b.check_memory();
-  if (make) algorithm = std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, s.seed);
-  return algorithm;
+  if (!b.make) return nullptr;
+  return std::make_unique<CvtMapElites>(std::move(p), std::move(b.task), b.mutation, b.settings.seed);
 }
 
 std::unique_ptr<Algorithm> build_qd_meta(AlgorithmBuild& b) {
-  ConfigReader& root = b.root;
-  Task& task = b.task;
-  const MutationParams& mutation = b.mutation;
-  const RunSettings& s = b.settings;
-  BuiltRun& built = b.built;
-  const bool make = b.make;
-  std::unique_ptr<Algorithm> algorithm;
-  ConfigReader q = root.table("qd_meta");
+  ConfigReader q = b.root.table("qd_meta");
   QdMetaParams p;
   p.meta_population = q.integer("meta_population", p.meta_population, 1, 10'000);
   p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
@@ -257,86 +236,78 @@ std::unique_ptr<Algorithm> build_qd_meta(AlgorithmBuild& b) {
   p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
   p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
   p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 0.0, kNoUpper, Open::kLower);
-  ConfigReader cma = root.table("cma_es");
+  ConfigReader cma = b.root.table("cma_es");
   p.cma_sigma = cma.number("sigma", p.cma_sigma, 0.0, kNoUpper, Open::kLower);
   p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
   p.frozen = cma.boolean("frozen", p.frozen);
-  p.count_meta_evaluations = s.counts == BudgetCount::kAll;
-  ConfigReader control = root.table("control");
+  p.count_meta_evaluations = b.settings.counts == BudgetCount::kAll;
+  ConfigReader control = b.root.table("control");
   auto controller = read_control(control);
-  ConfigReader meta_fitness = root.table("meta_fitness");
-  auto objective = read_registered_meta_objective(meta_fitness, task, s.seed);
-  for (Task& t : objective->tasks()) built.evaluation_tasks.push_back(std::move(t));
-  ConfigReader archive_table = root.table("archive");
-  GridArchiveParams grid = read_grid(archive_table, nullptr, task.base_feature_size());
+  ConfigReader meta_fitness = b.root.table("meta_fitness");
+  auto objective = read_registered_meta_objective(meta_fitness, b.task, b.settings.seed);
+  for (Task& t : objective->tasks()) b.built.evaluation_tasks.push_back(std::move(t));
+  ConfigReader archive_table = b.root.table("archive");
+  GridArchiveParams grid = read_grid(archive_table, nullptr, b.task.base_feature_size());
   for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
   {
     const auto lambda = static_cast<double>(p.meta_population);
-    const auto n = static_cast<double>(task.genotype_size());
-    const auto nb = static_cast<double>(task.base_feature_size());
-    const auto* c = built.resolved["control"].as_table();
+    const auto n = static_cast<double>(b.task.genotype_size());
+    const auto nb = static_cast<double>(b.task.base_feature_size());
+    const auto* c = b.built.resolved["control"].as_table();
     const double g_max = static_cast<double>(
         c && (*c)["kind"].value_or<std::string>("") == "static" ? (*c)["generations"].value_or<std::int64_t>(1)
                                                                 : (c ? (*c)["max_generations"].value_or<std::int64_t>(1) : 1));
     const auto dims = static_cast<double>(grid.bins.size());
     const double k = static_cast<double>(p.hidden) * (nb + 1 + dims) + 1;  // the feature-map's weights
-    built.memory.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
-                     (lambda + 1) * grid_bytes(grid, task, true) + lambda * grid_cells(grid) * (16 + kFloat * dims));
-    built.memory.add("the circular database", "qd_meta.database_capacity x (genes + 2 x base features)",
-                     static_cast<double>(p.database_capacity) * kFloat * (n + 2 * nb + 1));
-    built.memory.add("every map's offspring of one meta-generation",
-                     "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
-                     lambda * offspring_bytes(g_max * static_cast<double>(p.batch_size), task));
-    built.memory.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
-                     4 * k * k * sizeof(double) + lambda * k * sizeof(double));
-    built.memory.add("the initial population", "qd_meta.initial_population x genes",
-                     offspring_bytes(static_cast<double>(p.initial_population), task));
+    b.built.memory.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
+                       (lambda + 1) * grid_bytes(grid, b.task, true) + lambda * grid_cells(grid) * (16 + kFloat * dims));
+    b.built.memory.add("the circular database", "qd_meta.database_capacity x (genes + 2 x base features)",
+                       static_cast<double>(p.database_capacity) * kFloat * (n + 2 * nb + 1));
+    b.built.memory.add("every map's offspring of one meta-generation",
+                       "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
+                       lambda * offspring_bytes(g_max * static_cast<double>(p.batch_size), b.task));
+    b.built.memory.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
+                       4 * k * k * sizeof(double) + lambda * k * sizeof(double));
+    b.built.memory.add("the initial population", "qd_meta.initial_population x genes",
+                       offspring_bytes(static_cast<double>(p.initial_population), b.task));
   }
   b.check_memory();
-  if (make)
-    algorithm = std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
-                                             std::move(controller), s.seed);
-  return algorithm;
+  if (!b.make) return nullptr;
+  return std::make_unique<QdMeta>(p, std::move(b.task), std::move(objective), std::move(grid), b.mutation,
+                                  std::move(controller), b.settings.seed);
 }
 
 std::unique_ptr<Algorithm> build_aurora(AlgorithmBuild& b) {
-  ConfigReader& root = b.root;
-  Task& task = b.task;
-  const MutationParams& mutation = b.mutation;
-  const RunSettings& s = b.settings;
-  BuiltRun& built = b.built;
-  const bool make = b.make;
-  std::unique_ptr<Algorithm> algorithm;
-  ConfigReader a = root.table("aurora");
+  ConfigReader a = b.root.table("aurora");
   const AuroraParams p = read_aurora(a);
   a.finish();
   {
-    std::vector<double> widths{static_cast<double>(task.base_feature_size())};
+    std::vector<double> widths{static_cast<double>(b.task.base_feature_size())};
     for (Index h : p.hidden) widths.push_back(static_cast<double>(h));
     widths.push_back(static_cast<double>(p.latent_size));
     for (auto h = p.hidden.rbegin(); h != p.hidden.rend(); ++h) widths.push_back(static_cast<double>(*h));
-    widths.push_back(static_cast<double>(task.base_feature_size()));
+    widths.push_back(static_cast<double>(b.task.base_feature_size()));
     double weights = 0, units = 0;
     for (std::size_t i = 0; i + 1 < widths.size(); ++i) weights += (widths[i] + 1) * widths[i + 1];
     for (double w : widths) units += w;
     const double rows = static_cast<double>(std::min(p.max_training_rows, 2 * p.target_size));
-    built.memory.add("the autoencoder's weights, gradients and Adam moments", "aurora.hidden, aurora.latent_size",
-                     4 * weights * sizeof(double));
-    built.memory.add("the autoencoder's activations over a training set",
-                     "aurora.max_training_rows x (aurora.hidden widths)", 2 * rows * units * sizeof(double));
-    built.memory.add("the archive", "aurora.target_size x (genes + base features)",
-                     2 * static_cast<double>(p.target_size) *
-                         kFloat * static_cast<double>(task.genotype_size() + task.base_feature_size() + p.latent_size + 2));
-    built.memory.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
-                     offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
+    b.built.memory.add("the autoencoder's weights, gradients and Adam moments", "aurora.hidden, aurora.latent_size",
+                       4 * weights * sizeof(double));
+    b.built.memory.add("the autoencoder's activations over a training set",
+                       "aurora.max_training_rows x (aurora.hidden widths)", 2 * rows * units * sizeof(double));
+    b.built.memory.add("the archive", "aurora.target_size x (genes + base features)",
+                       2 * static_cast<double>(p.target_size) * kFloat *
+                           static_cast<double>(b.task.genotype_size() + b.task.base_feature_size() + p.latent_size + 2));
+    b.built.memory.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
+                       offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), b.task));
   }
   b.check_memory();
+  if (!b.make) return nullptr;
   try {
-    if (make) algorithm = std::make_unique<Aurora>(p, std::move(task), mutation, s.seed);
+    return std::make_unique<Aurora>(p, std::move(b.task), b.mutation, b.settings.seed);
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", a.source(), e.what()));
   }
-  return algorithm;
 }
 
 }  // namespace

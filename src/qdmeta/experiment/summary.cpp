@@ -26,6 +26,7 @@ void add_to_json(nlohmann::ordered_json& j, const Table<Record>& table, const Re
 const Table<SummaryRecord>& summary_head_table() {
   static const Table<SummaryRecord> table = {
       {"algorithm", [](const SummaryRecord& r) { return text(r.algorithm); }},
+      {"task", [](const SummaryRecord& r) { return text(r.settings.task); }},
       {"stop_reason", [](const SummaryRecord& r) { return text(enum_to_string(kStopReasonNames, r.result.reason)); }},
       {"message", [](const SummaryRecord& r) { return text(r.result.message); }},
       {"seed", [](const SummaryRecord& r) { return Cell(r.settings.seed); }},

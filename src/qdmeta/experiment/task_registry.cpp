@@ -16,8 +16,9 @@ namespace {
 
 struct Registry {
   std::mutex mutex;
-  // unique_ptr: a found plugin stays where it is while others are registered.
-  std::map<std::string, std::unique_ptr<TaskPlugin>, std::less<>> plugins;
+  // Immutable snapshots: a caller's found plugin stays valid and unchanged while others are
+  // registered or this one is replaced (register_meta_objective copies, then swaps).
+  std::map<std::string, std::shared_ptr<const TaskPlugin>, std::less<>> plugins;
   std::map<std::string, std::string, std::less<>> unavailable;
 };
 
@@ -38,7 +39,7 @@ void register_task_plugin(const std::string& name, TaskPlugin plugin) {
   ensure_core_plugins();
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
-  r.plugins[name] = std::make_unique<TaskPlugin>(std::move(plugin));
+  r.plugins[name] = std::make_shared<const TaskPlugin>(std::move(plugin));
 }
 
 void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader) {
@@ -48,10 +49,12 @@ void register_meta_objective(std::string_view task, const std::string& kind, Met
   const auto it = r.plugins.find(task);
   if (it == r.plugins.end())
     throw std::logic_error(fmt::format("register_meta_objective: task '{}' is not registered", task));
-  auto& kinds = it->second->meta_objectives;
+  auto updated = std::make_shared<TaskPlugin>(*it->second);
+  auto& kinds = updated->meta_objectives;
   const auto same = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
   if (same != kinds.end()) same->second = std::move(reader);
   else kinds.emplace_back(kind, std::move(reader));
+  it->second = std::move(updated);
 }
 
 void register_unavailable_task(const std::string& name, std::string why) {
@@ -61,12 +64,12 @@ void register_unavailable_task(const std::string& name, std::string why) {
   r.unavailable[name] = std::move(why);
 }
 
-const TaskPlugin* find_task_plugin(std::string_view name) {
+std::shared_ptr<const TaskPlugin> find_task_plugin(std::string_view name) {
   ensure_core_plugins();
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
   const auto it = r.plugins.find(name);
-  return it == r.plugins.end() ? nullptr : it->second.get();
+  return it == r.plugins.end() ? nullptr : it->second;
 }
 
 std::vector<std::string> registered_task_names() {
@@ -81,7 +84,7 @@ std::vector<std::string> registered_task_names() {
 std::string describe_adaptation_tests() {
   std::string out;
   for (const auto& name : registered_task_names()) {
-    const TaskPlugin* plugin = find_task_plugin(name);
+    const auto plugin = find_task_plugin(name);
     if (plugin == nullptr || plugin->adaptation_tests.empty()) continue;
     std::string families;
     for (const auto& t : plugin->adaptation_tests) families += fmt::format("{}{}", families.empty() ? "" : ", ", t);
@@ -110,7 +113,7 @@ Task read_registered_task(ConfigReader& t) {
   std::sort(documented.begin(), documented.end());
   const std::string fallback = std::find(names.begin(), names.end(), "rastrigin") != names.end() ? "rastrigin" : names.front();
   const std::string name = t.string("name", fallback, quoted(documented));
-  if (const TaskPlugin* plugin = find_task_plugin(name)) return plugin->read_task(t);
+  if (const auto plugin = find_task_plugin(name)) return plugin->read_task(t);
   std::string why;
   {
     Registry& r = registry();
@@ -122,7 +125,7 @@ Task read_registered_task(ConfigReader& t) {
 }
 
 std::unique_ptr<MetaObjective> read_registered_meta_objective(ConfigReader& m, const Task& task, std::uint64_t seed) {
-  const TaskPlugin* plugin = find_task_plugin(task.name());
+  const auto plugin = find_task_plugin(task.name());
   if (plugin == nullptr || plugin->meta_objectives.empty())
     throw InputError(fmt::format("{}: task '{}' has no meta-fitness yet", m.source(), task.name()));
   std::vector<std::string> kinds;

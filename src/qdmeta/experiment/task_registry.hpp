@@ -55,8 +55,9 @@ void register_meta_objective(std::string_view task, const std::string& kind, Met
 // ("this build has no RHex task: it needs DART"). A real plugin of that name takes precedence.
 void register_unavailable_task(const std::string& name, std::string why);
 
-// The plugin registered under `name`, or nullptr.
-const TaskPlugin* find_task_plugin(std::string_view name);
+// The plugin registered under `name`, or nullptr: a snapshot, which later registrations (of this
+// name too) leave unchanged.
+std::shared_ptr<const TaskPlugin> find_task_plugin(std::string_view name);
 // Registered names, sorted.
 std::vector<std::string> registered_task_names();
 // Names registered as unavailable (register_unavailable_task) and not registered since, sorted.
