@@ -8,13 +8,14 @@ core=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libtbb-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-matplotlib python3-numpy
+  python3 python3-dev python3-matplotlib python3-numpy python3-pytest pybind11-dev
 )
 # Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
 # DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
-# OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test.
+# OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test. pandas gives
+# the Python archives their as_pandas().
 optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev
-          openmpi-bin libopenmpi-dev)
+          openmpi-bin libopenmpi-dev python3-pandas)
 
 packages=("${core[@]}")
 if [ "${QDMETA_DEPS:-all}" != core ]; then packages+=("${optional[@]}"); fi

@@ -128,6 +128,15 @@ TEST_F(RegistryDocs, ALookupSurvivesReRegistration) {
   EXPECT_EQ(now->adaptation_tests, std::vector<std::string>{"second"});
   EXPECT_EQ(now->meta_objectives.back().first, "added");
 
+  EXPECT_TRUE(unregister_meta_objective("rastrigin-snapshot", "added"));
+  EXPECT_FALSE(unregister_meta_objective("rastrigin-snapshot", "added"));
+  EXPECT_EQ(now->meta_objectives.back().first, "added") << "a snapshot outlives an unregistration";
+  EXPECT_EQ(find_task_plugin("rastrigin-snapshot")->meta_objectives.size(), plugin.meta_objectives.size());
+  EXPECT_TRUE(unregister_task_plugin("rastrigin-snapshot"));
+  EXPECT_EQ(find_task_plugin("rastrigin-snapshot"), nullptr);
+  EXPECT_FALSE(unregister_task_plugin("rastrigin-snapshot"));
+  EXPECT_EQ(now->adaptation_tests, std::vector<std::string>{"second"});
+
   const auto builder = find_algorithm("map-elites");
   ASSERT_NE(builder, nullptr);
   register_algorithm("map-elites-snapshot", *builder);

@@ -24,7 +24,9 @@ EliteStoreShape store_shape(const CvtArchiveParams& p, const RowMatrix& centroid
 }  // namespace
 
 CvtArchive::CvtArchive(CvtArchiveParams params, RowMatrix centroids)
-    : EliteStore(store_shape(params, centroids)), params_(params), search_(std::move(centroids)) {
+    : CvtCentroidSearch{NearestCentroid((params.validate(), std::move(centroids)))},
+      EliteStore(store_shape(params, search_.centroids())),
+      params_(params) {
   list_length_ = std::min(params_.neighbours, cells());
   lists_.resize(cells(), list_length_);
 }

@@ -57,6 +57,31 @@ void register_meta_objective(std::string_view task, const std::string& kind, Met
   it->second = std::move(updated);
 }
 
+bool unregister_task_plugin(std::string_view name) {
+  ensure_core_plugins();
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = r.plugins.find(name);
+  if (it == r.plugins.end()) return false;
+  r.plugins.erase(it);
+  return true;
+}
+
+bool unregister_meta_objective(std::string_view task, std::string_view kind) {
+  ensure_core_plugins();
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = r.plugins.find(task);
+  if (it == r.plugins.end()) return false;
+  auto updated = std::make_shared<TaskPlugin>(*it->second);
+  auto& kinds = updated->meta_objectives;
+  const auto same = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+  if (same == kinds.end()) return false;
+  kinds.erase(same);
+  it->second = std::move(updated);
+  return true;
+}
+
 void register_unavailable_task(const std::string& name, std::string why) {
   ensure_core_plugins();
   Registry& r = registry();

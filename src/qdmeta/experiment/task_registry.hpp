@@ -51,6 +51,11 @@ void register_task_plugin(const std::string& name, TaskPlugin plugin);
 // Adds (or replaces) meta-objective `kind` of the registered task `task`; std::logic_error when
 // `task` is not registered.
 void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader);
+// Remove a plugin, or one meta-objective kind of a registered task; false when there was none.
+// For registrations that must not outlive their use (the Python module's tasks, held only
+// while a run is built); lookups already made keep their snapshots.
+bool unregister_task_plugin(std::string_view name);
+bool unregister_meta_objective(std::string_view task, std::string_view kind);
 // A task this build lacks but a user may ask for: `[task] name = NAME` then fails with `why`
 // ("this build has no RHex task: it needs DART"). A real plugin of that name takes precedence.
 void register_unavailable_task(const std::string& name, std::string why);

@@ -1,0 +1,54 @@
+"""qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites, AURORA and MAP-Elites.
+
+The C++ library behind the `qdmeta` command line, from Python:
+
+- ``Task(function, genotype_size, base_feature_size, name)``: a task written in numpy;
+  ``Task.builtin({"name": "rastrigin", ...})`` a built-in one.
+- ``MetaObjective(function, name)``: QD-Meta's meta-fitness written in numpy.
+- ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``.
+- ``Algorithm(config, task=..., meta_objective=...)``: any registered algorithm, driven by
+  ``ask()``/``tell()`` or ``step()``.
+- ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
+  writes them.
+
+Configs are dicts with the keys of the TOML configs (docs/config.md). docs/python.md is the
+tutorial.
+"""
+
+from ._qdmeta import (  # noqa: F401  (the public names)
+    Algorithm,
+    ArchiveStats,
+    CvtArchive,
+    Error,
+    GridArchive,
+    InputError,
+    MetaObjective,
+    Task,
+    UnstructuredArchive,
+    __version__,
+    algorithms,
+    build_info,
+    cvt_centroids,
+    resume,
+    run,
+    tasks,
+)
+
+__all__ = [
+    "Algorithm",
+    "ArchiveStats",
+    "CvtArchive",
+    "Error",
+    "GridArchive",
+    "InputError",
+    "MetaObjective",
+    "Task",
+    "UnstructuredArchive",
+    "__version__",
+    "algorithms",
+    "build_info",
+    "cvt_centroids",
+    "resume",
+    "run",
+    "tasks",
+]

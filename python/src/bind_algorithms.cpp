@@ -1,0 +1,168 @@
+// qdmeta.Algorithm: any registered algorithm built from a config dict, driven by ask/tell from
+// Python or stepped with the library's threads.
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "bindings.hpp"
+#include "elite_arrays.hpp"
+#include "numpy_arrays.hpp"
+#include "python_build.hpp"
+#include "python_evaluator.hpp"
+#include "qdmeta/core/error.hpp"
+#include "toml_convert.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+namespace {
+
+// A built run held for Python: the algorithm, its settings and its resolved config.
+class PyAlgorithm {
+ public:
+  PyAlgorithm(const py::dict& config, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective)
+      : built_(build_from_python(config, PythonParts{std::move(task), std::move(objective)})) {}
+
+  Algorithm& algorithm() { return *built_.algorithm; }
+  const Algorithm& algorithm() const { return *built_.algorithm; }
+
+  // The genotypes of a one-job request (every request but QD-Meta's meta-objective batches).
+  py::array_t<Real> ask() {
+    std::span<const EvaluationJob> jobs;
+    {
+      const py::gil_scoped_release release;
+      jobs = algorithm().ask();
+    }
+    jobs_ = jobs;
+    if (jobs.size() != 1)
+      throw py::value_error(fmt::format("{}: this request has {} jobs (batches of different tasks): use ask_jobs() and "
+                                        "tell_jobs()",
+                                        algorithm().name(), jobs.size()));
+    return rows_copy(jobs[0].genotypes.data, jobs[0].genotypes.count, jobs[0].genotypes.genotype_size);
+  }
+
+  // Every job of the request: (task, genotypes) pairs.
+  py::list ask_jobs() {
+    {
+      const py::gil_scoped_release release;
+      jobs_ = algorithm().ask();
+    }
+    py::list out;
+    for (const EvaluationJob& j : jobs_)
+      out.append(py::make_tuple(*j.task, rows_copy(j.genotypes.data, j.genotypes.count, j.genotypes.genotype_size)));
+    return out;
+  }
+
+  void tell(py::handle fitness, py::handle base_features, py::handle valid) {
+    if (jobs_.size() > 1) throw py::value_error("tell(): the pending request has several jobs: use tell_jobs()");
+    tell_blocks({py::make_tuple(fitness, base_features, valid)});
+  }
+
+  void tell_jobs(const py::sequence& results) {
+    std::vector<py::tuple> blocks;
+    for (const auto& r : results) {
+      if (!py::isinstance<py::tuple>(r) && !py::isinstance<py::list>(r))
+        throw py::type_error("tell_jobs(): each result must be (fitness, base_features[, valid])");
+      const py::sequence s = r.cast<py::sequence>();
+      blocks.push_back(py::make_tuple(s[0], s[1], s.size() > 2 ? py::object(s[2]) : py::object(py::none())));
+    }
+    tell_blocks(blocks);
+  }
+
+  // One step with the library's evaluator (Python tasks on this thread, once per batch).
+  void step(int threads) {
+    const py::gil_scoped_release release;
+    if (!evaluator_ || threads_ != threads) {
+      evaluator_ = std::make_unique<PythonAwareEvaluator>(threads);
+      threads_ = threads;
+    }
+    algorithm().step(*evaluator_);
+  }
+
+  const BuiltRun& built() const { return built_; }
+
+ private:
+  void tell_blocks(const std::vector<py::tuple>& blocks) {
+    if (jobs_.empty() || !algorithm().step_in_progress())
+      throw Error(fmt::format("{}: tell() called with no pending ask()", algorithm().name()));
+    if (blocks.size() != jobs_.size())
+      throw py::value_error(fmt::format("{}: tell() got {} result blocks for a request of {} jobs", algorithm().name(),
+                                        blocks.size(), jobs_.size()));
+    std::vector<EvaluationBatch> results(blocks.size());
+    for (std::size_t j = 0; j < blocks.size(); ++j) {
+      const Index rows = jobs_[j].out.count, nb = jobs_[j].out.base_feature_size;
+      const std::string who = jobs_.size() == 1 ? std::string("tell()") : fmt::format("tell_jobs(): job {}", j);
+      const FloatArray f = float_rows(blocks[j][0], rows, -1, who + ": fitness");
+      const FloatArray b = float_rows(blocks[j][1], rows, nb, who + ": base_features");
+      EvaluationBatch& r = results[j];
+      r.resize(rows, nb);
+      std::copy_n(f.data(), rows, r.fitness.data());
+      std::copy_n(b.data(), rows * nb, r.base_features.data());
+      if (blocks[j][2].is_none()) {
+        std::fill(r.valid.begin(), r.valid.end(), std::uint8_t{1});
+      } else {
+        const ByteArray v = flags(blocks[j][2], rows, who + ": valid");
+        std::copy_n(v.data(), rows, r.valid.data());
+      }
+    }
+    const py::gil_scoped_release release;
+    algorithm().tell(results);
+    jobs_ = {};
+  }
+
+  BuiltRun built_;
+  std::span<const EvaluationJob> jobs_;
+  std::unique_ptr<Evaluator> evaluator_;
+  int threads_ = -1;
+};
+
+}  // namespace
+
+void bind_algorithms(py::module_& m) {
+  py::class_<PyAlgorithm>(m, "Algorithm", R"doc(
+Any registered algorithm ("map-elites", "cvt-map-elites", "aurora", "qd-meta"), built from a
+config dict with the keys of a TOML config (docs/config.md), e.g.
+{"algorithm": "map-elites", "seed": 1, "archive": {"bins": [50, 50]}}. `task` (a qdmeta.Task)
+replaces [task]; `meta_objective` (a qdmeta.MetaObjective) becomes QD-Meta's [meta_fitness].
+
+ask() -> genotypes (n, genotype_size); evaluate them; tell(fitness, base_features, valid=None).
+QD-Meta's requests may hold several jobs (its meta-objective's batches): ask_jobs() ->
+[(task, genotypes)], tell_jobs([(fitness, base_features[, valid])]). step(threads=0) does one
+step with the library's evaluator. The same config and seed give the same bits either way.)doc")
+      .def(py::init<const py::dict&, std::optional<Task>, std::shared_ptr<PythonMetaObjective>>(), py::arg("config"),
+           py::arg("task") = py::none(), py::arg("meta_objective") = py::none())
+      .def("ask", &PyAlgorithm::ask, "The next batch of genotypes to evaluate (a one-job request)")
+      .def("ask_jobs", &PyAlgorithm::ask_jobs, "The next request as a list of (task, genotypes)")
+      .def("tell", &PyAlgorithm::tell, py::arg("fitness"), py::arg("base_features"), py::arg("valid") = py::none(),
+           "The evaluations of the last ask(): fitness (n,), base features (n, base_feature_size) in [0, 1], "
+           "valid (n,) (default: all)")
+      .def("tell_jobs", &PyAlgorithm::tell_jobs, py::arg("results"),
+           "The evaluations of the last ask_jobs(), one (fitness, base_features[, valid]) per job")
+      .def("step", &PyAlgorithm::step, py::arg("threads") = 0,
+           "One step (a generation; for QD-Meta a meta-generation) with the library's threads (0: all cores)")
+      .def_property_readonly("name", [](const PyAlgorithm& a) { return a.algorithm().name(); })
+      .def_property_readonly("generation", [](const PyAlgorithm& a) { return a.algorithm().generation(); })
+      .def_property_readonly("evaluations",
+                             [](const PyAlgorithm& a) {
+                               const EvaluationCounters c = a.algorithm().counters();
+                               py::dict d;
+                               d["bottom"] = c.bottom;
+                               d["meta"] = c.meta;
+                               d["total"] = c.total();
+                               return d;
+                             })
+      .def_property_readonly("step_in_progress", [](const PyAlgorithm& a) { return a.algorithm().step_in_progress(); })
+      .def_property_readonly("stats", [](const PyAlgorithm& a) { return a.algorithm().stats(); })
+      .def_property_readonly("config", [](const PyAlgorithm& a) { return dict_from_table(a.built().resolved); },
+                             "Every key in force, defaults included")
+      .def("as_pandas", [](const PyAlgorithm& a) { return elite_table_pandas(a.algorithm().elites()); },
+           "The archive's elites as a pandas DataFrame with pyribs's columns")
+      .def("data", [](const PyAlgorithm& a) { return elite_table_data(a.algorithm().elites()); },
+           "The archive's elites (QD-Meta: the best map's) as numpy arrays");
+}
+
+}  // namespace qdmeta::python

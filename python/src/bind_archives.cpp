@@ -1,0 +1,248 @@
+// qdmeta.GridArchive, qdmeta.CvtArchive (with qdmeta.cvt_centroids, cached as the CLI caches
+// them) and qdmeta.UnstructuredArchive: batch add returning statuses, statistics with pyribs's
+// names, the elites as numpy arrays.
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <optional>
+#include <vector>
+
+#include "bindings.hpp"
+#include "elite_arrays.hpp"
+#include "numpy_arrays.hpp"
+#include "qdmeta/archive/cvt_archive.hpp"
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/archive/kmeans.hpp"
+#include "qdmeta/archive/unstructured_archive.hpp"
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/io/centroid_cache.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+namespace {
+
+// The arrays of one add() call, checked and converted (views when already float32 and
+// C-contiguous); rows = the solutions' row count.
+struct AddArguments {
+  FloatArray solutions, objectives, measures, base_features;
+  std::optional<ByteArray> valid;
+  Index rows = 0;
+  bool has_base_features = false;
+
+  AddArguments(py::handle s, py::handle o, py::handle m, py::handle b, py::handle v, Index solution_size,
+               Index measure_size, Index base_feature_size) {
+    solutions = float_rows(s, -1, solution_size, "solutions");
+    rows = solutions.shape(0);
+    objectives = float_rows(o, rows, -1, "objectives");
+    measures = float_rows(m, rows, measure_size, "measures");
+    if (base_feature_size > 0) {
+      if (b.is_none())
+        throw py::value_error(fmt::format("base_features: this archive keeps {} per elite; give an array ({}, {})",
+                                          base_feature_size, rows, base_feature_size));
+      base_features = float_rows(b, rows, base_feature_size, "base_features");
+      has_base_features = true;
+    }
+    if (!v.is_none()) valid = flags(v, rows, "valid");
+  }
+
+  EliteBatch batch() const {
+    EliteBatch e;
+    e.solutions = {solutions.data(), rows, solutions.shape(1)};
+    e.objectives = {objectives.data(), static_cast<std::size_t>(rows)};
+    e.measures = {measures.data(), rows, measures.shape(1)};
+    if (has_base_features) e.base_features = {base_features.data(), rows, base_features.shape(1)};
+    if (valid) e.valid = {valid->data(), static_cast<std::size_t>(rows)};
+    return e;
+  }
+};
+
+py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
+  py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(s.size()));
+  for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
+  return out;
+}
+
+const char* kAddDoc =
+    "add(solutions, objectives, measures, base_features=None, valid=None) -> statuses: a uint8 array, one per "
+    "row: 0 not added, 1 improved an elite, 2 filled a new cell. Rows go in in order, as if added one by one.";
+
+template <class Archive, class Class>
+void bind_elite_archive(Class& c) {
+  c.def(
+       "add",
+       [](Archive& a, py::handle s, py::handle o, py::handle m, py::handle b, py::handle v) {
+         const AddArguments args(s, o, m, b, v, a.solution_size(), a.dimensions(), a.base_feature_size());
+         std::vector<AddStatus> status(static_cast<std::size_t>(args.rows));
+         {
+           const py::gil_scoped_release release;
+           a.add_batch(args.batch(), status);
+         }
+         return statuses(status);
+       },
+       py::arg("solutions"), py::arg("objectives"), py::arg("measures"), py::arg("base_features") = py::none(),
+       py::arg("valid") = py::none(), kAddDoc)
+      .def_property_readonly("stats", [](const Archive& a) { return a.stats(); })
+      .def_property_readonly("cells", [](const Archive& a) { return a.cells(); })
+      .def_property_readonly("solution_dim", [](const Archive& a) { return a.solution_size(); })
+      .def_property_readonly("measure_dim", [](const Archive& a) { return a.dimensions(); })
+      .def("__len__", [](const Archive& a) { return a.size(); })
+      .def("clear", [](Archive& a) { a.clear(); })
+      .def("data", [](const Archive& a) { return elite_table_data(a.elites()); },
+           "The elites as numpy arrays: index, objective, measures, solution (and base_features), by cell index")
+      .def("as_pandas", [](const Archive& a) { return elite_table_pandas(a.elites()); },
+           "The elites as a pandas DataFrame with pyribs's columns: index, objective, measures_0.., solution_0..");
+}
+
+}  // namespace
+
+void bind_archives(py::module_& m) {
+  py::class_<ArchiveStats>(m, "ArchiveStats", "An archive's statistics, with pyribs's names and meanings")
+      .def_readonly("num_elites", &ArchiveStats::num_elites)
+      .def_readonly("coverage", &ArchiveStats::coverage)
+      .def_readonly("qd_score", &ArchiveStats::qd_score)
+      .def_readonly("norm_qd_score", &ArchiveStats::norm_qd_score)
+      .def_readonly("obj_max", &ArchiveStats::obj_max)
+      .def_readonly("obj_mean", &ArchiveStats::obj_mean)
+      .def("as_dict",
+           [](const ArchiveStats& s) {
+             py::dict d;
+             d["num_elites"] = s.num_elites;
+             d["coverage"] = s.coverage;
+             d["qd_score"] = s.qd_score;
+             d["norm_qd_score"] = s.norm_qd_score;
+             d["obj_max"] = s.obj_max;
+             d["obj_mean"] = s.obj_mean;
+             return d;
+           })
+      .def("__repr__", [](const ArchiveStats& s) {
+        return fmt::format("ArchiveStats(num_elites={}, coverage={:.6g}, qd_score={:.6g}, norm_qd_score={:.6g}, "
+                           "obj_max={:.6g}, obj_mean={:.6g})",
+                           s.num_elites, s.coverage, s.qd_score, s.norm_qd_score, s.obj_max, s.obj_mean);
+      });
+
+  py::class_<GridArchive> grid(m, "GridArchive", R"doc(
+A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper] (values outside
+go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
+numbered in row-major order as pyribs's GridArchive.)doc");
+  grid.def(py::init([](Index solution_dim, std::vector<int> dims, double lower, double upper, double qd_offset,
+                       Index base_feature_dim) {
+             GridArchiveParams p;
+             p.bins = std::move(dims);
+             p.lower = lower;
+             p.upper = upper;
+             p.solution_size = solution_dim;
+             p.qd_offset = qd_offset;
+             p.base_feature_size = base_feature_dim;
+             p.validate();
+             return GridArchive(p);
+           }),
+           py::arg("solution_dim"), py::arg("dims"), py::arg("lower") = 0.0, py::arg("upper") = 1.0,
+           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0);
+  bind_elite_archive<GridArchive>(grid);
+  grid.def("index_of", [](const GridArchive& a, py::handle measures) {
+    const FloatArray v = float_rows(measures, -1, a.dimensions(), "measures");
+    py::array_t<std::int64_t> out(v.shape(0));
+    for (py::ssize_t i = 0; i < v.shape(0); ++i) out.mutable_data()[i] = a.index_of(v.data() + i * a.dimensions());
+    return out;
+  }, py::arg("measures"), "The cell index of each row of measures");
+
+  py::class_<CvtArchive> cvt(m, "CvtArchive", R"doc(
+A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from
+qdmeta.cvt_centroids), a measure vector belongs to its nearest centroid's cell (exact; ties to
+the lower index).)doc");
+  cvt.def(py::init([](Index solution_dim, py::handle centroids, double qd_offset) {
+            const py::array a = py::array::ensure(centroids);
+            if (!a || a.ndim() != 2 || a.shape(0) < 1 || a.shape(1) < 1)
+              throw py::value_error("centroids must be a 2-D array (cells, measure_dim) with at least one row");
+            const FloatArray f = float_rows(centroids, a.shape(0), a.shape(1), "centroids");
+            RowMatrix rows = Eigen::Map<const RowMatrix>(f.data(), f.shape(0), f.shape(1));
+            return CvtArchive(CvtArchiveParams{solution_dim, qd_offset, 0}, std::move(rows));
+          }),
+          py::arg("solution_dim"), py::arg("centroids"), py::arg("qd_offset") = 0.0);
+  bind_elite_archive<CvtArchive>(cvt);
+  cvt.def_property_readonly("centroids", [](const CvtArchive& a) {
+    return rows_copy(a.centroids().data(), a.centroids().rows(), a.centroids().cols());
+  });
+
+  m.def(
+      "cvt_centroids",
+      [](Index dimensions, Index cells, Index samples, std::uint64_t seed, std::optional<std::filesystem::path> cache_dir) {
+        KMeansParams p;
+        p.centroids = cells;
+        p.samples = samples;
+        p.init_samples = std::min(p.init_samples, samples);
+        p.seed = seed;
+        p.validate();
+        const std::filesystem::path dir = cache_dir ? *cache_dir : default_centroid_cache_dir();
+        CachedCentroids made;
+        {
+          const py::gil_scoped_release release;
+          made = load_or_make_centroids(dimensions, p, dir);
+        }
+        return rows_copy(made.centroids.data(), made.centroids.rows(), made.centroids.cols());
+      },
+      py::arg("dimensions"), py::arg("cells") = 10'000, py::arg("samples") = 1'000'000, py::arg("seed") = 1,
+      py::arg("cache_dir") = py::none(),
+      "k-means centroids of uniform points in [0,1]^dimensions, as the CLI's [cvt] makes them (k-means++, Lloyd), "
+      "from the centroid cache when there (cache_dir: default $XDG_CACHE_HOME/qdmeta/centroids; '' disables it)");
+
+  py::class_<UnstructuredArchive> unstructured(m, "UnstructuredArchive", R"doc(
+AURORA's unstructured archive: elites at free points of the measure space; a candidate farther
+than `threshold` from every member enters, a nearer one may take its nearest member's place
+when it eps-dominates it on (objective, novelty).)doc");
+  unstructured
+      .def(py::init([](Index solution_dim, Index measure_dim, Index target_size, double eps, int novelty_neighbours,
+                       double qd_offset) {
+             UnstructuredArchiveParams p;
+             p.solution_size = solution_dim;
+             p.descriptor_size = measure_dim;
+             p.target_size = target_size;
+             p.eps = eps;
+             p.novelty_neighbours = novelty_neighbours;
+             p.qd_offset = qd_offset;
+             p.validate();
+             return UnstructuredArchive(p);
+           }),
+           py::arg("solution_dim"), py::arg("measure_dim"), py::arg("target_size") = 10'000, py::arg("eps") = 0.1,
+           py::arg("novelty_neighbours") = 15, py::arg("qd_offset") = 0.0)
+      .def(
+          "add",
+          [](UnstructuredArchive& a, py::handle s, py::handle o, py::handle mm, double threshold) {
+            if (!(threshold > 0)) throw py::value_error(fmt::format("threshold must be > 0, got {}", threshold));
+            const AddArguments args(s, o, mm, py::none(), py::none(), a.params().solution_size,
+                                    a.params().descriptor_size, 0);
+            check_batch(args.batch(), 0, a.params().solution_size, a.params().descriptor_size, 0, "UnstructuredArchive");
+            std::vector<AddStatus> status(static_cast<std::size_t>(args.rows));
+            {
+              const py::gil_scoped_release release;
+              for (Index r = 0; r < args.rows; ++r)
+                status[static_cast<std::size_t>(r)] =
+                    a.add(args.solutions.data() + r * a.params().solution_size, args.objectives.data()[r],
+                          args.measures.data() + r * a.params().descriptor_size, nullptr, threshold);
+            }
+            return statuses(status);
+          },
+          py::arg("solutions"), py::arg("objectives"), py::arg("measures"), py::arg("threshold"),
+          "add(solutions, objectives, measures, threshold) -> statuses (0 rejected, 1 replaced a member, 2 added)")
+      .def_property_readonly("stats", &UnstructuredArchive::stats)
+      .def("__len__", &UnstructuredArchive::size)
+      .def("clear", &UnstructuredArchive::clear)
+      .def("data", [](const UnstructuredArchive& a) {
+        EliteTable t;
+        const Index n = a.size(), d = a.params().descriptor_size, g = a.params().solution_size;
+        t.measures.resize(n, d);
+        t.solutions.resize(n, g);
+        for (Index s = 0; s < n; ++s) {
+          t.index.push_back(s);
+          t.objective.push_back(a.objective(s));
+          for (Index k = 0; k < d; ++k) t.measures(s, k) = a.descriptor(s, k);
+          std::copy_n(a.solution(s), g, t.solutions.row(s).data());
+        }
+        return elite_table_data(t);
+      }, "The members as numpy arrays: index (the slot), objective, measures, solution");
+}
+
+}  // namespace qdmeta::python

@@ -1,0 +1,150 @@
+// qdmeta.run() and qdmeta.resume(): a run directory exactly as `qdmeta run` writes it (config.toml,
+// metrics.csv, meta.csv, archive.csv, summary.json, checkpoints), so `qdmeta report`, `qdmeta
+// adapt` and the plotting scripts read Python runs too. Ctrl-C ends the run at the next
+// generation with a checkpoint, then raises KeyboardInterrupt.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include "bindings.hpp"
+#include "python_build.hpp"
+#include "python_evaluator.hpp"
+#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/io/run_lock.hpp"
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+
+namespace qdmeta::python {
+namespace {
+
+// After each generation, with the GIL: pending signals (Ctrl-C) stop the run, and the caller's
+// progress callback hears how far it is. A Python exception from either is kept for the caller.
+class PythonObserver final : public RunObserver {
+ public:
+  explicit PythonObserver(py::object progress) : progress_(std::move(progress)) {}
+
+  RunVerdict after_step(const RunStatus& s) override {
+    const py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) return keep_error();
+    if (!progress_.is_none()) {
+      const ArchiveStats a = s.algorithm.stats();
+      py::dict d;
+      d["evals"] = s.evals;
+      d["budget"] = s.settings.budget;
+      d["generation"] = s.algorithm.generation();
+      d["wall_seconds"] = s.clock.seconds();
+      d["num_elites"] = a.num_elites;
+      d["obj_max"] = a.obj_max;
+      d["qd_score"] = a.qd_score;
+      try {
+        progress_(d);
+      } catch (py::error_already_set& e) {
+        error_ = std::move(e);
+        return RunVerdict::kStop;
+      }
+    }
+    return RunVerdict::kContinue;
+  }
+
+  // Raises what stopped the run, if anything did (with the GIL).
+  void raise_if_stopped() {
+    if (error_) {
+      py::error_already_set e = std::move(*error_);
+      error_.reset();
+      throw e;
+    }
+  }
+
+ private:
+  RunVerdict keep_error() {
+    error_.emplace();  // fetches the pending KeyboardInterrupt (or the handler's exception)
+    return RunVerdict::kStop;
+  }
+
+  py::object progress_;
+  std::optional<py::error_already_set> error_;
+};
+
+py::dict read_summary(const fs::path& dir) {
+  std::ifstream in(dir / "summary.json");
+  std::stringstream text;
+  text << in.rdbuf();
+  return py::module_::import("json").attr("loads")(text.str());
+}
+
+py::dict drive(BuiltRun& built, const fs::path& out, int threads, const py::object& progress, const RunCursor* resume) {
+  PythonObserver observer(progress);
+  {
+    const py::gil_scoped_release release;
+    PythonAwareEvaluator evaluator(threads);
+    RunOptions options;
+    options.resume = resume;
+    options.observers = {&observer};
+    run_to_budget(*built.algorithm, evaluator, built.settings, out, options);
+  }
+  observer.raise_if_stopped();
+  return read_summary(out);
+}
+
+PythonParts parts_of(std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective) {
+  return PythonParts{std::move(task), std::move(objective)};
+}
+
+}  // namespace
+
+void bind_runs(py::module_& m) {
+  m.def(
+      "run",
+      [](const py::dict& config, const fs::path& out_dir, std::optional<Task> task,
+         std::shared_ptr<PythonMetaObjective> meta_objective, int threads, bool overwrite, py::object progress) {
+        BuiltRun built = build_from_python(config, parts_of(std::move(task), std::move(meta_objective)));
+        const RunLock lock(out_dir, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+        start_run_directory(out_dir, built, "<python>", threads, overwrite);
+        return drive(built, out_dir, threads, progress, nullptr);
+      },
+      py::arg("config"), py::arg("out_dir"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(),
+      py::arg("threads") = 0, py::arg("overwrite") = false, py::arg("progress") = py::none(),
+      R"doc(Runs a config dict (the keys of a TOML config) to its budget into out_dir, as `qdmeta run` does,
+and returns summary.json as a dict. `task` / `meta_objective`: your own (qdmeta.Task,
+qdmeta.MetaObjective). `progress(dict)` hears evals, budget, generation, wall_seconds,
+num_elites, obj_max and qd_score after every generation. Ctrl-C ends the run with a checkpoint
+(then KeyboardInterrupt); qdmeta.resume() continues it.)doc");
+
+  m.def(
+      "resume",
+      [](const fs::path& out_dir, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> meta_objective,
+         int threads, py::object progress) {
+        const RunLock lock(out_dir, RunLock::Mode::kExclusive);
+        ResumableRun r = [&] {
+          const auto registered = register_for_resume(out_dir, parts_of(task, meta_objective));
+          try {
+            return open_for_resume(out_dir);
+          } catch (const InputError& e) {
+            const toml::table config = load_toml(out_dir / "config.toml");
+            const auto* t = config["task"].as_table();
+            const auto* name = t ? (*t)["name"].as_string() : nullptr;
+            if (name && !find_task_plugin(name->get()))
+              throw InputError(fmt::format("{}: the run's task '{}' is not a built-in one: pass it again, "
+                                           "qdmeta.resume(out_dir, task=...)",
+                                           out_dir.string(), name->get()));
+            throw;
+          }
+        }();
+        return drive(r.built, out_dir, threads, progress, &r.cursor);
+      },
+      py::arg("out_dir"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(), py::arg("threads") = 0,
+      py::arg("progress") = py::none(),
+      R"doc(Continues an interrupted or killed run from its checkpoint, to the bits it would have had
+without the stop. A Python task or meta-objective is passed again (the same name); the rest
+comes from the run's config.toml.)doc");
+}
+
+}  // namespace qdmeta::python

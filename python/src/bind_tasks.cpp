@@ -1,0 +1,87 @@
+// qdmeta.Task (a Python function, or a built-in task made from its config table) and
+// qdmeta.MetaObjective.
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "numpy_arrays.hpp"
+#include "python_build.hpp"
+#include "python_meta_objective.hpp"
+#include "python_task.hpp"
+#include "qdmeta/cli/builtin_plugins.hpp"
+#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/task_registry.hpp"
+#include "toml_convert.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+namespace {
+
+// A built-in (or registered) task from its [task] table, e.g. {"name": "rastrigin", "dimensions": 20}.
+Task task_from_table(const py::dict& table) {
+  register_builtin_plugins();
+  py::dict config;
+  config["task"] = table;
+  const BuiltRun built = build_from_python(config, {}, BuildScope::kTasksOnly);
+  return built.evaluation_tasks.front();
+}
+
+py::tuple evaluate(const Task& task, const py::handle& genotypes) {
+  const FloatArray g = float_rows(genotypes, -1, task.genotype_size(), "genotypes");
+  const Index n = g.shape(0);
+  EvaluationBatch out;
+  out.resize(n, task.base_feature_size());
+  {
+    const py::gil_scoped_release release;
+    task.evaluate({g.data(), n, task.genotype_size()}, out.view());
+  }
+  py::array_t<bool> valid(static_cast<py::ssize_t>(n));
+  for (Index i = 0; i < n; ++i) valid.mutable_data()[i] = out.valid[static_cast<std::size_t>(i)] != 0;
+  return py::make_tuple(rows_copy(out.fitness.data(), n, -1),
+                        rows_copy(out.base_features.data(), n, task.base_feature_size()), valid);
+}
+
+}  // namespace
+
+void bind_tasks(py::module_& m) {
+  py::class_<Task>(m, "Task", R"doc(
+A task: evaluates a batch of genotypes (one per row, genes in [0, 1]) into fitness, base
+features in [0, 1] and a valid flag per row.
+
+Task(function, genotype_size, base_feature_size, name="python", qd_offset=0.0) wraps a Python
+function f(genotypes: float32 array (n, genotype_size)) -> (fitness (n,), base_features
+(n, base_feature_size)[, valid (n,)]). Task.builtin({"name": "rastrigin", ...}) makes a
+built-in task from its [task] table (docs/config.md).)doc")
+      .def(py::init([](py::object function, Index genotype_size, Index base_feature_size, std::string name,
+                       double qd_offset) {
+             return Task(PythonTask(std::move(function), genotype_size, base_feature_size, std::move(name), qd_offset));
+           }),
+           py::arg("function"), py::arg("genotype_size"), py::arg("base_feature_size"), py::arg("name") = "python",
+           py::arg("qd_offset") = 0.0)
+      .def_static("builtin", &task_from_table, py::arg("table"),
+                  "A built-in task from its [task] table, e.g. {'name': 'rastrigin', 'dimensions': 20}")
+      .def_property_readonly("name", &Task::name)
+      .def_property_readonly("genotype_size", &Task::genotype_size)
+      .def_property_readonly("base_feature_size", &Task::base_feature_size)
+      .def_property_readonly("qd_offset", &Task::qd_offset)
+      .def_property_readonly("is_python", [](const Task& t) { return is_python_task(t); })
+      .def("evaluate", &evaluate, py::arg("genotypes"),
+           "Evaluates genotypes (n, genotype_size): (fitness, base_features, valid), checked as in a run")
+      .def("__repr__", [](const Task& t) {
+        return fmt::format("qdmeta.Task('{}', genotype_size={}, base_feature_size={})", t.name(), t.genotype_size(),
+                           t.base_feature_size());
+      });
+
+  py::class_<PythonMetaObjective, std::shared_ptr<PythonMetaObjective>>(m, "MetaObjective", R"doc(
+A meta-objective for QD-Meta, written in Python: function(elites, seed) -> meta-fitness (higher
+is better), or (meta-fitness, evaluations spent). `elites` is a float32 array, one elite
+genotype per row; `seed` an integer for the function's own random draws (the same run gives the
+same seeds). Given to qdmeta.run() or qdmeta.Algorithm() it becomes the [meta_fitness] kind
+`name` of the run's task.)doc")
+      .def(py::init<py::object, std::string>(), py::arg("function"), py::arg("name") = "python")
+      .def_property_readonly("name", &PythonMetaObjective::name);
+}
+
+}  // namespace qdmeta::python

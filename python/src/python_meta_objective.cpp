@@ -1,0 +1,54 @@
+#include "python_meta_objective.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "numpy_arrays.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+
+PythonMetaObjective::PythonMetaObjective(py::object function, std::string name)
+    : function_(std::move(function)), name_(std::move(name)) {
+  if (!PyCallable_Check(function_.get().ptr())) throw py::type_error("MetaObjective: the function must be callable");
+  if (name_.empty()) throw py::value_error("MetaObjective: the name must not be empty");
+}
+
+MetaPlan PythonMetaObjective::plan(const RowMatrix& elites, Rng& rng) const {
+  // 63 bits, so that numpy.random.default_rng(seed) takes it as it is.
+  const auto seed = static_cast<std::int64_t>(rng() >> 1);
+  const py::gil_scoped_acquire gil;
+  const py::object result = function_.get()(rows_copy(elites.data(), elites.rows(), elites.cols()), seed);
+  const std::string who = fmt::format("meta-objective '{}'", name_);
+  MetaFitnessResult r;
+  try {
+    if (py::isinstance<py::tuple>(result)) {
+      const py::tuple t = result;
+      if (t.size() != 2) throw py::value_error("");
+      r.value = t[0].cast<double>();
+      r.evaluations = t[1].cast<std::int64_t>();
+    } else {
+      r.value = result.cast<double>();
+    }
+  } catch (const py::cast_error&) {
+    throw py::type_error(fmt::format("{} must return a number, or (number, evaluations); got {}", who,
+                                     py::repr(result).cast<std::string>()));
+  } catch (const py::value_error&) {
+    throw py::type_error(fmt::format("{} must return a number, or (number, evaluations); got {}", who,
+                                     py::repr(result).cast<std::string>()));
+  }
+  if (!std::isfinite(r.value))
+    throw py::value_error(fmt::format("{} returned {}, which is not finite", who, r.value));
+  if (r.evaluations < 0) throw py::value_error(fmt::format("{} reported {} evaluations", who, r.evaluations));
+  return MetaPlan{{}, r};
+}
+
+MetaFitnessResult PythonMetaObjective::score(const RowMatrix&, const MetaPlan& plan,
+                                             std::span<const EvaluationBatch>) const {
+  return std::any_cast<MetaFitnessResult>(plan.state);
+}
+
+}  // namespace qdmeta::python

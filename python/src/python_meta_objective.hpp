@@ -1,0 +1,31 @@
+#pragma once
+// A meta-objective written in Python: a callable taking the map's elites (a (k x genotype_size)
+// float32 array, one elite per row) and an integer seed for its own random draws, returning
+// the meta-fitness (higher is better), or (meta-fitness, evaluations spent) when it evaluated
+// solutions itself (through its task, say). It runs in plan(): nothing is left for the
+// evaluator, so QD-Meta's budget counts only the evaluations it reports.
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+#include "python_object.hpp"
+#include "qdmeta/core/meta_objective.hpp"
+
+namespace qdmeta::python {
+
+class PythonMetaObjective final : public MetaObjective {
+ public:
+  PythonMetaObjective(pybind11::object function, std::string name);
+
+  std::string name() const override { return name_; }
+  // Takes the GIL; the seed is drawn from `rng`, so the same run gives the function the same seeds.
+  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
+  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+                          std::span<const EvaluationBatch> results) const override;
+
+ private:
+  SharedPyObject function_;
+  std::string name_;
+};
+
+}  // namespace qdmeta::python

@@ -1,0 +1,56 @@
+#include "python_task.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "numpy_arrays.hpp"
+#include "qdmeta/core/error.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+
+PythonTask::PythonTask(py::object function, Index genotype_size, Index base_feature_size, std::string name,
+                       double qd_offset)
+    : function_(std::move(function)),
+      genotype_size_(genotype_size),
+      base_feature_size_(base_feature_size),
+      name_(std::move(name)),
+      qd_offset_(qd_offset) {
+  if (!PyCallable_Check(function_.get().ptr())) throw py::type_error("Task: the function must be callable");
+  if (genotype_size_ < 1) throw py::value_error(fmt::format("Task '{}': genotype_size must be >= 1", name_));
+  if (base_feature_size_ < 1) throw py::value_error(fmt::format("Task '{}': base_feature_size must be >= 1", name_));
+  if (name_.empty()) throw py::value_error("Task: the name must not be empty");
+}
+
+void PythonTask::evaluate(GenotypeView genotypes, EvaluationView out) const {
+  const py::gil_scoped_acquire gil;
+  const Index n = genotypes.count;
+  // A fresh array, not a view of qdmeta's buffer: a function may keep what it is given (a log
+  // of genotypes), and the copy costs far less than the call.
+  const py::object result = function_.get()(rows_copy(genotypes.data, n, genotypes.genotype_size));
+  const std::string who = fmt::format("task '{}'", name_);
+  if (!py::isinstance<py::tuple>(result) && !py::isinstance<py::list>(result))
+    throw py::type_error(fmt::format("{} must return (fitness, base_features) or (fitness, base_features, valid), "
+                                     "got {}",
+                                     who, py::str(py::type::handle_of(result)).cast<std::string>()));
+  const py::sequence parts = result;
+  if (parts.size() != 2 && parts.size() != 3)
+    throw py::value_error(fmt::format("{} returned {} values; expected (fitness, base_features) or (fitness, "
+                                      "base_features, valid)",
+                                      who, parts.size()));
+  const FloatArray fitness = float_rows(parts[0], n, -1, who + ": fitness");
+  const FloatArray features = float_rows(parts[1], n, base_feature_size_, who + ": base_features");
+  std::copy_n(fitness.data(), n, out.fitness);
+  std::copy_n(features.data(), n * base_feature_size_, out.base_features);
+  if (parts.size() == 3) {
+    const ByteArray valid = flags(parts[2], n, who + ": valid");
+    std::copy_n(valid.data(), n, out.valid);
+  } else {
+    std::fill_n(out.valid, n, std::uint8_t{1});
+  }
+  // Task::evaluate checks the values (finite fitness, features in [0, 1]) and names the row.
+}
+
+}  // namespace qdmeta::python

@@ -1,0 +1,165 @@
+"""Algorithms from Python: ask/tell gives the bits of step(), a numpy task matches the built-in
+one, protocol errors say what was expected, a task's exception reaches the caller with its
+traceback, and a Python meta-objective drives QD-Meta."""
+import traceback
+
+import numpy as np
+import pytest
+
+import qdmeta
+
+ME = {"algorithm": "map-elites", "seed": 5, "archive": {"bins": [20, 20]},
+      "map_elites": {"batch_size": 50, "initial_population": 200}}
+
+
+def rastrigin(x):
+    """The paper's Rastrigin in numpy: genes in [0, 1] mapped to [-5.12, 5.12]; the base
+    features are the genes themselves."""
+    z = -5.12 + 10.24 * x.astype(np.float64)
+    f = -(10.0 * x.shape[1] + np.sum(z * z - 10.0 * np.cos(2 * np.pi * z), axis=1))
+    return f.astype(np.float32), x, np.ones(len(x), dtype=bool)
+
+
+def numpy_rastrigin(n=20):
+    return qdmeta.Task(rastrigin, genotype_size=n, base_feature_size=n, name="numpy-rastrigin")
+
+
+def test_ask_tell_by_hand_gives_the_bits_of_step():
+    task = numpy_rastrigin()
+    stepped = qdmeta.Algorithm(ME, task=task)
+    by_hand = qdmeta.Algorithm(ME, task=task)
+    for _ in range(15):
+        stepped.step(threads=2)
+        x = by_hand.ask()
+        assert x.shape == ((200 if by_hand.generation == 0 else 50), 20) and x.dtype == np.float32
+        by_hand.tell(*rastrigin(x))
+    a, b = stepped.data(), by_hand.data()
+    assert np.array_equal(a["index"], b["index"])
+    assert np.array_equal(a["objective"], b["objective"])
+    assert np.array_equal(a["solution"], b["solution"])
+    assert stepped.evaluations == by_hand.evaluations == {"bottom": 200 + 14 * 50, "meta": 0, "total": 900}
+    assert stepped.stats.num_elites == len(a["index"]) > 100
+
+
+def test_a_numpy_task_matches_the_builtin_one():
+    builtin = qdmeta.Task.builtin({"name": "rastrigin", "dimensions": 20})
+    x = np.random.default_rng(0).random((64, 20), dtype=np.float32)
+    f_c, b_c, v_c = builtin.evaluate(x)
+    f_py, b_py, v_py = numpy_rastrigin().evaluate(x)
+    np.testing.assert_allclose(f_py, f_c, rtol=2e-5)
+    assert np.array_equal(b_py, b_c) and v_c.all() and v_py.all()
+    # The same run through both tasks: the same cells and genotypes (the fitness differs in the
+    # last float bits: the built-in task sums in float with its own cosine).
+    cfg = dict(ME)
+    ours = qdmeta.Algorithm(cfg, task=numpy_rastrigin())
+    theirs = qdmeta.Algorithm(dict(cfg, task={"name": "rastrigin", "dimensions": 20}))
+    for _ in range(10):
+        ours.step(threads=1)
+        theirs.step(threads=1)
+    a, b = ours.data(), theirs.data()
+    assert np.array_equal(a["index"], b["index"])
+    assert np.array_equal(a["solution"], b["solution"])
+    np.testing.assert_allclose(a["objective"], b["objective"], rtol=2e-5)
+
+
+def test_protocol_errors_say_what_was_expected():
+    algo = qdmeta.Algorithm(ME, task=numpy_rastrigin())
+    with pytest.raises(qdmeta.Error, match="no pending ask"):
+        algo.tell(np.zeros(200), np.zeros((200, 20)))
+    x = algo.ask()
+    with pytest.raises(qdmeta.Error, match=r"ask\(\) called again before tell\(\)"):
+        algo.ask()
+    with pytest.raises(ValueError, match=r"fitness must have shape \(200,\), got \(199,\)"):
+        algo.tell(np.zeros(199), np.zeros((200, 20)))
+    f, b, v = rastrigin(x)
+    b = b.copy()
+    b[3, 7] = 1.5
+    with pytest.raises(ValueError, match=r"row 3: base feature 7 is 1.5, outside \[0, 1\]"):
+        algo.tell(f, b, v)
+    f[2] = np.nan
+    with pytest.raises(ValueError, match=r"row 2: fitness nan is not finite"):
+        algo.tell(f, x, v)
+    assert algo.step_in_progress, "a refused tell() leaves the request pending"
+    algo.tell(*rastrigin(x))
+    assert not algo.step_in_progress and algo.generation == 1
+
+
+def test_config_errors_name_the_key():
+    with pytest.raises(qdmeta.InputError, match="archive.bins"):
+        qdmeta.Algorithm(dict(ME, archive={"bins": [0, 3]}), task=numpy_rastrigin())
+    with pytest.raises(qdmeta.InputError, match="map_elites.batch_sise"):
+        qdmeta.Algorithm(dict(ME, map_elites={"batch_sise": 3}), task=numpy_rastrigin())
+    with pytest.raises(TypeError, match="'seed' is None"):
+        qdmeta.Algorithm(dict(ME, seed=None), task=numpy_rastrigin())
+    with pytest.raises(ValueError, match='task.name is "rastrigin", but the task given is "numpy-rastrigin"'):
+        qdmeta.Algorithm(dict(ME, task={"name": "rastrigin"}), task=numpy_rastrigin())
+
+
+class TaskFailure(Exception):
+    pass
+
+
+def failing(x):
+    raise TaskFailure(f"no simulator for {len(x)} genotypes")
+
+
+def test_a_task_exception_reaches_the_caller_with_its_traceback():
+    algo = qdmeta.Algorithm(ME, task=qdmeta.Task(failing, 20, 2, name="failing"))
+    with pytest.raises(TaskFailure, match="no simulator for 200 genotypes") as info:
+        algo.step(threads=2)
+    frames = [f.name for f in traceback.extract_tb(info.value.__traceback__)]
+    assert "failing" in frames
+
+
+def test_a_task_returning_the_wrong_shapes_is_named():
+    bad = qdmeta.Task(lambda x: (np.zeros(len(x)), np.zeros((len(x), 3))), 20, 2, name="bad")
+    with pytest.raises(ValueError, match=r"task 'bad': base_features must have shape \(200, 2\), got \(200, 3\)"):
+        qdmeta.Algorithm(ME, task=bad).step()
+    nan = qdmeta.Task(lambda x: (np.full(len(x), np.nan), x[:, :2]), 20, 2, name="nan")
+    with pytest.raises(qdmeta.Error, match="task 'nan': fitness of solution 0 is nan"):
+        qdmeta.Algorithm(ME, task=nan).step()
+
+
+QD = {"algorithm": "qd-meta", "seed": 2, "archive": {"bins": [10, 10]},
+      "qd_meta": {"meta_population": 3, "batch_size": 40, "initial_population": 200, "database_capacity": 5000,
+                  "hidden": 4},
+      "control": {"kind": "static", "generations": 2}}
+
+
+def test_a_python_meta_objective_drives_qd_meta():
+    calls = []
+
+    def mean_of_first_gene(elites, seed):
+        assert elites.ndim == 2 and elites.shape[1] == 20 and elites.dtype == np.float32
+        calls.append((len(elites), seed))
+        return float(np.mean(elites[:, 0]))
+
+    objective = qdmeta.MetaObjective(mean_of_first_gene, name="first-gene")
+    algo = qdmeta.Algorithm(QD, task=numpy_rastrigin(), meta_objective=objective)
+    assert algo.config["meta_fitness"]["kind"] == "first-gene"
+    for _ in range(3):
+        algo.step(threads=2)
+    assert len(calls) == 3 * 3, "each map of each meta-generation scored once"
+    assert len({s for _, s in calls}) == len(calls), "each evaluation has its own seed"
+    again = qdmeta.Algorithm(QD, task=numpy_rastrigin(), meta_objective=qdmeta.MetaObjective(
+        lambda e, s: calls.append((len(e), s)) or float(np.mean(e[:, 0])), name="first-gene"))
+    first = list(calls)
+    for _ in range(3):
+        again.step(threads=1)
+    # Maps are scored in parallel (in any order) when the task is shareable.
+    assert sorted(calls[len(first):]) == sorted(first), "the same run gives the function the same elites and seeds"
+
+
+def test_qd_meta_requests_can_be_served_job_by_job():
+    algo = qdmeta.Algorithm(dict(QD, task={"name": "rastrigin", "dimensions": 20},
+                                 meta_fitness={"kind": "translation"}))
+    reference = qdmeta.Algorithm(dict(QD, task={"name": "rastrigin", "dimensions": 20},
+                                      meta_fitness={"kind": "translation"}))
+    reference.step(threads=1)
+    while True:
+        jobs = algo.ask_jobs()
+        assert all(isinstance(t, qdmeta.Task) for t, _ in jobs)
+        algo.tell_jobs([t.evaluate(x) for t, x in jobs])
+        if not algo.step_in_progress:
+            break
+    assert np.array_equal(algo.data()["solution"], reference.data()["solution"])

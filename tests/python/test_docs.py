@@ -1,0 +1,16 @@
+"""docs/python.md: every python block runs, in order, in one namespace (so the tutorial cannot
+rot), with `output_dir` a temporary folder."""
+import pathlib
+import re
+
+DOC = pathlib.Path(__file__).resolve().parents[2] / "docs" / "python.md"
+
+
+def test_every_python_block_of_the_tutorial_runs(tmp_path):
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(), flags=re.S)
+    assert len(blocks) >= 6
+    namespace = {"output_dir": tmp_path}
+    for i, block in enumerate(blocks):
+        exec(compile(block, f"{DOC.name} block {i + 1}", "exec"), namespace)
+    assert (tmp_path / "arm-archive.png").stat().st_size > 1000
+    assert (tmp_path / "arm-qd-meta" / "summary.json").exists()

@@ -1,0 +1,87 @@
+"""Runs from Python: the CLI's run directory, Ctrl-C with a checkpoint, resume to the same bits,
+and the CLI reading a Python run."""
+import json
+import os
+import signal
+import subprocess
+
+import numpy as np
+import pytest
+
+import qdmeta
+from test_algorithms import QD, numpy_rastrigin
+
+CONFIG = {"algorithm": "map-elites", "seed": 3, "budget": {"evaluations": 6000},
+          "archive": {"bins": [20, 20]}, "map_elites": {"batch_size": 100, "initial_population": 500},
+          "checkpoint": {"every_seconds": 0.0}}
+
+
+def test_a_run_writes_the_clis_run_directory(tmp_path):
+    seen = []
+    summary = qdmeta.run(CONFIG, tmp_path / "run", task=numpy_rastrigin(), threads=2, progress=seen.append)
+    run = tmp_path / "run"
+    for f in ("config.toml", "metrics.csv", "archive.csv", "summary.json"):
+        assert (run / f).stat().st_size > 0, f
+    assert not (run / "checkpoint.bin").exists(), "a finished run drops its checkpoint"
+    assert summary == json.loads((run / "summary.json").read_text())
+    assert summary["stop_reason"] == "budget" and summary["task"] == "numpy-rastrigin"
+    assert summary["evals"] == 6000 and summary["num_elites"] > 100
+    assert [p["evals"] for p in seen] == list(range(500, 6001, 100))
+    assert seen[-1]["num_elites"] == summary["num_elites"]
+    config = (run / "config.toml").read_text()
+    assert "name = 'numpy-rastrigin'" in config and "config_file = '<python>'" in config
+    with pytest.raises(qdmeta.InputError, match="holds a run"):
+        qdmeta.run(CONFIG, run, task=numpy_rastrigin())
+
+
+def interrupt_at(evals):
+    def progress(p):
+        if p["evals"] == evals:
+            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would
+    return progress
+
+
+def test_ctrl_c_leaves_a_checkpoint_and_resume_gives_the_same_bits(tmp_path):
+    qdmeta.run(CONFIG, tmp_path / "straight", task=numpy_rastrigin(), threads=1)
+    with pytest.raises(KeyboardInterrupt):
+        qdmeta.run(CONFIG, tmp_path / "stopped", task=numpy_rastrigin(), threads=2, progress=interrupt_at(2000))
+    stopped = tmp_path / "stopped"
+    assert (stopped / "checkpoint.bin").exists()
+    assert json.loads((stopped / "summary.json").read_text())["stop_reason"] == "interrupted"
+    with pytest.raises(qdmeta.InputError, match="pass it again"):
+        qdmeta.resume(stopped)
+    summary = qdmeta.resume(stopped, task=numpy_rastrigin(), threads=2)
+    assert summary["stop_reason"] == "budget"
+    for f in ("archive.csv", "metrics.csv"):
+        assert (stopped / f).read_bytes() == (tmp_path / "straight" / f).read_bytes(), f
+
+
+def test_a_python_meta_objective_run_resumes_and_logs_its_values(tmp_path):
+    def spread(elites, seed):
+        return float(np.std(elites[:, 0]))
+
+    config = dict(QD, budget={"evaluations": 3000}, checkpoint={"every_seconds": 0.0})
+    objective = qdmeta.MetaObjective(spread, name="spread")
+    qdmeta.run(config, tmp_path / "straight", task=numpy_rastrigin(), meta_objective=objective)
+    with pytest.raises(KeyboardInterrupt):
+        qdmeta.run(config, tmp_path / "stopped", task=numpy_rastrigin(), meta_objective=objective,
+                   progress=lambda p: p["generation"] == 3 and os.kill(os.getpid(), signal.SIGINT))
+    with pytest.raises(ValueError, match="meta_fitness.kind is 'spread', but the meta-objective given is 'other'"):
+        qdmeta.resume(tmp_path / "stopped", task=numpy_rastrigin(), meta_objective=qdmeta.MetaObjective(spread, "other"))
+    qdmeta.resume(tmp_path / "stopped", task=numpy_rastrigin(), meta_objective=objective)
+    for f in ("archive.csv", "meta.csv"):
+        assert (tmp_path / "stopped" / f).read_bytes() == (tmp_path / "straight" / f).read_bytes(), f
+    meta = np.genfromtxt(tmp_path / "straight" / "meta.csv", delimiter=",", names=True)
+    assert (meta["meta_fitness_best"] >= meta["meta_fitness_mean"]).all()
+    assert 0 < meta["meta_fitness_best"].max() < 0.5, "the std of genes in [0, 1]"
+
+
+def test_the_cli_reads_a_python_run(tmp_path):
+    qdmeta.run(dict(CONFIG, task={"name": "rastrigin", "dimensions": 20}), tmp_path / "run")
+    binary = os.environ.get("QDMETA_BINARY")
+    if not binary:
+        pytest.skip("QDMETA_BINARY is not set (ctest sets it)")
+    out = subprocess.run([binary, "adapt", "--run", str(tmp_path / "run"), "--test", "translation", "--budget", "5"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "run" / "adapt-translation.csv").exists()
