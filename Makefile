@@ -6,7 +6,7 @@ ASAN_BUILD ?= build-asan
 DEMO_OUT ?= results/demo
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build run test test-sanitize bench clean
+.PHONY: all deps build run test test-sanitize test-pip bench clean
 
 all: build
 
@@ -32,6 +32,10 @@ run: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	JOBS=$(JOBS) bash scripts/test-installed-package.sh $(BUILD)
+
+# pip install . into a fresh virtual environment, then the Python suite (needs the Python package index).
+test-pip: deps
+	bash scripts/test-pip-install.sh
 
 $(ASAN_BUILD)/build.ninja:
 	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DQDMETA_SANITIZE=ON -DQDMETA_BUILD_BENCH=OFF $(CMAKE_FLAGS)
