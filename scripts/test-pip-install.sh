@@ -10,7 +10,9 @@ scratch=${1:-$root/build-pip}
 step() { echo "test-pip-install: $*"; }
 fail() { echo "test-pip-install: FAILED: $*" >&2; exit 1; }
 
-rm -rf "$scratch"
+# A fresh environment each time; the CMake build folder is kept, so a second run rebuilds only
+# what changed.
+rm -rf "$scratch/venv" "$scratch/tests" "$scratch/docs"
 mkdir -p "$scratch"
 step "a fresh virtual environment in $scratch/venv"
 /usr/bin/python3 -m venv "$scratch/venv" || fail "python3 -m venv (Debian: python3-venv)"

@@ -18,7 +18,10 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
-PEERS = {"pyribs": ("ribs", "peer_pyribs.py"), "qdax": ("qdax", "peer_qdax.py")}
+PEERS = {"pyribs": ("ribs", "peer_pyribs.py"), "qdax": ("qdax", "peer_qdax.py"),
+         "qdmeta-py": ("qdmeta", "peer_qdmeta_python.py")}
+# The qdmeta module that `make build` puts in build/python (the qdmeta-py runner adds it itself).
+PYTHON_MODULE_DIR = ROOT / "build" / "python"
 # Apart from the runs' seeds 1..R: with seed 1 for both, a peer's k-means samples and repeat 1's
 # initial random solutions came from the same stream (the same points), which slowed that run's
 # filling of the CVT archive by a quarter (bench/README.md).
@@ -65,7 +68,8 @@ def log(message):
 
 def peer_available(python, module):
     """None when `module` imports in the venv, else a one-line reason."""
-    r = subprocess.run([python, "-c", f"import {module}"], capture_output=True, text=True)
+    r = subprocess.run([python, "-c", f"import sys; sys.path.insert(0, {str(PYTHON_MODULE_DIR)!r}); import {module}"],
+                       capture_output=True, text=True)
     if r.returncode == 0:
         return None
     lines = (r.stderr or r.stdout).strip().splitlines()
@@ -144,33 +148,35 @@ class Qdmeta:
                                                              if algorithm == "cvt" else "")), None
 
 
-def ratios(rows, algorithm, peer, field):
-    """qdmeta/peer of `field`, pairing runs of the same repeat."""
+def ratios(rows, algorithm, peer, field, mine="qdmeta"):
+    """mine/peer of `field`, pairing runs of the same repeat."""
     by = {(r["library"], int(r["repeat"])): float(r[field]) for r in rows if r["algorithm"] == algorithm}
-    return [by[("qdmeta", k)] / by[(peer, k)] for (lib, k) in by if lib == peer and ("qdmeta", k) in by
+    return [by[(mine, k)] / by[(peer, k)] for (lib, k) in by if lib == peer and (mine, k) in by
             and by[(peer, k)] != 0]
 
 
 def print_table(rows, algorithms, peers):
     print()
-    print(f"{'algorithm':<12} {'library':<8} {'evals/s (median)':>17} {'QD-score (median)':>18} {'elites':>7}")
+    print(f"{'algorithm':<12} {'library':<9} {'evals/s (median)':>17} {'QD-score (median)':>18} {'elites':>7}")
     for algorithm in algorithms:
         for lib in ["qdmeta", *peers]:
             mine = [r for r in rows if r["algorithm"] == algorithm and r["library"] == lib]
             if mine:
-                print(f"{algorithm:<12} {lib:<8} {statistics.median(float(r['evals_per_s']) for r in mine):>17,.0f} "
+                print(f"{algorithm:<12} {lib:<9} {statistics.median(float(r['evals_per_s']) for r in mine):>17,.0f} "
                       f"{statistics.median(float(r['qd_score']) for r in mine):>18,.0f} "
                       f"{statistics.median(int(r['num_elites']) for r in mine):>7,.0f}")
     print()
-    print("qdmeta / peer, min / median / max over repeats")
-    print(f"{'algorithm':<12} {'peer':<8} {'throughput':>28} {'QD-score':>26}")
+    print("ratios, min / median / max over repeats (qdmeta: the CLI; qdmeta-py: the Python module's ask/tell loop)")
+    print(f"{'algorithm':<12} {'ratio':<22} {'throughput':>22} {'QD-score':>26}")
+    pairs = [("qdmeta", p) for p in peers] + [("qdmeta-py", p) for p in peers if p != "qdmeta-py" and "qdmeta-py" in peers]
     for algorithm in algorithms:
-        for peer in peers:
-            t, q = ratios(rows, algorithm, peer, "evals_per_s"), ratios(rows, algorithm, peer, "qd_score")
+        for mine, peer in pairs:
+            t = ratios(rows, algorithm, peer, "evals_per_s", mine)
+            q = ratios(rows, algorithm, peer, "qd_score", mine)
             if not t:
                 continue
             fmt = lambda v, d: f"{min(v):.{d}f} / {statistics.median(v):.{d}f} / {max(v):.{d}f}"  # noqa: E731
-            print(f"{algorithm:<12} {peer:<8} {fmt(t, 1):>28} {fmt(q, 4):>26}")
+            print(f"{algorithm:<12} {mine + ' / ' + peer:<22} {fmt(t, 2):>22} {fmt(q, 4):>26}")
     for r in rows:
         if r["algorithm"] == "cvt-centroids":
             print(f"centroids: {r['library']:<8} {float(r['wall_s']):8.1f} s  ({r['note']})")
@@ -181,7 +187,7 @@ def main():
     p.add_argument("--evals", type=int, default=1_000_000, help="evaluations per run (2000 + 400 k)")
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--algorithms", default="map-elites,cvt")
-    p.add_argument("--peers", default="pyribs,qdax")
+    p.add_argument("--peers", default="pyribs,qdax,qdmeta-py")
     p.add_argument("--threads", type=int, default=2, help="qdmeta's worker threads")
     p.add_argument("--centroids", type=int, default=10_000)
     p.add_argument("--cvt-samples", type=int, default=100_000, help="uniform points clustered into centroids")
@@ -226,7 +232,8 @@ def main():
                                   ["--algorithm", "cvt-centroids", "--centroids", str(args.centroids), "--samples",
                                    str(args.cvt_samples), "--centroids-file", str(work / f"centroids-{name}.npy"),
                                    "--seed", str(CENTROID_SEED)]
-                                  + (["--kmeans-iterations", str(args.kmeans_iterations)] if name == "pyribs" else []),
+                                  + (["--kmeans-iterations", str(args.kmeans_iterations)]
+                                     if name in ("pyribs", "qdmeta-py") else []),
                                   args.timeout)
             if error:
                 print(f"{name}: centroids failed ({error}); its CVT runs are skipped")
@@ -246,7 +253,10 @@ def main():
                     continue
                 row, error = run_peer(python, PEERS[name][1],
                                       ["--algorithm", algorithm, "--evals", str(args.evals), "--seed", str(repeat),
-                                       "--centroids-file", str(centroids_file)], args.timeout)
+                                       "--centroids-file", str(centroids_file)]
+                                      + (["--centroids", str(args.centroids), "--samples", str(args.cvt_samples),
+                                          "--kmeans-iterations", str(args.kmeans_iterations)]
+                                         if name == "qdmeta-py" else []), args.timeout)
                 if error:
                     print(f"{name} {algorithm} repeat {repeat} failed: {error}")
                 else:

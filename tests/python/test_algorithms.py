@@ -163,3 +163,37 @@ def test_qd_meta_requests_can_be_served_job_by_job():
         if not algo.step_in_progress:
             break
     assert np.array_equal(algo.data()["solution"], reference.data()["solution"])
+
+
+def test_the_gil_is_released_while_qdmeta_works():
+    import threading
+    algo = qdmeta.Algorithm(dict(QD, task={"name": "rastrigin", "dimensions": 20},
+                                 qd_meta=dict(QD["qd_meta"], database_capacity=200_000, batch_size=400),
+                                 control={"kind": "static", "generations": 10}))
+    inside = threading.Event()
+    done = threading.Event()
+
+    def work():
+        inside.set()
+        for _ in range(4):
+            algo.step(threads=1)
+        done.set()
+
+    ticks = 0
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    while not done.is_set():
+        ticks += 1
+    worker.join()
+    assert ticks > 1000, "this thread ran while the other was inside qdmeta"
+
+
+@pytest.mark.skipif(not qdmeta.build_info["rhex"], reason="qdmeta was built without the RHex task (DART)")
+def test_the_rhex_robot_is_there_from_python():
+    rhex = qdmeta.Task.builtin({"name": "rhex"})
+    x = np.random.default_rng(2).random((3, rhex.genotype_size), dtype=np.float32)
+    fitness, features, valid = rhex.evaluate(x)
+    assert fitness.shape == (3,) and features.shape == (3, rhex.base_feature_size)
+    again = rhex.evaluate(x)
+    assert np.array_equal(fitness, again[0]) and np.array_equal(features, again[1])

@@ -85,3 +85,34 @@ def test_the_cli_reads_a_python_run(tmp_path):
                          capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "run" / "adapt-translation.csv").exists()
+
+
+class SimulatorCrash(Exception):
+    pass
+
+
+def test_a_task_that_fails_midway_leaves_a_resumable_run(tmp_path):
+    calls = [0]
+
+    def flaky(x):
+        calls[0] += 1
+        if calls[0] == 12:
+            raise SimulatorCrash("the simulator crashed")
+        return rastrigin_parts(x)
+
+    run = tmp_path / "run"
+    with pytest.raises(SimulatorCrash, match="the simulator crashed"):
+        qdmeta.run(CONFIG, run, task=qdmeta.Task(flaky, 20, 20, name="numpy-rastrigin"))
+    assert not (run / "summary.json").exists(), "the run must not look finished"
+    assert (run / "checkpoint.bin").exists()
+    lines = (run / "metrics.csv").read_text().splitlines(keepends=True)
+    assert all(line.endswith("\n") and line.count(",") == lines[0].count(",") for line in lines)
+    qdmeta.resume(run, task=numpy_rastrigin())
+    qdmeta.run(CONFIG, tmp_path / "straight", task=numpy_rastrigin())
+    for f in ("archive.csv", "metrics.csv"):
+        assert (run / f).read_bytes() == (tmp_path / "straight" / f).read_bytes(), f
+
+
+def rastrigin_parts(x):
+    from test_algorithms import rastrigin
+    return rastrigin(x)
