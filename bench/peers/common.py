@@ -21,9 +21,11 @@ QD_OFFSET = -2000.0
 
 
 def rastrigin(genotypes):
-    """Objective of each row of a (n, 20) array in [0,1]."""
-    x = -5.12 + 10.24 * np.asarray(genotypes, dtype=np.float64)
-    return -(10.0 * x.shape[1] + np.sum(x * x - 10.0 * np.cos(2.0 * np.pi * x), axis=1))
+    """Objective of each row of a (n, 20) array in [0,1], computed in float32 as qdmeta's own task
+    and QDax's jax do (numpy's float32 cosine is vectorised: about 4x faster than float64's)."""
+    x = np.float32(-5.12) + np.float32(10.24) * np.asarray(genotypes, dtype=np.float32)
+    terms = x * x - np.float32(10.0) * np.cos(np.float32(2.0 * np.pi) * x)
+    return -(np.float32(10.0 * x.shape[1]) + np.sum(terms, axis=1))
 
 
 def mutate(parents, rng):
