@@ -13,9 +13,9 @@ core=(
 # Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
 # DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
 # OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test. pandas gives
-# the Python archives their as_pandas().
+# the Python archives their as_pandas(); python3-venv is for make test-pip and bench/peers.
 optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev
-          openmpi-bin libopenmpi-dev python3-pandas)
+          openmpi-bin libopenmpi-dev python3-pandas python3-venv)
 
 packages=("${core[@]}")
 if [ "${QDMETA_DEPS:-all}" != core ]; then packages+=("${optional[@]}"); fi

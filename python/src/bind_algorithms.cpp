@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -13,6 +15,10 @@
 #include "numpy_arrays.hpp"
 #include "python_build.hpp"
 #include "python_evaluator.hpp"
+#include "python_run.hpp"
+#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/core/error.hpp"
 #include "toml_convert.hpp"
 
@@ -83,6 +89,28 @@ class PyAlgorithm {
     algorithm().step(*evaluator_);
   }
 
+  // To `budget` evaluations (default: the config's), in memory or into a fresh run directory.
+  py::dict run(std::optional<std::int64_t> budget, std::optional<std::filesystem::path> out, int threads,
+               bool overwrite, const py::object& progress) {
+    if (algorithm().step_in_progress())
+      throw Error(fmt::format("{}: run() in the middle of a step; finish it with tell() first", algorithm().name()));
+    if (budget) {
+      if (*budget < 1) throw py::value_error(fmt::format("run(): budget must be >= 1, got {}", *budget));
+      built_.settings.budget = *budget;
+      if (auto* b = built_.resolved["budget"].as_table()) b->insert_or_assign("evaluations", *budget);
+      built_.settings.fingerprint = config_fingerprint(built_.resolved);
+    }
+    if (!out) return drive(built_, std::nullopt, threads, progress, nullptr);
+    // A run directory describes a run from its config: only a fresh algorithm can start one.
+    if (algorithm().generation() != 0)
+      throw py::value_error(fmt::format("run(out_dir=...): the algorithm has done {} steps; a run directory needs a "
+                                        "fresh one (or qdmeta.run(config, out_dir))",
+                                        algorithm().generation()));
+    const RunLock lock(*out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+    start_run_directory(*out, built_, "<python>", threads, overwrite);
+    return drive(built_, *out, threads, progress, nullptr);
+  }
+
   const BuiltRun& built() const { return built_; }
 
  private:
@@ -144,6 +172,11 @@ step with the library's evaluator. The same config and seed give the same bits e
            "The evaluations of the last ask_jobs(), one (fitness, base_features[, valid]) per job")
       .def("step", &PyAlgorithm::step, py::arg("threads") = 0,
            "One step (a generation; for QD-Meta a meta-generation) with the library's threads (0: all cores)")
+      .def("run", &PyAlgorithm::run, py::arg("budget") = py::none(), py::arg("out_dir") = py::none(),
+           py::arg("threads") = 0, py::arg("overwrite") = false, py::arg("progress") = py::none(),
+           "Steps to `budget` evaluations (default: the config's) with the library's threads; with out_dir, a fresh "
+           "algorithm writes the run directory `qdmeta run` writes (checkpoints included). Returns summary.json's "
+           "keys as a dict. Ctrl-C ends it at the next generation, then raises KeyboardInterrupt.")
       .def_property_readonly("name", [](const PyAlgorithm& a) { return a.algorithm().name(); })
       .def_property_readonly("generation", [](const PyAlgorithm& a) { return a.algorithm().generation(); })
       .def_property_readonly("evaluations",

@@ -59,6 +59,21 @@ struct AddArguments {
   }
 };
 
+// The members as an elite table: index = slot.
+EliteTable members(const UnstructuredArchive& a) {
+  EliteTable t;
+  const Index n = a.size(), d = a.params().descriptor_size, g = a.params().solution_size;
+  t.measures.resize(n, d);
+  t.solutions.resize(n, g);
+  for (Index s = 0; s < n; ++s) {
+    t.index.push_back(s);
+    t.objective.push_back(a.objective(s));
+    for (Index k = 0; k < d; ++k) t.measures(s, k) = a.descriptor(s, k);
+    std::copy_n(a.solution(s), g, t.solutions.row(s).data());
+  }
+  return t;
+}
+
 py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
   py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(s.size()));
   for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
@@ -230,19 +245,10 @@ when it eps-dominates it on (objective, novelty).)doc");
       .def_property_readonly("stats", &UnstructuredArchive::stats)
       .def("__len__", &UnstructuredArchive::size)
       .def("clear", &UnstructuredArchive::clear)
-      .def("data", [](const UnstructuredArchive& a) {
-        EliteTable t;
-        const Index n = a.size(), d = a.params().descriptor_size, g = a.params().solution_size;
-        t.measures.resize(n, d);
-        t.solutions.resize(n, g);
-        for (Index s = 0; s < n; ++s) {
-          t.index.push_back(s);
-          t.objective.push_back(a.objective(s));
-          for (Index k = 0; k < d; ++k) t.measures(s, k) = a.descriptor(s, k);
-          std::copy_n(a.solution(s), g, t.solutions.row(s).data());
-        }
-        return elite_table_data(t);
-      }, "The members as numpy arrays: index (the slot), objective, measures, solution");
+      .def("data", [](const UnstructuredArchive& a) { return elite_table_data(members(a)); },
+           "The members as numpy arrays: index (the slot), objective, measures, solution")
+      .def("as_pandas", [](const UnstructuredArchive& a) { return elite_table_pandas(members(a)); },
+           "The members as a pandas DataFrame with pyribs's columns");
 }
 
 }  // namespace qdmeta::python

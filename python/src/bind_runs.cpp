@@ -12,7 +12,7 @@
 
 #include "bindings.hpp"
 #include "python_build.hpp"
-#include "python_evaluator.hpp"
+#include "python_run.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
@@ -24,75 +24,6 @@ namespace fs = std::filesystem;
 
 namespace qdmeta::python {
 namespace {
-
-// After each generation, with the GIL: pending signals (Ctrl-C) stop the run, and the caller's
-// progress callback hears how far it is. A Python exception from either is kept for the caller.
-class PythonObserver final : public RunObserver {
- public:
-  explicit PythonObserver(py::object progress) : progress_(std::move(progress)) {}
-
-  RunVerdict after_step(const RunStatus& s) override {
-    const py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) return keep_error();
-    if (!progress_.is_none()) {
-      const ArchiveStats a = s.algorithm.stats();
-      py::dict d;
-      d["evals"] = s.evals;
-      d["budget"] = s.settings.budget;
-      d["generation"] = s.algorithm.generation();
-      d["wall_seconds"] = s.clock.seconds();
-      d["num_elites"] = a.num_elites;
-      d["obj_max"] = a.obj_max;
-      d["qd_score"] = a.qd_score;
-      try {
-        progress_(d);
-      } catch (py::error_already_set& e) {
-        error_ = std::move(e);
-        return RunVerdict::kStop;
-      }
-    }
-    return RunVerdict::kContinue;
-  }
-
-  // Raises what stopped the run, if anything did (with the GIL).
-  void raise_if_stopped() {
-    if (error_) {
-      py::error_already_set e = std::move(*error_);
-      error_.reset();
-      throw e;
-    }
-  }
-
- private:
-  RunVerdict keep_error() {
-    error_.emplace();  // fetches the pending KeyboardInterrupt (or the handler's exception)
-    return RunVerdict::kStop;
-  }
-
-  py::object progress_;
-  std::optional<py::error_already_set> error_;
-};
-
-py::dict read_summary(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  return py::module_::import("json").attr("loads")(text.str());
-}
-
-py::dict drive(BuiltRun& built, const fs::path& out, int threads, const py::object& progress, const RunCursor* resume) {
-  PythonObserver observer(progress);
-  {
-    const py::gil_scoped_release release;
-    PythonAwareEvaluator evaluator(threads);
-    RunOptions options;
-    options.resume = resume;
-    options.observers = {&observer};
-    run_to_budget(*built.algorithm, evaluator, built.settings, out, options);
-  }
-  observer.raise_if_stopped();
-  return read_summary(out);
-}
 
 PythonParts parts_of(std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective) {
   return PythonParts{std::move(task), std::move(objective)};

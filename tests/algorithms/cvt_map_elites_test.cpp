@@ -59,6 +59,13 @@ TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
   EXPECT_TRUE(ta.solutions == tb.solutions);
 }
 
+// The base features themselves as descriptors.
+std::unique_ptr<FeatureMap> identity_map(Index features) {
+  std::vector<int> all(static_cast<std::size_t>(features));
+  for (int i = 0; i < static_cast<int>(features); ++i) all[static_cast<std::size_t>(i)] = i;
+  return std::make_unique<SelectFeatureMap>(features, all);
+}
+
 // The generic MAP-Elites over a CVT archive (the base features as descriptors) is
 // CVT-MAP-Elites: same parents, same cells, same elites, bit for bit.
 TEST(CvtMapElites, GenericMapElitesOverACvtArchiveIsCvtMapElites) {
@@ -66,11 +73,8 @@ TEST(CvtMapElites, GenericMapElitesOverACvtArchiveIsCvtMapElites) {
   CvtMapElites cvt = make_cvt(5, CvtSearch::kBruteForce);
   cvt.prepare(evaluator);
   const Task task{RastriginTask()};
-  const Index nb = task.base_feature_size();
-  std::vector<int> all(static_cast<std::size_t>(nb));
-  for (int i = 0; i < static_cast<int>(nb); ++i) all[static_cast<std::size_t>(i)] = i;
   CvtArchive archive(CvtArchiveParams{task.genotype_size(), task.qd_offset(), 0}, cvt.archive().centroids());
-  BasicMapElites<CvtArchive> generic({}, task, std::make_unique<SelectFeatureMap>(nb, all), std::move(archive), {}, 5);
+  BasicMapElites<CvtArchive> generic({}, task, identity_map(task.base_feature_size()), std::move(archive), {}, 5);
   for (int g = 0; g < 25; ++g) {
     cvt.step(evaluator);
     generic.step(evaluator);
@@ -85,16 +89,11 @@ TEST(CvtMapElites, GenericMapElitesOverACvtArchiveIsCvtMapElites) {
 }
 
 TEST(CvtMapElites, GenericMapElitesRefusesAnArchiveOfAnotherGenotypeSize) {
-  SerialEvaluator evaluator;
-  CvtMapElites cvt = make_cvt(5, CvtSearch::kBruteForce);
-  cvt.prepare(evaluator);
   const Task task{RastriginTask()};
-  const Index nb = task.base_feature_size();
-  std::vector<int> all(static_cast<std::size_t>(nb));
-  for (int i = 0; i < static_cast<int>(nb); ++i) all[static_cast<std::size_t>(i)] = i;
+  RowMatrix centroids = RowMatrix::Constant(10, task.base_feature_size(), 0.5f);
   try {
-    CvtArchive wrong(CvtArchiveParams{task.genotype_size() + 1, 0.0, 0}, cvt.archive().centroids());
-    BasicMapElites<CvtArchive>({}, task, std::make_unique<SelectFeatureMap>(nb, all), std::move(wrong), {}, 5);
+    CvtArchive wrong(CvtArchiveParams{task.genotype_size() + 1, 0.0, 0}, std::move(centroids));
+    BasicMapElites<CvtArchive>({}, task, identity_map(task.base_feature_size()), std::move(wrong), {}, 5);
     FAIL() << "an archive of the wrong solution size was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("solutions of 21 genes but task 'rastrigin' has 20"), std::string::npos)

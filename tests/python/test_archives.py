@@ -1,5 +1,6 @@
 """The Python archives: statistics computed by hand, pyribs's cell numbering and column names,
 statuses of a batch add, and errors that name the argument."""
+import importlib.util
 import math
 
 import numpy as np
@@ -102,5 +103,8 @@ def test_unstructured_archive_adds_far_points_and_rejects_near_ones():
     near = np.array([[0.01, 0.0]], dtype=np.float32)
     assert a.add(near, np.array([-1.0]), near, threshold=0.5).tolist() == [0]
     assert a.stats.num_elites == 3 and a.stats.coverage == pytest.approx(0.03)
+    assert a.data()["index"].tolist() == [0, 1, 2]
+    if importlib.util.find_spec("pandas"):
+        assert list(a.as_pandas().columns)[:4] == ["index", "objective", "measures_0", "measures_1"]
     with pytest.raises(ValueError, match="threshold"):
         a.add(far, np.zeros(3), far, threshold=0.0)

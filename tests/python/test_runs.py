@@ -116,3 +116,21 @@ def test_a_task_that_fails_midway_leaves_a_resumable_run(tmp_path):
 def rastrigin_parts(x):
     from test_algorithms import rastrigin
     return rastrigin(x)
+
+
+def test_algorithm_run_in_memory_and_into_a_run_directory(tmp_path):
+    algo = qdmeta.Algorithm(CONFIG, task=numpy_rastrigin())
+    result = algo.run(budget=3000, threads=2)
+    assert result["stop_reason"] == "budget" and result["evals"] == 3000 == algo.evaluations["bottom"]
+    assert result["num_elites"] == algo.stats.num_elites
+    more = algo.run(budget=4000)
+    assert more["evals"] == 4000, "a second run() continues to the new budget"
+    with pytest.raises(ValueError, match="a run directory needs a fresh one"):
+        algo.run(out_dir=tmp_path / "late")
+    fresh = qdmeta.Algorithm(CONFIG, task=numpy_rastrigin())
+    summary = fresh.run(budget=3000, out_dir=tmp_path / "run")
+    assert summary["evals"] == 3000 and (tmp_path / "run" / "archive.csv").exists()
+    assert "evaluations = 3000" in (tmp_path / "run" / "config.toml").read_text()
+    reference = qdmeta.Algorithm(CONFIG, task=numpy_rastrigin())
+    reference.run(budget=3000)
+    assert np.array_equal(reference.data()["solution"], fresh.data()["solution"])
