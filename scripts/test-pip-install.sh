@@ -12,7 +12,7 @@ fail() { echo "test-pip-install: FAILED: $*" >&2; exit 1; }
 
 # A fresh environment each time; the CMake build folder is kept, so a second run rebuilds only
 # what changed.
-rm -rf "$scratch/venv" "$scratch/tests" "$scratch/docs"
+rm -rf "$scratch/venv" "$scratch/tests" "$scratch/docs" "$scratch/README.md"
 mkdir -p "$scratch"
 step "a fresh virtual environment in $scratch/venv"
 /usr/bin/python3 -m venv "$scratch/venv" || fail "python3 -m venv (Debian: python3-venv)"
@@ -30,6 +30,6 @@ print('qdmeta', qdmeta.__version__, qdmeta.build_info, 'numpy', numpy.__version_
 ") || fail "import qdmeta"
 step "the Python suite against the installed package"
 mkdir -p "$scratch/tests" && cp -r "$root/tests/python" "$scratch/tests/python"
-mkdir -p "$scratch/docs" && cp "$root/docs/python.md" "$scratch/docs/"
+mkdir -p "$scratch/docs" && cp "$root/docs/python.md" "$scratch/docs/" && cp "$root/README.md" "$scratch/"
 (cd "$scratch" && "$py" -m pytest -q -p no:cacheprovider tests/python) || fail "pytest"
 step "passed"
