@@ -7,7 +7,9 @@ Reads DIR/experiment.toml and every finished run DIR/<condition>/seed-<r>/ (metr
 meta.csv, archive.csv, adapt-*.csv, summary.json); writes DIR/figures/*.png and DIR/report.md.
 Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
 point), since meta-generation boundaries fall at different evaluation counts. Values are
-mean +- standard error over replicates. Needs only Debian's python3-matplotlib and numpy.
+mean +- standard error over replicates; every pair of conditions is compared by a two-sided
+Mann-Whitney U test (Holm-adjusted per table) with the A12 effect size (tools/significance.py).
+Needs only Debian's python3-matplotlib and numpy.
 """
 import csv
 import json
@@ -18,6 +20,9 @@ import sys
 import tomllib
 
 import matplotlib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import significance  # noqa: E402  (tools/significance.py)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -281,6 +286,48 @@ def test_table(conditions, tests):
     return "\n".join(lines)
 
 
+ALPHA = 0.05
+
+
+def comparison_table(title, samples):
+    """Every pair of conditions on one measure: `samples` maps a condition's name to its
+    replicates' values. Two-sided Mann-Whitney U, p Holm-adjusted over the pairs of this table,
+    A12 of the first condition over the second; * marks adjusted p < ALPHA."""
+    names = [n for n, v in samples.items() if len(v) > 0]
+    pairs = [(a, b) for i, a in enumerate(names) for b in names[i + 1:]]
+    if not pairs:
+        return ""
+    tests = [significance.mann_whitney_u(samples[a], samples[b]) for a, b in pairs]
+    adjusted = significance.holm([p for _, p in tests])
+    lines = [f"**{title}**", "", "| first | second | median first | median second | U | p (Holm) | A12 | |",
+             "|---|---|---|---|---|---|---|---|"]
+    for (a, b), (u, _), p in zip(pairs, tests, adjusted):
+        mark = "*" if p < ALPHA else ""
+        lines.append(f"| {a} | {b} | {np.median(samples[a]):.4g} | {np.median(samples[b]):.4g} | {u:g} | {p:.3g} | "
+                     f"{significance.a12(samples[a], samples[b]):.2f} | {mark} |")
+    return "\n".join(lines + [""])
+
+
+def comparisons(conditions, tests):
+    """The pairwise tables: the final archives, the final best meta-fitness (QD-Meta), and the
+    test phase after 1, 10 and 100 evaluations (or the last, when shorter)."""
+    tables = []
+    for key, label in [("num_elites", "archive size"), ("obj_mean", "average fitness"), ("obj_max", "global fitness"),
+                       ("qd_score", "QD-score")]:
+        tables.append(comparison_table(f"Final {label}", {c["name"]: [float(r.summary[key]) for r in c["runs"]
+                                                                       if key in r.summary] for c in conditions}))
+    tables.append(comparison_table("Final best meta-fitness", {c["name"]: [r.meta["meta_fitness_best"][-1]
+                                                                           for r in c["runs"] if r.meta]
+                                                               for c in conditions}))
+    for test in tests:
+        for at in (1, 10, 100):
+            tables.append(comparison_table(
+                f"Test phase {test}, after {at} evaluations",
+                {c["name"]: [r.adapt[test]["best_mean"][min(at, len(r.adapt[test]["best_mean"])) - 1]
+                             for r in c["runs"] if r.adapt.get(test)] for c in conditions}))
+    return "\n".join(t for t in tables if t)
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
@@ -311,6 +358,13 @@ def main(argv):
         md += ["## Meta-evolution", "", meta, ""]
     if tests:
         md += ["## Test phase", "", test_table(conditions, tests)]
+    pairwise = comparisons(conditions, tests)
+    if pairwise:
+        md += ["## Pairwise comparisons", "",
+               f"Two-sided Mann-Whitney U over replicates, p adjusted by Holm's method over the pairs of each table, "
+               f"A12 (Vargha-Delaney) of the first condition over the second; * marks p < {ALPHA} after adjustment. "
+               "With few replicates no difference can reach significance (2 against 2: the smallest exact p is "
+               "1/3).", "", pairwise]
     md += ["## Figures", ""]
     for title, path in figures:
         if path:
