@@ -29,7 +29,9 @@ if(QDMETA_WITH_RHEX)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/qdmeta DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp" ${qdmeta_header_excludes})
-install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
+# report.py imports significance.py from its own folder.
+install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/significance.py
+        DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
 install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/qdmetaConfig.cmake.in
