@@ -29,11 +29,16 @@ def _ranks(values):
     return ranks, ties
 
 
+def _u_and_ties(x, y):
+    """U of x (from its rank sum) and the tie group sizes of the pooled sample."""
+    ranks, ties = _ranks([float(v) for v in x] + [float(v) for v in y])
+    n1 = len(x)
+    return sum(ranks[:n1]) - n1 * (n1 + 1) / 2, ties
+
+
 def u_statistic(x, y):
     """U of the first sample: the number of pairs (xi, yj) with xi > yj, ties counting 1/2."""
-    ranks, _ = _ranks(list(x) + list(y))
-    n1 = len(x)
-    return sum(ranks[:n1]) - n1 * (n1 + 1) / 2
+    return _u_and_ties(x, y)[0]
 
 
 def exact_distribution(n1, n2):
@@ -60,13 +65,11 @@ def _exact_p(u, n1, n2):
 
 def mann_whitney_u(x, y):
     """(U of x, two-sided p). Raises ValueError for an empty sample."""
-    x, y = list(map(float, x)), list(map(float, y))
+    x, y = list(x), list(y)
     n1, n2 = len(x), len(y)
     if n1 == 0 or n2 == 0:
         raise ValueError("mann_whitney_u: both samples need at least one value")
-    all_values = x + y
-    ranks, ties = _ranks(all_values)
-    u1 = sum(ranks[:n1]) - n1 * (n1 + 1) / 2
+    u1, ties = _u_and_ties(x, y)
     if (n1 <= 8 or n2 <= 8) and not ties:
         return u1, _exact_p(u1, n1, n2)
     n = n1 + n2

@@ -17,8 +17,6 @@
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
-#include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/core/error.hpp"
 #include "toml_convert.hpp"
 
@@ -106,9 +104,7 @@ class PyAlgorithm {
       throw py::value_error(fmt::format("run(out_dir=...): the algorithm has done {} steps; a run directory needs a "
                                         "fresh one (or qdmeta.run(config, out_dir))",
                                         algorithm().generation()));
-    const RunLock lock(*out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
-    start_run_directory(*out, built_, "<python>", threads, overwrite);
-    return drive(built_, *out, threads, progress, nullptr);
+    return start_and_drive(built_, *out, threads, overwrite, progress);
   }
 
   const BuiltRun& built() const { return built_; }
@@ -122,20 +118,9 @@ class PyAlgorithm {
                                         blocks.size(), jobs_.size()));
     std::vector<EvaluationBatch> results(blocks.size());
     for (std::size_t j = 0; j < blocks.size(); ++j) {
-      const Index rows = jobs_[j].out.count, nb = jobs_[j].out.base_feature_size;
       const std::string who = jobs_.size() == 1 ? std::string("tell()") : fmt::format("tell_jobs(): job {}", j);
-      const FloatArray f = float_rows(blocks[j][0], rows, -1, who + ": fitness");
-      const FloatArray b = float_rows(blocks[j][1], rows, nb, who + ": base_features");
-      EvaluationBatch& r = results[j];
-      r.resize(rows, nb);
-      std::copy_n(f.data(), rows, r.fitness.data());
-      std::copy_n(b.data(), rows * nb, r.base_features.data());
-      if (blocks[j][2].is_none()) {
-        std::fill(r.valid.begin(), r.valid.end(), std::uint8_t{1});
-      } else {
-        const ByteArray v = flags(blocks[j][2], rows, who + ": valid");
-        std::copy_n(v.data(), rows, r.valid.data());
-      }
+      results[j].resize(jobs_[j].out.count, jobs_[j].out.base_feature_size);
+      copy_results(blocks[j][0], blocks[j][1], blocks[j][2], who, results[j].view());
     }
     const py::gil_scoped_release release;
     algorithm().tell(results);

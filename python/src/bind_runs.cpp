@@ -2,21 +2,15 @@
 // metrics.csv, meta.csv, archive.csv, summary.json, checkpoints), so `qdmeta report`, `qdmeta
 // adapt` and the plotting scripts read Python runs too. Ctrl-C ends the run at the next
 // generation with a checkpoint, then raises KeyboardInterrupt.
-#include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "bindings.hpp"
 #include "python_build.hpp"
 #include "python_run.hpp"
-#include "qdmeta/experiment/config.hpp"
-#include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
 #include "qdmeta/io/run_lock.hpp"
 
 namespace py = pybind11;
@@ -37,9 +31,7 @@ void bind_runs(py::module_& m) {
       [](const py::dict& config, const fs::path& out_dir, std::optional<Task> task,
          std::shared_ptr<PythonMetaObjective> meta_objective, int threads, bool overwrite, py::object progress) {
         BuiltRun built = build_from_python(config, parts_of(std::move(task), std::move(meta_objective)));
-        const RunLock lock(out_dir, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
-        start_run_directory(out_dir, built, "<python>", threads, overwrite);
-        return drive(built, out_dir, threads, progress, nullptr);
+        return start_and_drive(built, out_dir, threads, overwrite, progress);
       },
       py::arg("config"), py::arg("out_dir"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(),
       py::arg("threads") = 0, py::arg("overwrite") = false, py::arg("progress") = py::none(),
@@ -56,18 +48,7 @@ num_elites, obj_max and qd_score after every generation. Ctrl-C ends the run wit
         const RunLock lock(out_dir, RunLock::Mode::kExclusive);
         ResumableRun r = [&] {
           const auto registered = register_for_resume(out_dir, parts_of(task, meta_objective));
-          try {
-            return open_for_resume(out_dir);
-          } catch (const InputError& e) {
-            const toml::table config = load_toml(out_dir / "config.toml");
-            const auto* t = config["task"].as_table();
-            const auto* name = t ? (*t)["name"].as_string() : nullptr;
-            if (name && !find_task_plugin(name->get()))
-              throw InputError(fmt::format("{}: the run's task '{}' is not a built-in one: pass it again, "
-                                           "qdmeta.resume(out_dir, task=...)",
-                                           out_dir.string(), name->get()));
-            throw;
-          }
+          return open_for_resume(out_dir);
         }();
         return drive(r.built, out_dir, threads, progress, &r.cursor);
       },

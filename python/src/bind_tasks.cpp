@@ -9,7 +9,6 @@
 #include "python_build.hpp"
 #include "python_meta_objective.hpp"
 #include "python_task.hpp"
-#include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
 #include "toml_convert.hpp"
@@ -21,7 +20,6 @@ namespace {
 
 // A built-in (or registered) task from its [task] table, e.g. {"name": "rastrigin", "dimensions": 20}.
 Task task_from_table(const py::dict& table) {
-  register_builtin_plugins();
   py::dict config;
   config["task"] = table;
   const BuiltRun built = build_from_python(config, {}, BuildScope::kTasksOnly);

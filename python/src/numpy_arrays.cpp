@@ -8,16 +8,6 @@ namespace py = pybind11;
 
 namespace qdmeta::python {
 
-py::array_t<Real> rows_view(const Real* data, Index rows, Index cols, py::handle owner) {
-  const auto r = static_cast<py::ssize_t>(rows), c = static_cast<py::ssize_t>(cols);
-  const auto size = static_cast<py::ssize_t>(sizeof(Real));
-  // A base object makes numpy reference the data instead of copying it.
-  py::object base = owner.is_none() ? py::object(py::capsule(data, [](void*) {})) : py::reinterpret_borrow<py::object>(owner);
-  py::array_t<Real> view({r, c}, {c * size, size}, data, base);
-  py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return view;
-}
-
 py::array_t<Real> rows_copy(const Real* data, Index rows, Index cols) {
   std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(rows)};
   if (cols >= 0) shape.push_back(static_cast<py::ssize_t>(cols));
@@ -73,6 +63,21 @@ ByteArray flags(py::handle value, Index rows, const std::string& what) {
   const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> wide = a;
   for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = wide.data()[i] != 0 ? 1 : 0;
   return out;
+}
+
+void copy_results(py::handle fitness, py::handle base_features, py::handle valid, const std::string& who,
+                  EvaluationView out) {
+  const Index n = out.count, nb = out.base_feature_size;
+  const FloatArray f = float_rows(fitness, n, -1, who + ": fitness");
+  const FloatArray b = float_rows(base_features, n, nb, who + ": base_features");
+  std::copy_n(f.data(), n, out.fitness);
+  std::copy_n(b.data(), n * nb, out.base_features);
+  if (valid.is_none()) {
+    std::fill_n(out.valid, n, std::uint8_t{1});
+  } else {
+    const ByteArray v = flags(valid, n, who + ": valid");
+    std::copy_n(v.data(), n, out.valid);
+  }
 }
 
 }  // namespace qdmeta::python

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta::python {
@@ -15,9 +16,6 @@ namespace qdmeta::python {
 using FloatArray = pybind11::array_t<Real, pybind11::array::c_style | pybind11::array::forcecast>;
 using ByteArray = pybind11::array_t<std::uint8_t, pybind11::array::c_style | pybind11::array::forcecast>;
 
-// A read-only (rows x cols) view of `data`, kept alive by `owner` (None: the caller guarantees
-// the data outlives every use of the view).
-pybind11::array_t<Real> rows_view(const Real* data, Index rows, Index cols, pybind11::handle owner);
 // A copy, as a new (rows x cols) float32 array; cols < 0 makes a vector of `rows`.
 pybind11::array_t<Real> rows_copy(const Real* data, Index rows, Index cols);
 
@@ -27,6 +25,12 @@ pybind11::array_t<Real> rows_copy(const Real* data, Index rows, Index cols);
 FloatArray float_rows(pybind11::handle value, Index rows, Index cols, const std::string& what);
 // `value` as rows flags (bool or integer, nonzero is true) of shape (rows,).
 ByteArray flags(pybind11::handle value, Index rows, const std::string& what);
+
+// One batch's results from Python into `out` (out.count rows): fitness (rows,), base features
+// (rows, out.base_feature_size) and valid flags (rows,), or every row valid when `valid` is None;
+// each checked as above, `who` naming the caller in the messages.
+void copy_results(pybind11::handle fitness, pybind11::handle base_features, pybind11::handle valid,
+                  const std::string& who, EvaluationView out);
 
 // "(3, 2)" for an array's shape.
 std::string shape_of(const pybind11::array& a);

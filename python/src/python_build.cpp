@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "python_task.hpp"
-#include "qdmeta/cli/builtin_plugins.hpp"
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
 #include "toml_convert.hpp"
@@ -42,8 +42,8 @@ MetaObjectiveReader reader_of(const TaskPlugin& plugin, const std::string& kind)
 
 }  // namespace
 
+// The built-in plugins are registered once, when the module is imported.
 ScopedParts::ScopedParts(const PythonParts& parts, const std::string& task_name) {
-  register_builtin_plugins();
   if (parts.task && is_python_task(*parts.task)) {
     const Task task = *parts.task;
     task_ = task.name();
@@ -96,6 +96,10 @@ std::unique_ptr<ScopedParts> register_for_resume(const std::filesystem::path& di
   if (parts.task && parts.task->name() != task)
     throw py::value_error(fmt::format("{}: the run's task is '{}', but the task given is '{}'", dir.string(), task,
                                       parts.task->name()));
+  if (!parts.task && !find_task_plugin(task))
+    throw InputError(fmt::format("{}: the run's task '{}' is not a built-in one: pass it again, "
+                                 "qdmeta.resume(out_dir, task=...)",
+                                 dir.string(), task));
   if (parts.meta_objective) {
     const auto* m = config["meta_fitness"].as_table();
     const auto* kind = m ? (*m)["kind"].as_string() : nullptr;

@@ -25,18 +25,14 @@ MetaPlan PythonMetaObjective::plan(const RowMatrix& elites, Rng& rng) const {
   const std::string who = fmt::format("meta-objective '{}'", name_);
   MetaFitnessResult r;
   try {
-    if (py::isinstance<py::tuple>(result)) {
+    if (py::isinstance<py::tuple>(result) && py::len(result) == 2) {
       const py::tuple t = result;
-      if (t.size() != 2) throw py::value_error("");
       r.value = t[0].cast<double>();
       r.evaluations = t[1].cast<std::int64_t>();
     } else {
-      r.value = result.cast<double>();
+      r.value = result.cast<double>();  // a tuple of another length fails here too
     }
   } catch (const py::cast_error&) {
-    throw py::type_error(fmt::format("{} must return a number, or (number, evaluations); got {}", who,
-                                     py::repr(result).cast<std::string>()));
-  } catch (const py::value_error&) {
     throw py::type_error(fmt::format("{} must return a number, or (number, evaluations); got {}", who,
                                      py::repr(result).cast<std::string>()));
   }

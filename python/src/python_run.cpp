@@ -5,6 +5,8 @@
 
 #include "python_evaluator.hpp"
 #include "qdmeta/experiment/run.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/io/run_lock.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -111,6 +113,12 @@ py::dict drive(BuiltRun& built, const std::optional<fs::path>& out, int threads,
   }
   observer.raise_if_stopped();
   return out ? read_summary(*out) : result_dict(built, result);
+}
+
+py::dict start_and_drive(BuiltRun& built, const fs::path& out, int threads, bool overwrite, const py::object& progress) {
+  const RunLock lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+  start_run_directory(out, built, "<python>", threads, overwrite);
+  return drive(built, out, threads, progress, nullptr);
 }
 
 }  // namespace qdmeta::python

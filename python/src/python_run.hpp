@@ -18,4 +18,9 @@ namespace qdmeta::python {
 pybind11::dict drive(BuiltRun& built, const std::optional<std::filesystem::path>& out, int threads,
                      const pybind11::object& progress, const RunCursor* resume);
 
+// A new run into `out`, as `qdmeta run` starts one: the directory locked and made ready
+// (config.toml with its provenance; an existing run refused unless `overwrite`), then driven.
+pybind11::dict start_and_drive(BuiltRun& built, const std::filesystem::path& out, int threads, bool overwrite,
+                               const pybind11::object& progress);
+
 }  // namespace qdmeta::python

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "numpy_arrays.hpp"
 #include "qdmeta/core/error.hpp"
 
@@ -40,16 +38,7 @@ void PythonTask::evaluate(GenotypeView genotypes, EvaluationView out) const {
     throw py::value_error(fmt::format("{} returned {} values; expected (fitness, base_features) or (fitness, "
                                       "base_features, valid)",
                                       who, parts.size()));
-  const FloatArray fitness = float_rows(parts[0], n, -1, who + ": fitness");
-  const FloatArray features = float_rows(parts[1], n, base_feature_size_, who + ": base_features");
-  std::copy_n(fitness.data(), n, out.fitness);
-  std::copy_n(features.data(), n * base_feature_size_, out.base_features);
-  if (parts.size() == 3) {
-    const ByteArray valid = flags(parts[2], n, who + ": valid");
-    std::copy_n(valid.data(), n, out.valid);
-  } else {
-    std::fill_n(out.valid, n, std::uint8_t{1});
-  }
+  copy_results(parts[0], parts[1], parts.size() == 3 ? py::object(parts[2]) : py::object(py::none()), who, out);
   // Task::evaluate checks the values (finite fitness, features in [0, 1]) and names the row.
 }
 

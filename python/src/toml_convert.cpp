@@ -20,7 +20,7 @@ toml::table table_of(const py::dict& dict, const std::string& path) {
     if (!py::isinstance<py::str>(k))
       throw py::type_error(fmt::format("config: key {} under '{}' is not a string", py::repr(k).cast<std::string>(), path));
     const std::string name = k.cast<std::string>();
-    insert_value(t, name, v, path.empty() ? name : joined(path, name));
+    insert_value(t, name, v, joined(path, name));
   }
   return t;
 }

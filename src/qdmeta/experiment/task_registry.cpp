@@ -33,6 +33,19 @@ std::string quoted(const std::vector<std::string>& names) {
   return out;
 }
 
+// Copy-on-write edit of a registered plugin's meta-objectives (holders of the old snapshot keep
+// it): `edit(kinds, entry)` gets the list and the entry of `kind` (or kinds.end()) and returns
+// whether it changed anything; only then is the copy swapped in. Call with the registry locked.
+template <class Edit>
+bool edit_meta_objectives(std::shared_ptr<const TaskPlugin>& plugin, std::string_view kind, Edit&& edit) {
+  auto updated = std::make_shared<TaskPlugin>(*plugin);
+  auto& kinds = updated->meta_objectives;
+  const auto entry = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+  if (!edit(kinds, entry)) return false;
+  plugin = std::move(updated);
+  return true;
+}
+
 }  // namespace
 
 void register_task_plugin(const std::string& name, TaskPlugin plugin) {
@@ -49,12 +62,11 @@ void register_meta_objective(std::string_view task, const std::string& kind, Met
   const auto it = r.plugins.find(task);
   if (it == r.plugins.end())
     throw std::logic_error(fmt::format("register_meta_objective: task '{}' is not registered", task));
-  auto updated = std::make_shared<TaskPlugin>(*it->second);
-  auto& kinds = updated->meta_objectives;
-  const auto same = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-  if (same != kinds.end()) same->second = std::move(reader);
-  else kinds.emplace_back(kind, std::move(reader));
-  it->second = std::move(updated);
+  edit_meta_objectives(it->second, kind, [&](auto& kinds, auto entry) {
+    if (entry != kinds.end()) entry->second = std::move(reader);
+    else kinds.emplace_back(kind, std::move(reader));
+    return true;
+  });
 }
 
 bool unregister_task_plugin(std::string_view name) {
@@ -73,13 +85,11 @@ bool unregister_meta_objective(std::string_view task, std::string_view kind) {
   const std::lock_guard lock(r.mutex);
   const auto it = r.plugins.find(task);
   if (it == r.plugins.end()) return false;
-  auto updated = std::make_shared<TaskPlugin>(*it->second);
-  auto& kinds = updated->meta_objectives;
-  const auto same = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
-  if (same == kinds.end()) return false;
-  kinds.erase(same);
-  it->second = std::move(updated);
-  return true;
+  return edit_meta_objectives(it->second, kind, [](auto& kinds, auto entry) {
+    if (entry == kinds.end()) return false;
+    kinds.erase(entry);
+    return true;
+  });
 }
 
 void register_unavailable_task(const std::string& name, std::string why) {
