@@ -18,6 +18,14 @@ namespace {
 constexpr Index kPointBlock = 64;
 constexpr Index kCentroidBlock = 512;
 
+struct NeighbourScratch {
+  Vector values;
+  std::vector<std::int32_t> order, below;
+  std::vector<std::pair<Real, std::int32_t>> passed;
+  std::vector<Real> sample;
+  std::vector<std::pair<double, std::int32_t>> exact;
+};
+
 struct Candidate {
   Index cell;
   Real value;  // ||c||^2 - 2 x.c in float
@@ -68,20 +76,28 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
                                  double* outside) const {
   const Index k = this->count(), d = dimensions();
   const Eigen::Map<const Vector> x(point, d);
-  Vector values = norms_;
+  // Per-thread scratch: a remake runs for about a quarter of the offspring that enter, and
+  // allocating its k-long buffers each time cost more than the selection itself.
+  thread_local NeighbourScratch s;
+  Vector& values = s.values;
+  values = norms_;
   values.noalias() += transposed_rows_.transpose() * x;
   // The `count` smallest values (ties to the lowest index). A threshold from every 16th value,
   // set to let through about twice `count`, keeps one cheap pass over all values and a selection
   // among the few that pass; when too few pass, the selection runs over all values.
-  std::vector<std::int32_t> order;
+  std::vector<std::int32_t>& order = s.order;
+  order.clear();
   if (count < k) {
-    std::vector<std::pair<Real, std::int32_t>> passed;
-    std::vector<Real> sample;
+    std::vector<std::pair<Real, std::int32_t>>& passed = s.passed;
+    std::vector<Real>& sample = s.sample;
+    passed.clear();
+    sample.clear();
     for (Index j = 0; j < k; j += 16) sample.push_back(values[j]);
     const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 16 + 8));
     std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(q), sample.end());
     const Real threshold = sample[q];
-    std::vector<std::int32_t> below(static_cast<std::size_t>(k));
+    std::vector<std::int32_t>& below = s.below;
+    below.resize(static_cast<std::size_t>(k));
     std::size_t n_below = 0;
     for (Index j = 0; j < k; ++j) {  // branch-free compaction
       below[n_below] = static_cast<std::int32_t>(j);
@@ -109,7 +125,8 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
     for (Index j = 0; j < k; ++j) order.push_back(static_cast<std::int32_t>(j));
     *outside = std::numeric_limits<double>::infinity();
   }
-  std::vector<std::pair<double, std::int32_t>> exact(static_cast<std::size_t>(count));
+  std::vector<std::pair<double, std::int32_t>>& exact = s.exact;
+  exact.resize(static_cast<std::size_t>(count));
   for (Index i = 0; i < count; ++i) {
     const std::int32_t c = order[static_cast<std::size_t>(i)];
     exact[static_cast<std::size_t>(i)] = {squared_distance(point, centroids_.row(c).data(), d), c};
