@@ -85,7 +85,10 @@ class Rng {
     do {
       u = 2.0 * uniform() - 1.0;
       v = 2.0 * uniform() - 1.0;
-      s = u * u + v * v;
+      // The fused form GCC contracts u * u + v * v to on an FMA machine, written out so that the
+      // bits do not depend on the compiling file's -ffp-contract or on the CPU (CMA-ES's file
+      // is compiled without contraction).
+      s = std::fma(u, u, v * v);
     } while (s >= 1.0 || s == 0.0);
     const double factor = std::sqrt(-2.0 * std::log(s) / s);
     spare_ = v * factor;

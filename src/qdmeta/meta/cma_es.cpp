@@ -1,12 +1,8 @@
-// GCC 12 reports false -Wmaybe-uninitialized warnings inside Eigen 3.4's tridiagonalisation
-// (used by SelfAdjointEigenSolver) when Eigen is included with -I rather than as a system
-// header. The warnings are located in Eigen's headers, so silence them only there.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <Eigen/Dense>
-#pragma GCC diagnostic pop
-#endif
+// Every sum in this file runs in a fixed order over plain loops, and the file is compiled with
+// -ffp-contract=off: CMA-ES's bits (and so QD-Meta's results) are then the same on every x86-64
+// CPU, whatever vector width Eigen or the compiler would pick there (docs/architecture.md,
+// "Bit-identical across machines"). Eigen holds the data; it does no arithmetic here.
+#include <Eigen/Core>
 
 #include "qdmeta/meta/cma_es.hpp"
 
@@ -18,6 +14,7 @@
 #include <utility>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/meta/symmetric_eigen.hpp"
 
 namespace qdmeta {
 namespace {
@@ -34,6 +31,33 @@ template <class Value>
 }
 
 std::string shape(Eigen::Index rows, Eigen::Index cols) { return fmt::format("{}x{}", rows, cols); }
+
+// y = A x, summed over the columns of A in order (each y_i is a sum in j = 0, 1, ...).
+void multiply(const Eigen::MatrixXd& a, const double* x, double* y) {
+  const Eigen::Index rows = a.rows();
+  std::fill_n(y, rows, 0.0);
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    const double* column = &a(0, j);
+    const double xj = x[j];
+    for (Eigen::Index i = 0; i < rows; ++i) y[i] += column[i] * xj;
+  }
+}
+
+// y = A^T x: each y_j is the dot product of column j with x, summed in i = 0, 1, ...
+void multiply_transposed(const Eigen::MatrixXd& a, const double* x, double* y) {
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    const double* column = &a(0, j);
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < a.rows(); ++i) sum += column[i] * x[i];
+    y[j] = sum;
+  }
+}
+
+double sum_of_squares(const Eigen::VectorXd& x) {
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) sum += x(i) * x(i);
+  return sum;
+}
 
 // Eigen's operator== asserts on a size mismatch; states of different sizes are just unequal.
 template <class A, class B>
@@ -54,8 +78,10 @@ CmaEsStrategy make_strategy(int n, int lambda) {
   // lambda = 1 (the paper's smallest meta-population): the one parent takes all the weight
   // (the formula gives 0 / 0 there).
   if (s.mu == 1) s.weights(0) = 1.0;
-  s.weights /= s.weights.sum();
-  s.mu_eff = 1.0 / s.weights.squaredNorm();
+  double weight_sum = 0.0;
+  for (int i = 0; i < s.mu; ++i) weight_sum += s.weights(i);
+  for (int i = 0; i < s.mu; ++i) s.weights(i) /= weight_sum;
+  s.mu_eff = 1.0 / sum_of_squares(s.weights);
   const double mu_eff = s.mu_eff;
   s.c_sigma = (mu_eff + 2.0) / (dn + mu_eff + 5.0);
   s.d_sigma = 1.0 + 2.0 * std::max(0.0, std::sqrt((mu_eff - 1.0) / (dn + 1.0)) - 1.0) + s.c_sigma;
@@ -170,14 +196,13 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
   const CmaEsState& dist = params_.frozen ? initial_ : state_;
   state_.samples.resize(n, lambda);
   const auto sample_columns = [&](int first, int count) {
-    auto z = z_.middleCols(first, count);
-    fill_normals(z.data(), z.size());
-    z = dist.D.asDiagonal() * z;
+    fill_normals(&z_(0, first), Eigen::Index{n} * count);
     for (int k = first; k < first + count; ++k) {
-      // One matrix-vector product per column: the arithmetic (and so the bits) of the original
-      // per-sample code, which a matrix-matrix product would not keep.
-      state_.samples.col(k).noalias() = dist.B * z_.col(k);
-      state_.samples.col(k) = dist.mean + dist.sigma * state_.samples.col(k);
+      double* z = &z_(0, k);
+      double* x = &state_.samples(0, k);
+      for (int i = 0; i < n; ++i) z[i] *= dist.D(i);
+      multiply(dist.B, z, x);  // x = m + sigma B D z
+      for (int i = 0; i < n; ++i) x[i] = dist.mean(i) + dist.sigma * x[i];
     }
   };
   const double lo = params_.lower_bound;
@@ -194,7 +219,10 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
   } else {
     sample_columns(0, lambda);
   }
-  if (params_.bounds != CmaBoundsHandling::kNone) state_.samples = state_.samples.cwiseMax(lo).cwiseMin(hi);
+  if (params_.bounds != CmaBoundsHandling::kNone) {
+    double* x = state_.samples.data();
+    for (Eigen::Index i = 0; i < state_.samples.size(); ++i) x[i] = std::min(std::max(x[i], lo), hi);
+  }
   state_.awaiting_tell = true;
   return state_.samples;
 }
@@ -245,33 +273,52 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return fitness(a) > fitness(b); });
   }
+  const int n = s.n;
   // Steps of the mu best, recomputed from the returned (possibly clamped) points.
-  for (int i = 0; i < s.mu; ++i) {
-    y_.col(i) = (st.samples.col(order_[static_cast<std::size_t>(i)]) - st.mean) / st.sigma;
+  for (int k = 0; k < s.mu; ++k) {
+    const double* x = &st.samples(0, order_[static_cast<std::size_t>(k)]);
+    double* y = &y_(0, k);
+    for (int i = 0; i < n; ++i) y[i] = (x[i] - st.mean(i)) / st.sigma;
   }
-  const Eigen::VectorXd y_w = y_ * s.weights;
-  st.mean += st.sigma * y_w;  // c_m = 1
+  Eigen::VectorXd y_w = Eigen::VectorXd::Zero(n);  // sum of w_k y_k, in k order
+  for (int k = 0; k < s.mu; ++k) {
+    const double* y = &y_(0, k);
+    for (int i = 0; i < n; ++i) y_w(i) += s.weights(k) * y[i];
+  }
+  for (int i = 0; i < n; ++i) st.mean(i) += st.sigma * y_w(i);  // c_m = 1
 
   // Cumulative step-size adaptation with C^{-1/2} = B D^{-1} B^T from the last decomposition.
-  const Eigen::VectorXd c_inv_sqrt_y_w = st.B * (st.B.transpose() * y_w).cwiseQuotient(st.D);
-  st.p_sigma = (1.0 - s.c_sigma) * st.p_sigma +
-               std::sqrt(s.c_sigma * (2.0 - s.c_sigma) * s.mu_eff) * c_inv_sqrt_y_w;
-  const double p_sigma_norm = st.p_sigma.norm();
-  const double n = s.n;
+  Eigen::VectorXd rotated(n);
+  multiply_transposed(st.B, y_w.data(), rotated.data());
+  for (int i = 0; i < n; ++i) rotated(i) /= st.D(i);
+  Eigen::VectorXd c_inv_sqrt_y_w(n);
+  multiply(st.B, rotated.data(), c_inv_sqrt_y_w.data());
+  const double sigma_path_scale = std::sqrt(s.c_sigma * (2.0 - s.c_sigma) * s.mu_eff);
+  for (int i = 0; i < n; ++i) {
+    st.p_sigma(i) = (1.0 - s.c_sigma) * st.p_sigma(i) + sigma_path_scale * c_inv_sqrt_y_w(i);
+  }
+  const double p_sigma_norm = std::sqrt(sum_of_squares(st.p_sigma));
+  const double dn = n;
   const double path_bias =
       std::sqrt(1.0 - std::pow(1.0 - s.c_sigma, 2.0 * static_cast<double>(st.generation)));
-  const bool h_sigma = p_sigma_norm / path_bias < (1.4 + 2.0 / (n + 1.0)) * s.chi_n;
-  st.p_c = (1.0 - s.c_c) * st.p_c;
-  if (h_sigma) st.p_c += std::sqrt(s.c_c * (2.0 - s.c_c) * s.mu_eff) * y_w;
+  const bool h_sigma = p_sigma_norm / path_bias < (1.4 + 2.0 / (dn + 1.0)) * s.chi_n;
+  const double c_path_scale = h_sigma ? std::sqrt(s.c_c * (2.0 - s.c_c) * s.mu_eff) : 0.0;
+  for (int i = 0; i < n; ++i) st.p_c(i) = (1.0 - s.c_c) * st.p_c(i) + c_path_scale * y_w(i);
 
-  // Rank-one + rank-mu update; the weights sum to 1. Only the lower triangle is computed.
+  // Rank-one + rank-mu update (the weights sum to 1) on the lower triangle, then mirrored:
+  // C_ij = decay C_ij + c1 p_c,i p_c,j + c_mu sum_k w_k y_k,i y_k,j, the sum in k order.
   const double delta_h = h_sigma ? 0.0 : s.c_c * (2.0 - s.c_c);
-  st.C *= 1.0 - s.c1 - s.c_mu + s.c1 * delta_h;
-  auto lower = st.C.selfadjointView<Eigen::Lower>();
-  lower.rankUpdate(st.p_c, s.c1);
-  y_ = y_ * s.weights.cwiseSqrt().asDiagonal();
-  lower.rankUpdate(y_, s.c_mu);
-  st.C.triangularView<Eigen::StrictlyUpper>() = st.C.transpose();
+  const double decay = 1.0 - s.c1 - s.c_mu + s.c1 * delta_h;
+  for (int j = 0; j < n; ++j) {
+    for (int i = j; i < n; ++i) {
+      double rank_mu = 0.0;
+      for (int k = 0; k < s.mu; ++k) rank_mu += s.weights(k) * (y_(i, k) * y_(j, k));
+      st.C(i, j) = decay * st.C(i, j) + s.c1 * (st.p_c(i) * st.p_c(j)) + s.c_mu * rank_mu;
+    }
+  }
+  for (int j = 1; j < n; ++j) {
+    for (int i = 0; i < j; ++i) st.C(i, j) = st.C(j, i);
+  }
 
   st.sigma *= std::exp((s.c_sigma / s.d_sigma) * (p_sigma_norm / s.chi_n - 1.0));
 
@@ -279,16 +326,19 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
 }
 
 void CmaEs::decompose() {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(state_.C);
-  if (solver.info() != Eigen::Success) {
-    throw Error(fmt::format("CmaEs: eigendecomposition of the covariance matrix failed at generation {}",
-                            state_.generation));
+  SymmetricEigen eigen;
+  try {
+    eigen = symmetric_eigen(state_.C);
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("CmaEs: eigendecomposition of the covariance matrix failed at generation {}: {}",
+                            state_.generation, e.what()));
   }
-  // Rounding can push tiny eigenvalues to or below zero; keep C^{-1/2} finite.
-  const Eigen::VectorXd& eigenvalues = solver.eigenvalues();
-  const double floor = std::max(eigenvalues.maxCoeff(), 1e-300) * 1e-20;
-  state_.D = eigenvalues.cwiseMax(floor).cwiseSqrt();
-  state_.B = solver.eigenvectors();
+  // Rounding can push tiny eigenvalues to or below zero; keep C^{-1/2} finite. The values are
+  // ascending, so the last is the largest.
+  const Eigen::Index n = eigen.values.size();
+  const double floor = std::max(eigen.values(n - 1), 1e-300) * 1e-20;
+  for (Eigen::Index i = 0; i < n; ++i) state_.D(i) = std::sqrt(std::max(eigen.values(i), floor));
+  state_.B = std::move(eigen.vectors);
   state_.eigen_evaluations = state_.evaluations;
   state_.decompositions += 1;
 }

@@ -15,9 +15,6 @@ namespace qdmeta {
 namespace {
 
 using ColMatrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;
-using RowMatrixD = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-constexpr Index kGramBlockRows = 256;  // rows of the Gram matrix computed at a time
 
 // The sampled rows of `elites` as a column-major n x N block: gene i of all samples is
 // contiguous, so the per-solution sums below vectorise across solutions (one lane per
@@ -100,21 +97,32 @@ std::vector<Index> sample_elites(Index archive_size, Index count, Rng& rng) {
 double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
   const Index n = points.rows();
   if (n < 2) return 0.0;
-  const Eigen::MatrixXd x = points.cast<double>();
-  const Eigen::VectorXd sq = x.rowwise().squaredNorm();
-  RowMatrixD gram(std::min(n, kGramBlockRows), n);
+  // Points as columns (d x n, in double): for a fixed s, the squared distances to every t < s
+  // build up coordinate by coordinate in one contiguous row of lanes, which vectorises without
+  // reordering any sum; each row of distances is then added in four fixed interleaved lanes.
+  // Every sum has an order fixed here, so the bits do not depend on the CPU's vector width
+  // (a Gram-matrix product's blocking would).
+  const Index d = points.cols();
+  const Eigen::MatrixXd x = points.cast<double>().transpose();
+  std::vector<double> lanes(static_cast<std::size_t>(n));
   double total = 0.0;
-  for (Index r0 = 0; r0 < n; r0 += kGramBlockRows) {
-    const Index rows = std::min(kGramBlockRows, n - r0);
-    const Index cols = r0 + rows;  // pairs (s, t) with t < s < cols
-    auto g = gram.topLeftCorner(rows, cols);
-    g.noalias() = x.middleRows(r0, rows) * x.topRows(cols).transpose();
-    for (Index i = 0; i < rows; ++i) {
-      const Index s = r0 + i;
-      auto d = g.row(i).head(s).array();
-      d = ((sq(s) + sq.head(s).transpose().array()) - 2.0 * d).max(0.0).sqrt();
-      total += d.sum();
+  for (Index s = 1; s < n; ++s) {
+    double* squared = lanes.data();
+    std::fill_n(squared, s, 0.0);
+    for (Index j = 0; j < d; ++j) {
+      const double xs = x(j, s);
+      for (Index t = 0; t < s; ++t) {
+        const double diff = x(j, t) - xs;
+        squared[t] += diff * diff;
+      }
     }
+    double part[4] = {0.0, 0.0, 0.0, 0.0};
+    Index t = 0;
+    for (; t + 4 <= s; t += 4) {
+      for (int lane = 0; lane < 4; ++lane) part[lane] += std::sqrt(squared[t + lane]);
+    }
+    for (int lane = 0; t < s; ++t, ++lane) part[lane] += std::sqrt(squared[t]);
+    total += (part[0] + part[1]) + (part[2] + part[3]);
   }
   return total;
 }

@@ -76,9 +76,9 @@ class RastriginTranslationMeta final : public MetaObjective {
   RastriginMetaParams params_;
 };
 
-// The diversity sum sum_{s<t} ||p_s - p_t||_2 over the rows of `points`, through Gram-matrix
-// blocks in double (D^2 = |a|^2 + |b|^2 - 2 a.b, clamped at 0 before the square root); memory
-// O(256 x rows). 0 for fewer than 2 rows. Exposed for tests and benchmarks.
+// The diversity sum sum_{s<t} ||p_s - p_t||_2 over the rows of `points`, in double from the
+// coordinate differences, every sum in an order the code fixes (the same bits on any CPU);
+// memory O(rows x columns). 0 for fewer than 2 rows. Exposed for tests and benchmarks.
 double pairwise_distance_sum(const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>& points);
 
 }  // namespace qdmeta

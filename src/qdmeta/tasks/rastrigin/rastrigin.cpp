@@ -18,8 +18,8 @@ double term(double x) { return x * x - 10.0 * std::cos(2.0 * std::numbers::pi * 
 // without a runtime overlap check.
 void rastrigin_terms(const Real* __restrict genes, Real* __restrict terms, Index total) {
   for (Index k = 0; k < total; ++k) {
-    const Real x = static_cast<Real>(-kBound) + static_cast<Real>(2 * kBound) * genes[k];
-    terms[k] = x * x - 10.0f * cos_2pi(x);
+    const Real x = fused(static_cast<Real>(2 * kBound), genes[k], static_cast<Real>(-kBound));
+    terms[k] = fused(x, x, -10.0f * cos_2pi(x));
   }
 }
 
