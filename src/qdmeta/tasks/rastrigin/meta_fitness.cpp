@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -31,7 +32,7 @@ ColMatrix gather(const RowMatrix& elites, const std::vector<Index>& rows) {
 void add_terms(const Real* __restrict g, Index n, double* __restrict sums, double* __restrict terms) {
   for (Index r = 0; r < n; ++r) {
     const double x = rastrigin::to_x(static_cast<double>(g[r]));
-    const double t = x * x - 10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x)));
+    const double t = fused(x, x, -10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x))));
     terms[r] = t;
     sums[r] += t;
   }
@@ -44,8 +45,8 @@ void add_terms(const Real* __restrict g, Index n, double* __restrict sums, doubl
 void add_translated_terms(const Real* __restrict g, Index n, const double* __restrict a, const double* __restrict b,
                           double* __restrict sums, double* __restrict reach) {
   for (Index r = 0; r < n; ++r) {
-    const double x = a[r] * rastrigin::to_x(static_cast<double>(g[r])) + b[r];
-    sums[r] += x * x - 10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x)));
+    const double x = fused(a[r], rastrigin::to_x(static_cast<double>(g[r])), b[r]);
+    sums[r] += fused(x, x, -10.0 * static_cast<double>(rastrigin::cos_2pi(static_cast<Real>(x))));
     const double ax = std::fabs(x);
     reach[r] = reach[r] > ax ? reach[r] : ax;
   }
@@ -97,31 +98,31 @@ std::vector<Index> sample_elites(Index archive_size, Index count, Rng& rng) {
 double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
   const Index n = points.rows();
   if (n < 2) return 0.0;
-  // Points as columns (d x n, in double): for a fixed s, the squared distances to every t < s
-  // build up coordinate by coordinate in one contiguous row of lanes, which vectorises without
-  // reordering any sum; each row of distances is then added in four fixed interleaved lanes.
-  // Every sum has an order fixed here, so the bits do not depend on the CPU's vector width
-  // (a Gram-matrix product's blocking would).
+  // The points as rows of an n x d column-major matrix in double. For each s, the squared
+  // distances to t < s build up coordinate by coordinate over blocks of kBlock t's (column j
+  // is contiguous in t, the block's sums stay in registers); distance t goes to partial sum
+  // t mod 4, and the four are combined as (p0 + p1) + (p2 + p3). Every sum has an order fixed
+  // here, so the bits do not depend on the CPU's vector width (a Gram-matrix product's
+  // blocking would), and differences, unlike |a|^2 + |b|^2 - 2 a.b, leave no rounding residue.
+  constexpr Index kBlock = 32;
   const Index d = points.cols();
-  const Eigen::MatrixXd x = points.cast<double>().transpose();
-  std::vector<double> lanes(static_cast<std::size_t>(n));
+  const Eigen::MatrixXd x = points.cast<double>();
   double total = 0.0;
   for (Index s = 1; s < n; ++s) {
-    double* squared = lanes.data();
-    std::fill_n(squared, s, 0.0);
-    for (Index j = 0; j < d; ++j) {
-      const double xs = x(j, s);
-      for (Index t = 0; t < s; ++t) {
-        const double diff = x(j, t) - xs;
-        squared[t] += diff * diff;
-      }
-    }
     double part[4] = {0.0, 0.0, 0.0, 0.0};
-    Index t = 0;
-    for (; t + 4 <= s; t += 4) {
-      for (int lane = 0; lane < 4; ++lane) part[lane] += std::sqrt(squared[t + lane]);
+    for (Index t0 = 0; t0 < s; t0 += kBlock) {
+      const Index count = std::min(kBlock, s - t0);
+      double squared[kBlock] = {};
+      for (Index j = 0; j < d; ++j) {
+        const double* column = &x(t0, j);
+        const double xs = x(s, j);
+        for (Index t = 0; t < count; ++t) {
+          const double diff = column[t] - xs;
+          squared[t] = fused(diff, diff, squared[t]);
+        }
+      }
+      for (Index t = 0; t < count; ++t) part[t & 3] += std::sqrt(squared[t]);  // t0 is a multiple of 4
     }
-    for (int lane = 0; t < s; ++t, ++lane) part[lane] += std::sqrt(squared[t]);
     total += (part[0] + part[1]) + (part[2] + part[3]);
   }
   return total;

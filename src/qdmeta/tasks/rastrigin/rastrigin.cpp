@@ -41,7 +41,7 @@ double without_dimension(std::span<const Real> g, int j) {
 std::optional<double> translated(std::span<const Real> g, double a, double b) {
   double sum = 0.0;
   for (Real gi : g) {
-    const double x = a * to_x(gi) + b;
+    const double x = fused(a, to_x(gi), b);  // as the Translation meta-fitness computes it
     if (std::abs(x) > kBound) return std::nullopt;
     sum += term(x);
   }

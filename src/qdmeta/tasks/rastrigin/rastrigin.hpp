@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -16,7 +17,7 @@ namespace qdmeta::rastrigin {
 inline constexpr double kBound = 5.12;          // |x| <= 5.12
 inline constexpr double kDefaultScoreM = 2000;  // M: per-task scores are M + max(-M, f) > 0
 
-inline double to_x(double g) { return -kBound + 2.0 * kBound * g; }
+inline double to_x(double g) { return fused(2.0 * kBound, g, -kBound); }
 
 // f(g) = -[10 N + sum_i (x_i^2 - 10 cos 2 pi x_i)].
 double standard(std::span<const Real> g);
@@ -28,17 +29,6 @@ std::optional<double> translated(std::span<const Real> g, double a, double b);
 double dimension_test(std::span<const Real> g, std::span<const int> dims);
 // Per-task score M + max(-M, f).
 inline double score(double f, double m = kDefaultScoreM) { return m + (f > -m ? f : -m); }
-
-// a * b + c, fused where the CPU has FMA. Written out rather than left to the compiler: GCC
-// fuses a vectorised loop's body and its scalar remainder differently, so a row's fitness would
-// depend on where its batch happened to be split (threads against MPI ranks on an AVX-512 CPU).
-inline Real fused(Real a, Real b, Real c) {
-#if defined(__FMA__)
-  return std::fma(a, b, c);
-#else
-  return a * b + c;  // no FMA instruction: nothing can be fused anywhere
-#endif
-}
 
 // cos(2 pi x) for |x| < 2^22, accurate to ~1e-7 absolute; branch-free so loops vectorise.
 inline Real cos_2pi(Real x) {
