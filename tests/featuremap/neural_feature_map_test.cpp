@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -94,6 +95,44 @@ TEST(ScaledSigmoid, KnownValues) {
   EXPECT_EQ(scaled_sigmoid(1e6f, 30.0f), 1.0f);
   EXPECT_GE(scaled_sigmoid(-1e6f, 30.0f), 0.0f);
   EXPECT_LT(scaled_sigmoid(-1e6f, 30.0f), 1e-30f);
+}
+
+TEST(FastExp2, MatchesStdExp2OverTheWholeRangeAndIsExactAtTheIntegers) {
+  double worst = 0.0;
+  float worst_t = 0;
+  for (int i = 0; i <= 2'000'000; ++i) {
+    const float t = -125.0f + 250.0f * static_cast<float>(i) / 2'000'000.0f;
+    const double expected = std::exp2(static_cast<double>(t));
+    const double rel = std::abs(static_cast<double>(fast_exp2(t)) - expected) / expected;
+    if (rel > worst) {
+      worst = rel;
+      worst_t = t;
+    }
+  }
+  EXPECT_LT(worst, 7e-7) << "at t = " << worst_t;
+  for (int k = -125; k <= 125; ++k) EXPECT_EQ(fast_exp2(static_cast<float>(k)), std::ldexp(1.0f, k)) << k;
+  EXPECT_EQ(fast_exp2(1000.0f), fast_exp2(125.0f));
+  EXPECT_EQ(fast_exp2(-std::numeric_limits<float>::infinity()), fast_exp2(-125.0f));
+  EXPECT_GE(fast_exp2(-1000.0f), std::numeric_limits<float>::min());  // no subnormal
+}
+
+// base2_sigmoid(z) = 1 / (1 + 2^z): S_N(x) once z = -alpha log2(e) x / (N + 1).
+TEST(Base2Sigmoid, KnownValuesAndTheBaseEForm) {
+  EXPECT_EQ(base2_sigmoid(0.0f), 0.5f);
+  EXPECT_NEAR(base2_sigmoid(1.0f), 1.0 / 3.0, 3e-7);
+  EXPECT_NEAR(base2_sigmoid(-3.0f), 8.0 / 9.0, 3e-7);
+  EXPECT_EQ(base2_sigmoid(-1e6f), 1.0f);
+  EXPECT_GT(base2_sigmoid(1e6f), 0.0f);
+  EXPECT_LT(base2_sigmoid(1e6f), 1e-37f);
+  // Against the double-precision sigmoid at alpha = 30, N = 20, over x in [-3, 3].
+  const double c = 30.0 / 21.0;
+  double worst = 0.0;
+  for (int i = 0; i <= 60'000; ++i) {
+    const double x = -3.0 + 6.0 * i / 60'000.0;
+    const auto z = static_cast<float>(-c * 1.4426950408889634 * x);
+    worst = std::max(worst, std::abs(static_cast<double>(base2_sigmoid(z)) - 1.0 / (1.0 + std::exp(-c * x))));
+  }
+  EXPECT_LT(worst, 2e-7);
 }
 
 TEST(NeuralFeatureMapShape, WeightCountsOfThePaper) {
@@ -207,26 +246,26 @@ TEST_P(NeuralFeatureMapShapes, BlockEqualsRowByRowBitForBit) {
   }
 }
 
-// The float definition the vector kernel must reproduce, one row at a time: each sum starts
-// from the bias and adds the inputs in order by madd(), then scaled_sigmoid().
+// The float definition the vector kernel must reproduce, one row at a time: each weight and
+// bias times its layer's -alpha log2(e) / (N + 1) in double, rounded to float; each sum starts
+// from the bias and adds the inputs in order by madd(), then base2_sigmoid().
 std::vector<Real> float_definition(const NeuralFeatureMapShape& s, const std::vector<double>& w, const Real* b) {
   const auto nb = static_cast<std::size_t>(s.inputs);
   const auto nh = static_cast<std::size_t>(s.hidden);
   const auto nt = static_cast<std::size_t>(s.outputs);
-  const auto b1 = static_cast<Real>(w[nh * nb]);
-  const auto b2 = static_cast<Real>(w[nh * nb + 1 + nt * nh]);
-  const auto c1 = static_cast<Real>(s.alpha / static_cast<double>(nb + 1));
-  const auto c2 = static_cast<Real>(s.alpha / static_cast<double>(nh + 1));
+  const double c1 = -s.alpha * 1.4426950408889634 / static_cast<double>(nb + 1);
+  const double c2 = -s.alpha * 1.4426950408889634 / static_cast<double>(nh + 1);
+  const auto at = [&w](std::size_t i, double c) { return static_cast<Real>(w[i] * c); };
   std::vector<Real> h(nh), out(nt);
   for (std::size_t j = 0; j < nh; ++j) {
-    Real a = b1;
-    for (std::size_t k = 0; k < nb; ++k) a = madd(static_cast<Real>(w[j * nb + k]), b[k], a);
-    h[j] = scaled_sigmoid(a, c1);
+    Real a = at(nh * nb, c1);
+    for (std::size_t k = 0; k < nb; ++k) a = madd(at(j * nb + k, c1), b[k], a);
+    h[j] = base2_sigmoid(a);
   }
   for (std::size_t t = 0; t < nt; ++t) {
-    Real a = b2;
-    for (std::size_t j = 0; j < nh; ++j) a = madd(static_cast<Real>(w[nh * nb + 1 + t * nh + j]), h[j], a);
-    out[t] = scaled_sigmoid(a, c2);
+    Real a = at(nh * nb + 1 + nt * nh, c2);
+    for (std::size_t j = 0; j < nh; ++j) a = madd(at(nh * nb + 1 + t * nh + j, c2), h[j], a);
+    out[t] = base2_sigmoid(a);
   }
   return out;
 }

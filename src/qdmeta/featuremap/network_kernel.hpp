@@ -3,7 +3,7 @@
 // database rows across SIMD lanes): both layers and both sigmoids for kKernelRows rows at a time,
 // the hidden layer never leaving registers and the L1 cache. Every row goes through the same
 // float operations, in the same order, as the scalar definition in neural_feature_map.hpp
-// (fused multiply-adds from the bias in input order, then scaled_sigmoid), so lanes, the scalar
+// (fused multiply-adds from the bias in input order, then base2_sigmoid), so lanes, the scalar
 // fallback and any block size give the same bits.
 #include "qdmeta/core/types.hpp"
 
@@ -13,7 +13,8 @@ namespace qdmeta {
 inline constexpr Index kKernelRows = 16;
 inline constexpr Index padded_rows(Index count) { return (count + kKernelRows - 1) / kKernelRows * kKernelRows; }
 
-// The network's weights as NeuralFeatureMap keeps them (float, row-major).
+// The network's weights as NeuralFeatureMap keeps them (float, row-major, each layer's already
+// multiplied by its sigmoid's -alpha log2(e) / (N + 1)).
 struct NetworkView {
   const Real* w1 = nullptr;  // hidden x inputs
   const Real* w2 = nullptr;  // outputs x hidden
@@ -22,8 +23,6 @@ struct NetworkView {
   Index outputs = 0;
   Real b1 = 0;
   Real b2 = 0;
-  Real scale1 = 0;
-  Real scale2 = 0;
 };
 
 // target_t (outputs x target_ld) = the network over base_t (inputs x base_ld), row-major, for

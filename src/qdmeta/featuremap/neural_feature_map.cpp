@@ -76,19 +76,22 @@ NeuralFeatureMap::NeuralFeatureMap(NeuralFeatureMapShape shape, std::span<const 
       throw InputError(fmt::format("neural feature-map: weight {} is {}: must be finite", i, weights[i]));
   const auto n1 = static_cast<std::size_t>(shape_.hidden * shape_.inputs);
   const auto n2 = static_cast<std::size_t>(shape_.outputs * shape_.hidden);
-  w1_.assign(weights.begin(), weights.begin() + static_cast<std::ptrdiff_t>(n1));
-  b1_ = static_cast<Real>(weights[n1]);
-  w2_.assign(weights.begin() + static_cast<std::ptrdiff_t>(n1 + 1),
-             weights.begin() + static_cast<std::ptrdiff_t>(n1 + 1 + n2));
-  b2_ = static_cast<Real>(weights[n1 + 1 + n2]);
-  scale1_ = static_cast<Real>(shape_.alpha / static_cast<double>(shape_.inputs + 1));
-  scale2_ = static_cast<Real>(shape_.alpha / static_cast<double>(shape_.hidden + 1));
+  // S_N(x) = 1 / (1 + 2^(-alpha log2(e) x / (N + 1))): the factor goes into the weights.
+  const double log2e = 1.4426950408889634;
+  const double c1 = -shape_.alpha * log2e / static_cast<double>(shape_.inputs + 1);
+  const double c2 = -shape_.alpha * log2e / static_cast<double>(shape_.hidden + 1);
+  const auto scaled = [](double w, double c) { return static_cast<Real>(w * c); };
+  w1_.resize(n1);
+  for (std::size_t i = 0; i < n1; ++i) w1_[i] = scaled(weights[i], c1);
+  b1_ = scaled(weights[n1], c1);
+  w2_.resize(n2);
+  for (std::size_t i = 0; i < n2; ++i) w2_[i] = scaled(weights[n1 + 1 + i], c2);
+  b2_ = scaled(weights[n1 + 1 + n2], c2);
 }
 
 void NeuralFeatureMap::map_transposed(const Real* base_t, Index base_ld, Index count, Real* target_t,
                                       Index target_ld) const {
-  const NetworkView net{w1_.data(), w2_.data(), shape_.inputs, shape_.hidden, shape_.outputs,
-                        b1_,         b2_,         scale1_,       scale2_};
+  const NetworkView net{w1_.data(), w2_.data(), shape_.inputs, shape_.hidden, shape_.outputs, b1_, b2_};
   run_network_t(net, base_t, base_ld, count, target_t, target_ld);
 }
 

@@ -58,10 +58,49 @@ inline float fast_exp(float x) {
   return p * scale;
 }
 
-// 1 / (1 + exp(-scale x)): the feature-map's sigmoid with scale = alpha / (N + 1). In [0, 1].
-// With FMA, GCC fuses the final 1 + p 2^k (floating-point contraction is on in this build);
-// the vector kernel (network_kernel.cpp) does the same explicitly.
+// 1 / (1 + exp(-scale x)) with fast_exp: the base-e form of the sigmoid (the feature-map used it
+// until 2026-12-02), kept for comparison; GCC fuses its final 1 + p 2^k on an FMA machine.
 inline float scaled_sigmoid(float x, float scale) { return 1.0f / (1.0f + fast_exp(-scale * x)); }
+
+// 2^t in float, branch-free, as a mantissa p and a power of two 2^k (so that 1 + p 2^k can be
+// fused): t = k + f with k = round(t) and |f| <= 1/2, 2^f = 1 + f q(f) with q a degree-4
+// polynomial fitted for this (minimax in relative error: below 7e-7 on [-1/2, 1/2], exactly 1
+// at f = 0). t is clamped to [-125, 125]: no infinities and no subnormals.
+struct Exp2Parts {
+  float mantissa = 1.0f;  // 2^f, in [0.70, 1.42]
+  float power = 1.0f;     // 2^k
+};
+inline Exp2Parts fast_exp2_parts(float t) {
+  constexpr float kRound = 12582912.0f;  // 1.5 * 2^23: adding it rounds to an integer
+  t = t < -125.0f ? -125.0f : t;
+  t = t > 125.0f ? 125.0f : t;
+  const float shifted = t + kRound;
+  const float k = shifted - kRound;
+  const std::int32_t ki = std::bit_cast<std::int32_t>(shifted) - std::bit_cast<std::int32_t>(kRound);
+  const float f = t - k;
+  float q = 1.281443634e-3f;
+  q = madd(q, f, 9.656608105e-3f);
+  q = madd(q, f, 5.551610515e-2f);
+  q = madd(q, f, 2.402247787e-1f);
+  q = madd(q, f, 6.931468248e-1f);
+  Exp2Parts e;
+  e.mantissa = madd(f, q, 1.0f);
+  e.power = std::bit_cast<float>(static_cast<std::int32_t>((ki + 127) * (1 << 23)));
+  return e;
+}
+inline float fast_exp2(float t) {
+  const Exp2Parts e = fast_exp2_parts(t);
+  return e.mantissa * e.power;
+}
+
+// 1 / (1 + 2^z): the feature-map's sigmoid. NeuralFeatureMap keeps each layer's weights and
+// bias multiplied by -alpha log2(e) / (N + 1), so z = -alpha log2(e) x / (N + 1) and this is
+// S_N(x) = 1 / (1 + exp(-alpha x / (N + 1))) with five multiply-adds where the base-e form
+// needs eleven. In (0, 1], exactly 1/2 at z = 0.
+inline float base2_sigmoid(float z) {
+  const Exp2Parts e = fast_exp2_parts(z);
+  return 1.0f / madd(e.mantissa, e.power, 1.0f);
+}
 
 // out (cols x count, row-major, row k at out + k ld) = the transpose of rows (count x cols, row-major): the layout
 // map_transposed() reads. Written column by column so stores are contiguous (a store stride of
@@ -108,12 +147,12 @@ class NeuralFeatureMap final : public FeatureMap {
 
  private:
   NeuralFeatureMapShape shape_;
+  // Weights and biases times the layer's -alpha log2(e) / (N + 1), rounded to float once
+  // (base2_sigmoid then needs no scaling).
   std::vector<Real> w1_;  // N_h x N_b row-major
   std::vector<Real> w2_;  // N_t x N_h row-major
   Real b1_ = 0;
   Real b2_ = 0;
-  Real scale1_ = 0;  // alpha / (N_b + 1)
-  Real scale2_ = 0;  // alpha / (N_h + 1)
 };
 
 }  // namespace qdmeta
