@@ -95,8 +95,8 @@ inline float fast_exp2(float t) {
 
 // 1 / (1 + 2^z): the feature-map's sigmoid. NeuralFeatureMap keeps each layer's weights and
 // bias multiplied by -alpha log2(e) / (N + 1), so z = -alpha log2(e) x / (N + 1) and this is
-// S_N(x) = 1 / (1 + exp(-alpha x / (N + 1))) with five multiply-adds where the base-e form
-// needs eleven. In (0, 1], exactly 1/2 at z = 0.
+// S_N(x) = 1 / (1 + exp(-alpha x / (N + 1))) with six multiply-adds and no multiplication where
+// the base-e form needs ten and one. In (0, 1], exactly 1/2 at z = 0.
 inline float base2_sigmoid(float z) {
   const Exp2Parts e = fast_exp2_parts(z);
   return 1.0f / madd(e.mantissa, e.power, 1.0f);
