@@ -248,7 +248,7 @@ TEST_P(NeuralFeatureMapShapes, BlockEqualsRowByRowBitForBit) {
 
 // The float definition the vector kernel must reproduce, one row at a time: each weight and
 // bias times its layer's -alpha log2(e) / (N + 1) in double, rounded to float; each sum starts
-// from the bias and adds the inputs in order by madd(), then base2_sigmoid().
+// from the bias and adds the inputs in order by fused(), then base2_sigmoid().
 std::vector<Real> float_definition(const NeuralFeatureMapShape& s, const std::vector<double>& w, const Real* b) {
   const auto nb = static_cast<std::size_t>(s.inputs);
   const auto nh = static_cast<std::size_t>(s.hidden);
@@ -259,12 +259,12 @@ std::vector<Real> float_definition(const NeuralFeatureMapShape& s, const std::ve
   std::vector<Real> h(nh), out(nt);
   for (std::size_t j = 0; j < nh; ++j) {
     Real a = at(nh * nb, c1);
-    for (std::size_t k = 0; k < nb; ++k) a = madd(at(j * nb + k, c1), b[k], a);
+    for (std::size_t k = 0; k < nb; ++k) a = fused(at(j * nb + k, c1), b[k], a);
     h[j] = base2_sigmoid(a);
   }
   for (std::size_t t = 0; t < nt; ++t) {
     Real a = at(nh * nb + 1 + nt * nh, c2);
-    for (std::size_t j = 0; j < nh; ++j) a = madd(at(nh * nb + 1 + t * nh + j, c2), h[j], a);
+    for (std::size_t j = 0; j < nh; ++j) a = fused(at(nh * nb + 1 + t * nh + j, c2), h[j], a);
     out[t] = base2_sigmoid(a);
   }
   return out;

@@ -92,7 +92,7 @@ void layer_scalar(const Real* w, Index units, Index inputs, Real bias, const Rea
   for (Index r = 0; r < count; ++r)
     for (Index j = 0; j < units; ++j) {
       Real acc = bias;
-      for (Index k = 0; k < inputs; ++k) acc = madd(w[j * inputs + k], in[k * in_ld + r], acc);
+      for (Index k = 0; k < inputs; ++k) acc = fused(w[j * inputs + k], in[k * in_ld + r], acc);
       out[j * out_ld + r] = base2_sigmoid(acc);
     }
 }

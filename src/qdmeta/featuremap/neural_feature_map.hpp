@@ -18,19 +18,10 @@
 #include <span>
 #include <vector>
 
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
 
 namespace qdmeta {
-
-// a * b + c, fused where the CPU has FMA. Explicit, so the result never depends on whether the
-// compiler contracts a multiply and an add, and vector lanes equal the scalar tail.
-inline float madd(float a, float b, float c) {
-#if defined(__FMA__)
-  return std::fma(a, b, c);
-#else
-  return a * b + c;
-#endif
-}
 
 // exp(x) in float, branch-free so loops over it vectorise: x = k ln2 + r with |r| <= ln2 / 2,
 // exp(r) by Cephes's degree-7 polynomial, 2^k put into the exponent bits. Relative error below
@@ -42,18 +33,18 @@ inline float fast_exp(float x) {
   constexpr float kRound = 12582912.0f;         // 1.5 * 2^23: adding it rounds to an integer
   x = x < -87.3f ? -87.3f : x;
   x = x > 88.3f ? 88.3f : x;
-  const float shifted = madd(x, kLog2e, kRound);
+  const float shifted = fused(x, kLog2e, kRound);
   const float k = shifted - kRound;
   const std::int32_t ki = std::bit_cast<std::int32_t>(shifted) - std::bit_cast<std::int32_t>(kRound);
-  float r = madd(k, -kLn2Hi, x);
-  r = madd(k, -kLn2Lo, r);
+  float r = fused(k, -kLn2Hi, x);
+  r = fused(k, -kLn2Lo, r);
   float p = 1.9875691500e-4f;
-  p = madd(p, r, 1.3981999507e-3f);
-  p = madd(p, r, 8.3334519073e-3f);
-  p = madd(p, r, 4.1665795894e-2f);
-  p = madd(p, r, 1.6666665459e-1f);
-  p = madd(p, r, 5.0000001201e-1f);
-  p = madd(p * r, r, r + 1.0f);  // 1 + r + r^2 (1/2 + r/6 + ...)
+  p = fused(p, r, 1.3981999507e-3f);
+  p = fused(p, r, 8.3334519073e-3f);
+  p = fused(p, r, 4.1665795894e-2f);
+  p = fused(p, r, 1.6666665459e-1f);
+  p = fused(p, r, 5.0000001201e-1f);
+  p = fused(p * r, r, r + 1.0f);  // 1 + r + r^2 (1/2 + r/6 + ...)
   const float scale = std::bit_cast<float>(static_cast<std::int32_t>((ki + 127) * (1 << 23)));
   return p * scale;
 }
@@ -79,12 +70,12 @@ inline Exp2Parts fast_exp2_parts(float t) {
   const std::int32_t ki = std::bit_cast<std::int32_t>(shifted) - std::bit_cast<std::int32_t>(kRound);
   const float f = t - k;
   float q = 1.281443634e-3f;
-  q = madd(q, f, 9.656608105e-3f);
-  q = madd(q, f, 5.551610515e-2f);
-  q = madd(q, f, 2.402247787e-1f);
-  q = madd(q, f, 6.931468248e-1f);
+  q = fused(q, f, 9.656608105e-3f);
+  q = fused(q, f, 5.551610515e-2f);
+  q = fused(q, f, 2.402247787e-1f);
+  q = fused(q, f, 6.931468248e-1f);
   Exp2Parts e;
-  e.mantissa = madd(f, q, 1.0f);
+  e.mantissa = fused(f, q, 1.0f);
   e.power = std::bit_cast<float>(static_cast<std::int32_t>((ki + 127) * (1 << 23)));
   return e;
 }
@@ -99,7 +90,7 @@ inline float fast_exp2(float t) {
 // the base-e form needs ten and one. In (0, 1], exactly 1/2 at z = 0.
 inline float base2_sigmoid(float z) {
   const Exp2Parts e = fast_exp2_parts(z);
-  return 1.0f / madd(e.mantissa, e.power, 1.0f);
+  return 1.0f / fused(e.mantissa, e.power, 1.0f);
 }
 
 // out (cols x count, row-major, row k at out + k ld) = the transpose of rows (count x cols, row-major): the layout
