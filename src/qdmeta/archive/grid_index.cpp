@@ -8,6 +8,7 @@
 
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
@@ -15,19 +16,6 @@
 #endif
 
 namespace qdmeta {
-namespace {
-
-// a * b + c, fused where the CPU has FMA: the cell formula was first written as one expression
-// that GCC contracts this way, and archives saved since then must keep their cells.
-inline double madd_d(double a, double b, double c) {
-#if defined(__FMA__)
-  return std::fma(a, b, c);
-#else
-  return a * b + c;
-#endif
-}
-
-}  // namespace
 
 GridIndex::GridIndex(const GridArchiveParams& params)
     : lower_(params.lower), scale_(1.0 / (params.upper - params.lower)) {
@@ -43,7 +31,7 @@ GridIndex::GridIndex(const GridArchiveParams& params)
     top_[d] = b - 1;
     // Measures are floats, rounded by up to half a float ulp (6e-8 relative): scaled by the
     // bin count that can exceed epsilon, so the margin grows with the bins.
-    margin_[d] = madd_d(b, static_cast<double>(std::numeric_limits<float>::epsilon()), params.epsilon);
+    margin_[d] = fused(b, static_cast<double>(std::numeric_limits<float>::epsilon()), params.epsilon);
     stride_[d] = stride;
     stride *= params.bins[d];
   }
@@ -54,7 +42,7 @@ Index GridIndex::cell_of(const Real* measures) const {
   for (std::size_t d = 0; d < bins_.size(); ++d) {
     const double m = measures[d];
     if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
-    const double pos = std::floor(madd_d((m - lower_) * scale_, bins_[d], margin_[d]));
+    const double pos = std::floor(fused((m - lower_) * scale_, bins_[d], margin_[d]));
     cell += static_cast<Index>(std::clamp(pos, 0.0, top_[d])) * stride_[d];
   }
   return cell;
