@@ -29,8 +29,8 @@ if(QDMETA_WITH_RHEX)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/qdmeta DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp" ${qdmeta_header_excludes})
-# report.py imports significance.py from its own folder.
-install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/significance.py
+# report.py imports significance.py and claims.py from its own folder.
+install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/significance.py ${PROJECT_SOURCE_DIR}/tools/claims.py
         DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
 install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})

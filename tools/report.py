@@ -4,7 +4,8 @@
 Usage: /usr/bin/python3 tools/report.py DIR [--quiet]
 
 Reads DIR/experiment.toml and every finished run DIR/<condition>/seed-<r>/ (metrics.csv,
-meta.csv, archive.csv, adapt-*.csv, summary.json); writes DIR/figures/*.png and DIR/report.md.
+meta.csv, archive.csv, adapt-*.csv, summary.json); writes DIR/figures/*.png, DIR/report.md and
+the small CSV summaries they are made from, DIR/data/runs.csv and DIR/data/curves.csv.
 Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
 point), since meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
@@ -22,6 +23,7 @@ import tomllib
 import matplotlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import claims  # noqa: E402  (tools/claims.py)
 import significance  # noqa: E402  (tools/significance.py)
 
 matplotlib.use("Agg")
@@ -118,24 +120,43 @@ def load(directory):
     return spec, conditions
 
 
+QD_PANELS = [("num_elites", "archive size"), ("obj_mean", "average fitness"), ("obj_max", "global fitness"),
+             ("qd_score", "QD-score")]
+
+
+def population_curve(run, column):
+    """(evals, values) of one QD statistic in the meta-population view: for QD-Meta the mean over
+    every map of each meta-generation (meta.csv), otherwise the archive itself (metrics.csv)."""
+    key = f"population_{column}_mean"
+    if run.meta and key in run.meta:
+        return run.meta["evals"], run.meta[key]
+    return run.metrics["evals"], run.metrics[column]
+
+
 def figure_qd_statistics(conditions, out):
-    panels = [("num_elites", "archive size"), ("obj_mean", "average fitness"), ("obj_max", "global fitness")]
+    """Two views side by side, as rows: QD-Meta's best map of each meta-generation (metrics.csv),
+    and its whole meta-population (the mean over its maps, meta.csv), as the paper's figures
+    aggregate "across the different archives within the meta-population". The other
+    algorithms have one archive: the same curve in both rows."""
     budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
     if budget <= 0:
         return None
     grid = np.linspace(0, budget, GRID_POINTS)
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    for c in conditions:
-        runs = [r for r in c["runs"] if r.metrics]
-        if not runs:
-            continue
-        for ax, (column, label) in zip(axes, panels):
-            mean, se = mean_se([on_grid(r.metrics["evals"], r.metrics[column], grid) for r in runs])
-            plot_band(ax, grid, mean, se, f'{c["name"]} (n={len(runs)})')
-            ax.set_xlabel("evaluations")
-            ax.set_ylabel(label)
-    axes[0].legend(fontsize=8)
-    fig.suptitle("QD statistics over evaluations (mean ± SE over replicates)")
+    fig, axes = plt.subplots(2, len(QD_PANELS), figsize=(5 * len(QD_PANELS), 8.4), squeeze=False)
+    views = [("best map", lambda r, col: (r.metrics["evals"], r.metrics[col])), ("meta-population", population_curve)]
+    for row, (view, curve) in zip(axes, views):
+        for c in conditions:
+            runs = [r for r in c["runs"] if r.metrics]
+            if not runs:
+                continue
+            for ax, (column, label) in zip(row, QD_PANELS):
+                mean, se = mean_se([on_grid(*curve(r, column), grid) for r in runs])
+                plot_band(ax, grid, mean, se, f'{c["name"]} (n={len(runs)})')
+                ax.set_xlabel("evaluations")
+                ax.set_ylabel(f"{label} ({view})", fontsize=9)
+    axes[0][0].legend(fontsize=8)
+    fig.suptitle("QD statistics over evaluations (mean ± SE over replicates). Top: QD-Meta's best map; "
+                 "bottom: the mean over its meta-population")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
@@ -230,6 +251,48 @@ def figure_archives(conditions, out):
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
+
+
+def population_table(conditions):
+    """The meta-population view of the final archives: for QD-Meta, the last meta-generation's
+    mean over its maps (then mean ± SE of that over replicates)."""
+    rows = []
+    for c in conditions:
+        runs = [r for r in c["runs"] if r.meta and "population_num_elites_mean" in r.meta]
+        if not runs:
+            continue
+        cells = [fmt(*stat([r.meta[f"population_{key}_mean"][-1] for r in runs]), digits)
+                 for key, _, digits in POPULATION_COLUMNS]
+        rows.append(f'| {c["name"]} | {len(runs)} | ' + " | ".join(cells) + " |")
+    if not rows:
+        return ""
+    return "\n".join(["| condition | n | " + " | ".join(label for _, label, _ in POPULATION_COLUMNS) + " |",
+                      "|---|---|" + "---|" * len(POPULATION_COLUMNS)] + rows)
+
+
+POPULATION_COLUMNS = [("num_elites", "archive size", 5), ("obj_mean", "average fitness", 4),
+                      ("obj_max", "global fitness", 4), ("qd_score", "QD-score", 4)]
+
+
+def experiment_budget(spec, conditions):
+    """The evaluation budget of the experiment's runs (the largest, should they differ)."""
+    if spec.get("evaluations"):
+        return int(spec["evaluations"])
+    budgets = [int(r.summary["budget"]) for c in conditions for r in c["runs"] if "budget" in r.summary]
+    return max(budgets) if budgets else None
+
+
+def claims_table(spec, conditions):
+    """The experiment file's [[claim]] tables, each with what was measured and a verdict."""
+    if not spec.get("claim"):
+        return ""
+    by_name = {c["name"]: c["runs"] for c in conditions}
+    budget = experiment_budget(spec, conditions)
+    lines = ["| claim | measured (mean ± SE over replicates) | verdict |", "|---|---|---|"]
+    for claim in spec["claim"]:
+        measured, verdict = claims.check(claim, lambda name, m: claims.measure_values(by_name.get(name, []), m), budget)
+        lines.append(f'| {claim["text"]} | {measured} | **{verdict}** |')
+    return "\n".join(lines)
 
 
 def summary_table(conditions):
@@ -328,6 +391,66 @@ def comparisons(conditions, tests):
     return "\n".join(t for t in tables if t)
 
 
+def write_csv(path, header, rows):
+    with open(path + ".tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        w.writerows(rows)
+    os.replace(path + ".tmp", path)
+
+
+def write_data(directory, conditions, tests):
+    """The small CSV summaries every table and figure is made from, in DIR/data/: runs.csv (one
+    row per finished run: its final values and test-phase scores) and curves.csv (the plotted
+    means and SEs over replicates). They are small enough to commit beside report.md."""
+    data_dir = os.path.join(directory, "data")
+    os.makedirs(data_dir, exist_ok=True)
+    final_keys = ["evals", "evals_bottom", "evals_meta", "wall_seconds", "num_elites", "coverage", "obj_mean", "obj_max",
+                  "qd_score"]
+    population = [s for s, _, _ in POPULATION_COLUMNS]
+    test_points = [(t, at) for t in tests for at in (1, 10, 100)]
+    header = (["condition", "seed"] + final_keys + [f"population_{s}" for s in population]
+              + ["meta_fitness_best", "meta_fitness_mean", "meta_generations", "mean_generations"]
+              + [f"test_{t}_at_{at}" for t, at in test_points])
+    rows = []
+    for c in conditions:
+        for r in c["runs"]:
+            row = [c["name"], os.path.basename(r.path).split("-")[-1]] + [r.summary.get(k, "") for k in final_keys]
+            for measure in [f"population:{s}" for s in population]:
+                v = claims.measure_values([r], measure)
+                row.append(v[0] if v else "")
+            if r.meta:
+                row += [r.meta["meta_fitness_best"][-1], r.meta["meta_fitness_mean"][-1], len(r.meta["meta_generation"]),
+                        float(np.mean(r.meta["generations"]))]
+            else:
+                row += ["", "", "", ""]
+            for t, at in test_points:
+                v = claims.measure_values([r], f"test:{t}@{at}")
+                row.append(v[0] if v else "")
+            rows.append(row)
+    write_csv(os.path.join(data_dir, "runs.csv"), header, rows)
+
+    curves = []
+    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
+    grid = np.linspace(0, budget, GRID_POINTS)
+    for c in conditions:
+        runs = [r for r in c["runs"] if r.metrics]
+        if not runs or budget <= 0:
+            continue
+        for view, curve in [("best map", lambda r, col: (r.metrics["evals"], r.metrics[col])),
+                            ("meta-population", population_curve)]:
+            for column, _ in QD_PANELS:
+                mean, se = mean_se([on_grid(*curve(r, column), grid) for r in runs])
+                curves += [[c["name"], view, column, f"{x:.0f}", m, e, len(runs)] for x, m, e in zip(grid, mean, se)]
+        for test in tests:
+            have = [r for r in c["runs"] if r.adapt.get(test)]
+            if have:
+                length = min(len(r.adapt[test]["best_mean"]) for r in have)
+                mean, se = mean_se([r.adapt[test]["best_mean"][:length] for r in have])
+                curves += [[c["name"], "test", test, k + 1, m, e, len(have)] for k, (m, e) in enumerate(zip(mean, se))]
+    write_csv(os.path.join(data_dir, "curves.csv"), ["condition", "view", "statistic", "evals", "mean", "se", "n"], curves)
+
+
 def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
@@ -344,6 +467,8 @@ def main(argv):
         figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, os.path.join(figures_dir, f"adaptation-{test}.png"))))
     figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, os.path.join(figures_dir, "archives.png"))))
 
+    write_data(directory, conditions, tests)
+
     md = [f'# {spec.get("name", "Experiment")}', ""]
     evals = spec.get("evaluations")
     md.append(f'{len(conditions)} conditions x {spec.get("replicates", 1)} replicates (seeds 1..{spec.get("replicates", 1)})'
@@ -352,7 +477,12 @@ def main(argv):
     if unfinished:
         md.append(f"\n{len(unfinished)} runs are not finished and are left out: " + ", ".join(os.path.relpath(p, directory) for p in unfinished[:10])
                   + (" ..." if len(unfinished) > 10 else ""))
-    md += ["", "## Final archives", "", summary_table(conditions), ""]
+    md += ["", "## Final archives", "", "The archive each run ends with (QD-Meta: the best map of its last meta-generation).",
+           "", summary_table(conditions), ""]
+    population = population_table(conditions)
+    if population:
+        md += ["The meta-population view (QD-Meta: the mean over every map of the last meta-generation, as the "
+               "paper aggregates; then mean ± SE over replicates).", "", population, ""]
     meta = meta_table(conditions)
     if meta:
         md += ["## Meta-evolution", "", meta, ""]
@@ -369,6 +499,13 @@ def main(argv):
     for title, path in figures:
         if path:
             md += [f"### {title}", "", f"![{title}](figures/{os.path.basename(path)})", ""]
+    claim_rows = claims_table(spec, conditions)
+    if claim_rows:
+        budget = experiment_budget(spec, conditions)
+        md += ["## The paper's claims", "",
+               "Each claim of the experiment file, checked on the finished runs"
+               + (f" ({budget:,} evaluations each)" if budget else "")
+               + '. How each kind is judged: tools/claims.py and docs/config.md ("Claims").', "", claim_rows, ""]
     with open(os.path.join(directory, "report.md.tmp"), "w") as f:
         f.write("\n".join(md) + "\n")
     os.replace(os.path.join(directory, "report.md.tmp"), os.path.join(directory, "report.md"))

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 
 #include "qdmeta/control/sarsa_control.hpp"
@@ -68,6 +69,46 @@ TEST(QdMeta, CountsAndStoresEveryBottomLevelEvaluation) {
   EXPECT_EQ(q.last_meta_record()->meta_fitness_best, *std::max_element(f.begin(), f.end()));
   for (int t = 0; t < 10; ++t) q.step(evaluator);
   EXPECT_EQ(q.database().size(), 3000);  // capacity reached: the newest 3000 are kept
+}
+
+// Mean and sample SD / sqrt(n) written out again, for the meta-population's statistics.
+MeanSe by_hand(const std::vector<double>& v) {
+  double mean = 0.0;
+  for (double x : v) mean += x / static_cast<double>(v.size());
+  double ss = 0.0;
+  for (double x : v) ss += (x - mean) * (x - mean);
+  return {mean, v.size() > 1 ? std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size())) : 0.0};
+}
+
+void expect_near(const MeanSe& a, const MeanSe& b, const char* what) {
+  EXPECT_NEAR(a.mean, b.mean, 1e-9 * std::max(1.0, std::abs(b.mean))) << what;
+  EXPECT_NEAR(a.se, b.se, 1e-9 * std::max(1.0, std::abs(b.se))) << what;
+}
+
+TEST(QdMeta, RecordsTheStatisticsOfEveryMapOfTheMetaPopulation) {
+  SerialEvaluator evaluator;
+  QdMeta q = small_qd_meta(4);
+  for (int t = 0; t < 3; ++t) q.step(evaluator);
+  const auto& archives = q.map_archives();
+  ASSERT_EQ(archives.size(), 4u);
+  std::vector<double> size, mean, max, qd;
+  for (const GridArchive& a : archives) {
+    const ArchiveStats s = a.stats();
+    size.push_back(static_cast<double>(s.num_elites));
+    mean.push_back(s.obj_mean);
+    max.push_back(s.obj_max);
+    qd.push_back(s.qd_score);
+  }
+  const PopulationStats& p = q.last_meta_record()->population;
+  expect_near(p.num_elites, by_hand(size), "archive size");
+  expect_near(p.obj_mean, by_hand(mean), "average fitness");
+  expect_near(p.obj_max, by_hand(max), "global fitness");
+  expect_near(p.qd_score, by_hand(qd), "QD-score");
+  EXPECT_GT(p.num_elites.se, 0.0);  // four different feature-maps fill different cells
+  // The logged best map is the meta-population's map of highest meta-fitness.
+  const auto& f = q.meta_fitness();
+  const auto best = static_cast<std::size_t>(std::max_element(f.begin(), f.end()) - f.begin());
+  EXPECT_EQ(q.stats(), archives[best].stats());
 }
 
 TEST(QdMeta, BestArchiveHoldsTheTasksFunctionOfItsGenotypesAndBaseFeatures) {

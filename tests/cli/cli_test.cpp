@@ -150,7 +150,9 @@ TEST(Cli, QdMetaRunWritesMetaCsvAndTheBestMapWithBaseFeatures) {
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + b.string() + " --evals 60000 --threads 2 --quiet").status, 0);
   const std::string meta = slurp(a / "meta.csv");
   EXPECT_TRUE(meta.starts_with("meta_generation,evals,evals_bottom,evals_meta,meta_fitness_best,meta_fitness_mean,"
-                               "meta_fitness_sd,generations,states\n"));
+                               "meta_fitness_sd,generations,states,population_num_elites_mean,population_num_elites_se,"
+                               "population_obj_mean_mean,population_obj_mean_se,population_obj_max_mean,"
+                               "population_obj_max_se,population_qd_score_mean,population_qd_score_se\n"));
   // 2,000 initial + 3 meta-generations x 10 maps x 5 generations x 400 = 62,000 >= 60,000.
   EXPECT_EQ(count_lines(meta), 4);
   EXPECT_NE(meta.find("\n3,62000,62000,"), std::string::npos) << meta;
@@ -180,7 +182,7 @@ TEST(Cli, SarsaControlChoosesAndLogsGenerationsPerMetaGeneration) {
     std::vector<std::string> f;
     std::stringstream fields(line);
     for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
-    ASSERT_EQ(f.size(), 9u) << line;
+    ASSERT_EQ(f.size(), 17u) << line;
     const int g = std::stoi(f[7]);
     EXPECT_GE(g, 1);
     EXPECT_LE(g, 10);

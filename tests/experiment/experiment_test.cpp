@@ -55,11 +55,17 @@ TEST(Experiment, ShippedExperimentFilesLoad) {
   const fs::path dir = fs::path(QDMETA_SOURCE_DIR) / "configs/rastrigin";
   const ExperimentSpec paper = load_experiment(dir / "experiment.toml", std::nullopt, std::nullopt);
   EXPECT_EQ(paper.replicates, 20);
-  EXPECT_EQ(paper.conditions.size(), 4u);
-  EXPECT_EQ(load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt).conditions.size(), 5u);
+  // The paper's four conditions and QD-Meta Translation's frozen control, with the paper's claims.
+  ASSERT_EQ(paper.conditions.size(), 5u);
+  EXPECT_EQ(paper.conditions[4].slug, "qd-meta-translation-frozen-cma-es");
+  EXPECT_EQ(paper.claims.size(), 8u);
+  const ExperimentSpec lambda = load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt);
+  EXPECT_EQ(lambda.conditions.size(), 5u);
+  EXPECT_EQ(lambda.claims.size(), 3u);
   // The authors' effective mutation SD, for every condition of the paper's study.
   const ExperimentSpec sigma = load_experiment(dir / "experiment-sigma.toml", std::nullopt, std::nullopt);
-  ASSERT_EQ(sigma.conditions.size(), paper.conditions.size());
+  ASSERT_EQ(sigma.conditions.size(), 4u);
+  EXPECT_EQ(sigma.claims.size(), 7u);  // all but the frozen control's
   for (std::size_t i = 0; i < sigma.conditions.size(); ++i) {
     EXPECT_EQ(sigma.conditions[i].slug, paper.conditions[i].slug);
     EXPECT_EQ(sigma.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.0025);
@@ -77,7 +83,7 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
     return std::string("no error");
   };
   fs::path f = write("typo", "replicate = 2\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, condition)");
+  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, condition, claim)");
   f = write("none", "replicates = 2\n");
   EXPECT_EQ(error_of(f), f.string() + ": no [[condition]] tables: an experiment needs at least one");
   f = write("missing", "[[condition]]\nname = \"a\"\nconfig = \"nowhere.toml\"\n");
@@ -86,6 +92,10 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
   EXPECT_EQ(error_of(f), f.string() + ": condition 'a-B' repeats another's name");
   f = write("zero", "replicates = 0\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
   EXPECT_EQ(error_of(f), f.string() + ": replicates = 0 is out of range: must be in [1, 100000]");
+  f = write("claim", "claim = 3\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": claim must be a list of [[claim]] tables");
+  f = write("claimless", "[[claim]]\ntext = \"x\"\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": every [[claim]] needs a text and a kind");
 }
 
 }  // namespace

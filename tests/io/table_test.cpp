@@ -54,12 +54,15 @@ TEST(Table, CellsPrintIntegersAsIntegersAndDoublesInTheirShortestRoundTripForm) 
 }
 
 TEST(RunTables, MetricsAndMetaHeadersAreTheFilesHistoricalOnes) {
-  // Resume checks these against files written before the tables existed.
+  // Resume checks these against files written before the tables existed (meta.csv gained the
+  // population columns with checkpoint format 3).
   EXPECT_EQ(fmt::format("{}", fmt::join(metrics_columns(), ",")),
             "evals,evals_bottom,evals_meta,generation,num_elites,coverage,qd_score,norm_qd_score,obj_max,obj_mean");
   EXPECT_EQ(fmt::format("{}", fmt::join(meta_columns(), ",")),
             "meta_generation,evals,evals_bottom,evals_meta,meta_fitness_best,meta_fitness_mean,meta_fitness_sd,"
-            "generations,states");
+            "generations,states,population_num_elites_mean,population_num_elites_se,population_obj_mean_mean,"
+            "population_obj_mean_se,population_obj_max_mean,population_obj_max_se,population_qd_score_mean,"
+            "population_qd_score_se");
 }
 
 TEST(RunTables, AMetricsRowHoldsEveryFieldOfItsPointInHeaderOrder) {
@@ -81,8 +84,10 @@ TEST(RunTables, AMetaRowHoldsTheRecordAndTheCounters) {
   r.meta_fitness_sd = 0.125;
   r.generations = 10;
   r.states = 2;
+  r.population = {{120, 4}, {-80.5, 1.25}, {-20, 0.5}, {9000, 30}};
   EXPECT_EQ(meta_table().row(MetaPoint{r, {900, 100}, 1000}),
-            (std::vector<std::string>{"3", "1000", "900", "100", "0.5", "0.25", "0.125", "10", "2"}));
+            (std::vector<std::string>{"3", "1000", "900", "100", "0.5", "0.25", "0.125", "10", "2", "120", "4", "-80.5",
+                                      "1.25", "-20", "0.5", "9000", "30"}));
 }
 
 std::string slurp(const std::filesystem::path& path) {

@@ -45,6 +45,7 @@ struct MetaGenerationRecord {
   double meta_fitness_sd = 0.0;  // population SD over the meta-population
   int generations = 0;           // MAP-Elites generations per map in this meta-generation
   std::int64_t states = 1;       // the controller's state count
+  PopulationStats population;    // every map's archive after its G generations
 };
 
 class Algorithm {

@@ -7,6 +7,7 @@
 #include <tbb/partitioner.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -314,14 +315,26 @@ void QdMeta::finish_meta_generation() {
   // Fused explicitly: whether the compiler fuses this accumulation depends on the CPU it tunes
   // for, and the SD's last digit in meta.csv with it.
   for (double f : meta_fitness_) sq = std::fma(f - mean, f - mean, sq);
+  std::vector<ArchiveStats> map_stats;
+  for (const GridArchive& archive : archives_) map_stats.push_back(archive.stats());
   record_ = {meta_generation_, meta_fitness_[best], mean, std::sqrt(sq / static_cast<double>(lambda)), generations_,
-             controller_->states()};
+             controller_->states(), population_stats(map_stats)};
   for (MetaPlan& plan : plans_) plan = {};  // the sampled genotypes are not needed any more
   phase_ = Phase::kIdle;
 }
 
 EliteTable QdMeta::elites() const { return best_archive_.elites(); }
 
+
+namespace {
+
+// The population statistics in their checkpoint order.
+template <class Stats>
+auto population_fields(Stats& p) {
+  return std::array{&p.num_elites, &p.obj_mean, &p.obj_max, &p.qd_score};
+}
+
+}  // namespace
 
 // The per-map archives and feature-maps are rebuilt at the start of every meta-generation, so
 // only what outlives a meta-generation is saved.
@@ -340,6 +353,10 @@ void QdMeta::save(BinaryWriter& out) const {
   out.value(record_.meta_fitness_sd);
   out.value<std::int32_t>(record_.generations);
   out.value(record_.states);
+  for (const MeanSe* m : population_fields(record_.population)) {
+    out.value(m->mean);
+    out.value(m->se);
+  }
   controller_->save(out);
 }
 
@@ -361,6 +378,10 @@ void QdMeta::load(BinaryReader& in) {
   record_.meta_fitness_sd = in.value<double>("record SD");
   record_.generations = in.value<std::int32_t>("record generations");
   record_.states = in.value<std::int64_t>("record states");
+  for (MeanSe* m : population_fields(record_.population)) {
+    m->mean = in.value<double>("record population mean");
+    m->se = in.value<double>("record population SE");
+  }
   controller_->load(in);
 }
 

@@ -68,6 +68,9 @@ class QdMeta final : public Algorithm {
   const Database& database() const { return database_; }
   const CmaEs& cma_es() const { return cma_; }
   const GridArchive& best_archive() const { return best_archive_; }
+  // Every map's archive at the end of the last meta-generation (not restored by load(): a
+  // checkpoint keeps only the best).
+  const std::vector<GridArchive>& map_archives() const { return archives_; }
   double best_meta_fitness() const { return record_.meta_fitness_best; }
   const std::vector<double>& meta_fitness() const { return meta_fitness_; }
 

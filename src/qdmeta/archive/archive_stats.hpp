@@ -2,6 +2,7 @@
 // Archive statistics with pyribs's names and meanings, computed one way for every archive.
 #include <algorithm>
 #include <limits>
+#include <span>
 
 #include "qdmeta/core/types.hpp"
 
@@ -39,5 +40,26 @@ ArchiveStats archive_stats(ForEachObjective&& for_each_objective, double capacit
   s.norm_qd_score = s.qd_score / capacity;
   return s;
 }
+
+// Mean and standard error (sample SD / sqrt(n); 0 for n = 1) of one statistic over the maps of
+// a meta-population.
+struct MeanSe {
+  double mean = 0.0;
+  double se = 0.0;
+  bool operator==(const MeanSe&) const = default;
+};
+
+// The archive statistics of every map of a meta-generation, summarised over the maps: the
+// paper's figures aggregate "across the different archives within the meta-population".
+struct PopulationStats {
+  MeanSe num_elites;
+  MeanSe obj_mean;
+  MeanSe obj_max;
+  MeanSe qd_score;
+  bool operator==(const PopulationStats&) const = default;
+};
+
+// The summary of `archives` (at least one), each statistic's sum in the given order.
+PopulationStats population_stats(std::span<const ArchiveStats> archives);
 
 }  // namespace qdmeta

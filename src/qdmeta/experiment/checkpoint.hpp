@@ -14,8 +14,9 @@
 
 namespace qdmeta {
 
-// Format 2: the checksum covers the whole file (format 1 left the header outside it).
-inline constexpr std::uint32_t kCheckpointFormat = 2;
+// Format 2: the checksum covers the whole file (format 1 left the header outside it). Format 3:
+// QD-Meta's last meta-generation record carries its meta-population statistics.
+inline constexpr std::uint32_t kCheckpointFormat = 3;
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 
 // The run driver's own state between two generations.

@@ -69,7 +69,7 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
                                std::optional<std::int64_t> evaluations) {
   const toml::table t = load_toml(file);
   const std::string where = file.string();
-  only_keys(t, {"name", "replicates", "evaluations", "tests", "condition"}, where);
+  only_keys(t, {"name", "replicates", "evaluations", "tests", "condition", "claim"}, where);
   ExperimentSpec spec;
   spec.name = t["name"].value_or<std::string>(file.stem().string());
   spec.replicates = replicates ? *replicates : static_cast<int>(t["replicates"].value_or<std::int64_t>(1));
@@ -86,6 +86,15 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
     }
   } else if (t.contains("tests")) {
     throw InputError(fmt::format("{}: tests must be a list of strings", where));
+  }
+  if (t.contains("claim")) {
+    const auto* claims = t["claim"].as_array();
+    if (!claims || !claims->is_array_of_tables())
+      throw InputError(fmt::format("{}: claim must be a list of [[claim]] tables", where));
+    for (const auto& c : *claims)
+      if (!c.as_table()->contains("text") || !c.as_table()->contains("kind"))
+        throw InputError(fmt::format("{}: every [[claim]] needs a text and a kind", where));
+    spec.claims = *claims;
   }
   const auto* conditions = t["condition"].as_array();
   if (!conditions || conditions->empty())
@@ -134,6 +143,7 @@ void write_spec(const ExperimentSpec& spec, const fs::path& out) {
     conditions.push_back(std::move(entry));
   }
   t.insert("condition", std::move(conditions));
+  if (!spec.claims.empty()) t.insert("claim", spec.claims);
   std::ostringstream text;
   text << "# The experiment in force for the runs below (written by qdmeta experiment; read by qdmeta report).\n"
        << t << "\n";

@@ -32,6 +32,9 @@ struct ExperimentSpec {
   std::optional<std::int64_t> evaluations;  // overrides every condition's budget
   std::vector<std::string> tests;           // test families run on every archive
   std::vector<ExperimentCondition> conditions;
+  // The [[claim]] tables (what a paper says the conditions show), passed to the run's
+  // experiment.toml for `qdmeta report`, which checks each (tools/report.py; docs/config.md).
+  toml::array claims;
 };
 
 // Reads an experiment file (see configs/rastrigin/experiment.toml); condition configs are

@@ -40,6 +40,15 @@ const Table<MetaPoint>& meta_table() {
       {"meta_fitness_sd", [](const MetaPoint& p) { return Cell(p.record.meta_fitness_sd); }},
       {"generations", [](const MetaPoint& p) { return integer(p.record.generations); }},
       {"states", [](const MetaPoint& p) { return integer(p.record.states); }},
+      // Every map of the meta-generation: mean and standard error over the maps.
+      {"population_num_elites_mean", [](const MetaPoint& p) { return Cell(p.record.population.num_elites.mean); }},
+      {"population_num_elites_se", [](const MetaPoint& p) { return Cell(p.record.population.num_elites.se); }},
+      {"population_obj_mean_mean", [](const MetaPoint& p) { return Cell(p.record.population.obj_mean.mean); }},
+      {"population_obj_mean_se", [](const MetaPoint& p) { return Cell(p.record.population.obj_mean.se); }},
+      {"population_obj_max_mean", [](const MetaPoint& p) { return Cell(p.record.population.obj_max.mean); }},
+      {"population_obj_max_se", [](const MetaPoint& p) { return Cell(p.record.population.obj_max.se); }},
+      {"population_qd_score_mean", [](const MetaPoint& p) { return Cell(p.record.population.qd_score.mean); }},
+      {"population_qd_score_se", [](const MetaPoint& p) { return Cell(p.record.population.qd_score.se); }},
   };
   return table;
 }
