@@ -23,7 +23,9 @@ Kinds and verdicts:
 
 "reproduced" when the test holds. A "near" or "below" claim is about magnitudes the paper
 measured at its own budget (`budget`): when it fails at a smaller budget the verdict is "not
-testable at this budget". A claim that names a condition with no finished replicate is "not
+testable at this budget", unless the claim says `grows = true` (a measure that only rises with
+the budget, such as archive size or the best fitness) and some condition's mean is already above
+what the claim allows: more evaluations cannot bring it back, so that is "not reproduced". A claim that names a condition with no finished replicate is "not
 testable in this experiment"; an "order" claim whose replicates are too few for any p below ALPHA
 is "not testable with these replicates".
 """
@@ -101,16 +103,25 @@ def check(claim, samples, budget):
         return measured, NOT_IN_EXPERIMENT
 
     if kind in ("near", "below"):
+        def upper_limit(c):  # the largest mean the claim allows
+            if kind == "below":
+                return float(claim["value"])
+            target = float(claim["value"][c]) if isinstance(claim["value"], dict) else float(claim["value"])
+            return target + float(claim["tolerance"]) * abs(target)
+
         def holds(c, m):
             mean = float(np.mean(data[c, m]))
             if kind == "below":
-                return mean < float(claim["value"])
+                return mean < upper_limit(c)
             target = float(claim["value"][c]) if isinstance(claim["value"], dict) else float(claim["value"])
             return abs(mean - target) <= float(claim["tolerance"]) * abs(target)
         if all(holds(c, m) for c in names for m in measures):
             return measured, REPRODUCED
+        overshot = claim.get("grows", False) and any(float(np.mean(data[c, m])) >= upper_limit(c) if kind == "below"
+                                                     else float(np.mean(data[c, m])) > upper_limit(c)
+                                                     for c in names for m in measures)
         paper_budget = claim.get("budget")
-        if paper_budget is not None and budget is not None and budget < int(paper_budget):
+        if not overshot and paper_budget is not None and budget is not None and budget < int(paper_budget):
             return measured, NOT_AT_BUDGET
         return measured, NOT_REPRODUCED
 
@@ -141,7 +152,7 @@ def check(claim, samples, budget):
     adjusted = significance.holm([p for _, p in tests])
     ordered = [float(np.mean(data[a, m])) > float(np.mean(data[b, m])) for a, b, m in pairs]
     worst = max(adjusted)
-    measured += f" (largest Holm-adjusted p over {len(pairs)} pairs: {worst:.3g})"
+    measured += f" (largest Holm-adjusted p over {len(pairs)} pair{'s' if len(pairs) > 1 else ''}: {worst:.3g})"
     if all(ordered) and worst < ALPHA:
         return measured, REPRODUCED
     if all(ordered) and max(smallest_p(len(data[a, m]), len(data[b, m])) for a, b, m in pairs) >= ALPHA:

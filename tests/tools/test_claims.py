@@ -50,6 +50,26 @@ def test_near_and_below_judge_the_mean_and_know_the_budget():
     assert measured == "B 6500 ± 5e+02"
 
 
+def test_a_growing_measure_past_the_claim_is_not_reproduced_at_any_budget():
+    # Archive sizes only grow with evaluations: 9,600 elites at a small budget cannot become
+    # "below 3,000" at the paper's; 2,000 against "about 10,000" still could become it.
+    table = {"CVT": {"m": [9600, 9700]}, "QD": {"m": [2000, 2100]}}
+    below = {"text": "under 3,000", "kind": "below", "measure": "m", "conditions": ["CVT"], "value": 3000,
+             "budget": 100, "grows": True}
+    assert claims.check(below, samples_from(table), 5)[1] == claims.NOT_REPRODUCED
+    assert claims.check(dict(below, grows=False), samples_from(table), 5)[1] == claims.NOT_AT_BUDGET
+    near = {"text": "about 10,000", "kind": "near", "measure": "m", "conditions": ["QD"], "value": 10000,
+            "tolerance": 0.1, "budget": 100, "grows": True}
+    assert claims.check(near, samples_from(table), 5)[1] == claims.NOT_AT_BUDGET
+    # Best fitness grows too: -11 is past "about -70" (at most -59.5), -88 is still short of it.
+    fitness = {"A": {"m": [-11.0, -12.0]}, "B": {"m": [-88.0, -87.0]}}
+    near = {"text": "about -70", "kind": "near", "measure": "m", "conditions": ["B"], "value": -70, "tolerance": 0.15,
+            "budget": 100, "grows": True}
+    assert claims.check(near, samples_from(fitness), 5)[1] == claims.NOT_AT_BUDGET
+    near["conditions"] = ["A", "B"]
+    assert claims.check(near, samples_from(fitness), 5)[1] == claims.NOT_REPRODUCED
+
+
 def test_order_needs_every_pair_ordered_and_significant_after_holm():
     high = list(np.arange(10, 20.0))
     low = list(np.arange(0, 10.0))
