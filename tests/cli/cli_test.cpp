@@ -317,7 +317,9 @@ fs::path small_experiment() {
   return write_config("experiment", "name = \"small\"\nreplicates = 2\ntests = [\"dimension\", \"translation\"]\n"
                                     "[[condition]]\nname = \"QD-Meta (SARSA)\"\nconfig = \"" + checkpointing_config().string() +
                                     "\"\n[[condition]]\nname = \"MAP-Elites\"\nconfig = \"" + me + "\"\n"
-                                    "set = { budget = { evaluations = 100_000 } }\n");
+                                    "set = { budget = { evaluations = 100_000 } }\n"
+                                    "[[claim]]\ntext = \"MAP-Elites stays under a billion elites\"\nkind = \"below\"\n"
+                                    "measure = \"population:num_elites\"\nconditions = [\"MAP-Elites\"]\nvalue = 1e9\n");
 }
 
 TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
@@ -352,6 +354,12 @@ TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
   }
   EXPECT_NE(report.find("| QD-Meta (SARSA) | 2 |"), std::string::npos) << report;
   EXPECT_NE(report.find("| MAP-Elites | 2 |"), std::string::npos) << report;
+  // QD-Meta's meta-population view, the claims table, and the CSV summaries behind them.
+  EXPECT_NE(report.find("The meta-population view"), std::string::npos) << report;
+  EXPECT_NE(report.find("| MAP-Elites stays under a billion elites | MAP-Elites "), std::string::npos) << report;
+  EXPECT_NE(report.find("| **reproduced** |"), std::string::npos) << report;
+  EXPECT_EQ(count_lines(slurp(killed / "data/runs.csv")), 5);  // a header and 2 conditions x 2 replicates
+  EXPECT_GT(count_lines(slurp(killed / "data/curves.csv")), 100);
   // Everything finished: a third call runs nothing and only reports.
   const Outcome third = qdmeta_cli("experiment --config " + config + " --out " + killed.string() + " --no-report");
   EXPECT_NE(third.output.find("0 runs finished now, 0 resumed, 4 already finished; 0 test phases"), std::string::npos)
