@@ -110,3 +110,17 @@ def test_ratio_and_top():
 def test_a_condition_without_runs_is_not_testable_here():
     claim = {"text": "x", "kind": "below", "measure": "m", "conditions": ["absent"], "value": 1}
     assert claims.check(claim, samples_from({}), None)[1] == claims.NOT_IN_EXPERIMENT
+
+
+def test_claims_summary_merges_the_claims_tables_of_several_reports(tmp_path, capsys):
+    import claims_summary
+    for name, verdict, value in [("small", "not testable at this budget", "9"), ("large", "reproduced", "10")]:
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "report.md").write_text(
+            "# x\n\n| condition | n |\n|---|---|\n| A | 2 |\n\n## The paper's claims\n\ntext\n\n"
+            "| claim | measured (mean ± SE over replicates) | verdict |\n|---|---|---|\n"
+            f"| about 10 | A {value} ± 0 | **{verdict}** |\n")
+    assert claims_summary.main(["x", f"study:5M={tmp_path / 'small'},10M={tmp_path / 'large'}"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "| experiment | claim | 5M | 10M | measured (10M) |"
+    assert lines[2] == "| study | about 10 | not testable at this budget | **reproduced** | A 10 ± 0 |"
