@@ -369,6 +369,45 @@ TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
   EXPECT_EQ(other_budget.status, 2) << other_budget.output;
 }
 
+TEST(Cli, APlannedRunStartedOnItsOwnIsTheExperimentsRun) {
+  // A batch system runs plan.tsv's lines with `qdmeta run`; the experiment then skips them. The
+  // same run made by the experiment itself has the same bits.
+  const fs::path planned = fresh_dir("experiment_planned"), whole = fresh_dir("experiment_whole");
+  const std::string config = small_experiment().string();
+  const Outcome plan = qdmeta_cli("experiment --config " + config + " --out " + planned.string() + " --evals 20000 --plan");
+  ASSERT_EQ(plan.status, 0) << plan.output;
+  EXPECT_NE(plan.output.find("4 runs planned"), std::string::npos) << plan.output;
+  std::istringstream lines(slurp(planned / "plan.tsv"));
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "index\tcondition\tseed\tconfig\tdir");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> f;
+    std::stringstream fields(line);
+    for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
+    ASSERT_EQ(f.size(), 5u) << line;
+    rows.push_back(f);
+  }
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[1][0], "2");
+  EXPECT_EQ(rows[1][1], "map-elites");  // replicate-major: seed 1 of every condition first
+  EXPECT_EQ(rows[1][2], "1");
+  EXPECT_EQ(rows[1][4], (planned / "map-elites/seed-1").string());
+  for (std::size_t k : {0u, 1u}) {  // QD-Meta and MAP-Elites (whose `set` budget --evals replaces), seed 1
+    const Outcome r = qdmeta_cli("run --config " + rows[k][3] + " --seed " + rows[k][2] + " --out " + rows[k][4] + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  const Outcome rest = qdmeta_cli("experiment --config " + config + " --out " + planned.string() + " --evals 20000 --no-report");
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  EXPECT_NE(rest.output.find("2 runs finished now, 0 resumed, 2 already finished"), std::string::npos) << rest.output;
+  ASSERT_EQ(qdmeta_cli("experiment --config " + config + " --out " + whole.string() + " --evals 20000 --no-report --quiet").status, 0);
+  for (const char* cond : {"qd-meta-sarsa", "map-elites"})
+    for (const char* f : {"metrics.csv", "archive.csv", "adapt-dimension.csv"})
+      EXPECT_EQ(slurp(planned / cond / "seed-1" / f), slurp(whole / cond / "seed-1" / f)) << cond << "/" << f;
+  EXPECT_EQ(slurp(planned / "qd-meta-sarsa/seed-1/meta.csv"), slurp(whole / "qd-meta-sarsa/seed-1/meta.csv"));
+}
+
 TEST(Cli, ReportNeedsAnExperiment) {
   const Outcome o = qdmeta_cli("report " + fresh_dir("no_experiment").string());
   EXPECT_EQ(o.status, 2);

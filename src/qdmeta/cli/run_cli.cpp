@@ -205,6 +205,7 @@ struct ExperimentArgs {
   int threads = 0;
   bool quiet = false;
   bool no_report = false;
+  bool plan = false;
 };
 
 fs::path g_tools_dir;  // run_cli_with_tools's argument
@@ -244,6 +245,14 @@ int command_report(const std::string& dir, bool quiet) {
 
 int command_experiment(const ExperimentArgs& a) {
   const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
+  if (a.plan) {
+    const int runs = write_experiment_plan(spec, a.out);
+    if (!a.quiet)
+      fmt::print("{} runs planned in {}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
+                 "scripts/slurm-experiment.sh), then this command without --plan runs the tests and the report\n",
+                 runs, (fs::path(a.out) / "plan.tsv").string());
+    return 0;
+  }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const bool tty = isatty(fileno(stdout)) != 0;
@@ -350,6 +359,9 @@ int parse_and_run(int argc, char** argv) {
   experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   experiment_cmd->add_flag("--quiet", experiment.quiet, "Print nothing but errors");
   experiment_cmd->add_flag("--no-report", experiment.no_report, "Skip the report at the end");
+  experiment_cmd->add_flag("--plan", experiment.plan,
+                           "Run nothing: write every condition's config and DIR/plan.tsv (one line per run) for a "
+                           "batch system");
 
   std::string report_dir;
   bool report_quiet = false;

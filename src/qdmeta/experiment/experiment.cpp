@@ -157,6 +157,34 @@ std::int64_t finished_budget(const fs::path& dir) {
 
 }  // namespace
 
+int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out) {
+  const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+  write_spec(spec, out);
+  for (const auto& c : spec.conditions) {
+    toml::table config = c.effective_config();
+    if (spec.evaluations) {
+      if (!config.contains("budget")) config.insert("budget", toml::table{});
+      config["budget"].as_table()->insert_or_assign("evaluations", *spec.evaluations);
+    }
+    build_run(config, c.config.string(), {1, std::nullopt});  // refuse a bad config now, not in a batch job
+    fs::create_directories(out / c.slug);
+    std::ostringstream text;
+    text << "# " << c.name << ": " << c.config.string() << " as experiment '" << spec.name
+         << "' runs it (written by qdmeta experiment --plan).\n"
+         << config << "\n";
+    write_file_atomic(out / c.slug / "condition.toml", text.str());
+  }
+  std::ostringstream plan;
+  plan << "index\tcondition\tseed\tconfig\tdir\n";
+  int index = 0;
+  for (int r = 1; r <= spec.replicates; ++r)  // replicate-major, as run_experiment
+    for (const auto& c : spec.conditions)
+      plan << ++index << '\t' << c.slug << '\t' << r << '\t' << (out / c.slug / "condition.toml").string() << '\t'
+           << replicate_dir(out, c, r).string() << '\n';
+  write_file_atomic(out / "plan.tsv", plan.str());
+  return index;
+}
+
 ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,
                                 const ExperimentCallback& progress, const std::atomic<bool>* stop) {
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out

@@ -43,6 +43,14 @@ struct ExperimentSpec {
 ExperimentSpec load_experiment(const std::filesystem::path& file, std::optional<int> replicates,
                                std::optional<std::int64_t> evaluations);
 
+// For a batch system (scripts/slurm-experiment.sh): writes DIR/experiment.toml, every condition's
+// config in force (DIR/<slug>/condition.toml: its `set` merged in and the experiment's budget
+// written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
+// them: index (1-based), condition slug, seed, config, run directory. `qdmeta run --config
+// CONFIG --seed SEED --out DIR` then gives the bits run_experiment() would, which later skips the
+// finished run. Returns the number of runs.
+int write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out);
+
 struct ExperimentProgress {
   int run = 0;             // 1-based index of the current run
   int runs = 0;            // conditions x replicates
