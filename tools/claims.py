@@ -103,18 +103,19 @@ def check(claim, samples, budget):
         return measured, NOT_IN_EXPERIMENT
 
     if kind in ("near", "below"):
+        def target(c):  # a number, or a table of condition -> number
+            return float(claim["value"][c]) if isinstance(claim["value"], dict) else float(claim["value"])
+
         def upper_limit(c):  # the largest mean the claim allows
             if kind == "below":
-                return float(claim["value"])
-            target = float(claim["value"][c]) if isinstance(claim["value"], dict) else float(claim["value"])
-            return target + float(claim["tolerance"]) * abs(target)
+                return target(c)
+            return target(c) + float(claim["tolerance"]) * abs(target(c))
 
         def holds(c, m):
             mean = float(np.mean(data[c, m]))
             if kind == "below":
                 return mean < upper_limit(c)
-            target = float(claim["value"][c]) if isinstance(claim["value"], dict) else float(claim["value"])
-            return abs(mean - target) <= float(claim["tolerance"]) * abs(target)
+            return abs(mean - target(c)) <= float(claim["tolerance"]) * abs(target(c))
         if all(holds(c, m) for c in names for m in measures):
             return measured, REPRODUCED
         overshot = claim.get("grows", False) and any(float(np.mean(data[c, m])) >= upper_limit(c) if kind == "below"

@@ -133,18 +133,31 @@ def population_curve(run, column):
     return run.metrics["evals"], run.metrics[column]
 
 
+def best_map_curve(run, column):
+    """(evals, values) of one QD statistic of the archive a run logs (QD-Meta: its best map)."""
+    return run.metrics["evals"], run.metrics[column]
+
+
+# The two views of QD-Meta's archives; the other algorithms look the same in both.
+QD_VIEWS = [("best map", best_map_curve), ("meta-population", population_curve)]
+
+
+def evaluation_grid(conditions):
+    """The fixed evaluation grid replicates are aligned on (None when nothing was logged)."""
+    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
+    return np.linspace(0, budget, GRID_POINTS) if budget > 0 else None
+
+
 def figure_qd_statistics(conditions, out):
     """Two views side by side, as rows: QD-Meta's best map of each meta-generation (metrics.csv),
     and its whole meta-population (the mean over its maps, meta.csv), as the paper's figures
     aggregate "across the different archives within the meta-population". The other
     algorithms have one archive: the same curve in both rows."""
-    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
-    if budget <= 0:
+    grid = evaluation_grid(conditions)
+    if grid is None:
         return None
-    grid = np.linspace(0, budget, GRID_POINTS)
     fig, axes = plt.subplots(2, len(QD_PANELS), figsize=(5 * len(QD_PANELS), 8.4), squeeze=False)
-    views = [("best map", lambda r, col: (r.metrics["evals"], r.metrics[col])), ("meta-population", population_curve)]
-    for row, (view, curve) in zip(axes, views):
+    for row, (view, curve) in zip(axes, QD_VIEWS):
         for c in conditions:
             runs = [r for r in c["runs"] if r.metrics]
             if not runs:
@@ -431,14 +444,12 @@ def write_data(directory, conditions, tests):
     write_csv(os.path.join(data_dir, "runs.csv"), header, rows)
 
     curves = []
-    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
-    grid = np.linspace(0, budget, GRID_POINTS)
+    grid = evaluation_grid(conditions)
     for c in conditions:
         runs = [r for r in c["runs"] if r.metrics]
-        if not runs or budget <= 0:
+        if not runs or grid is None:
             continue
-        for view, curve in [("best map", lambda r, col: (r.metrics["evals"], r.metrics[col])),
-                            ("meta-population", population_curve)]:
+        for view, curve in QD_VIEWS:
             for column, _ in QD_PANELS:
                 mean, se = mean_se([on_grid(*curve(r, column), grid) for r in runs])
                 curves += [[c["name"], view, column, f"{x:.0f}", m, e, len(runs)] for x, m, e in zip(grid, mean, se)]
