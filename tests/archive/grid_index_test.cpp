@@ -76,7 +76,7 @@ TEST(GridIndex, BlockEqualsScalarEqualsTheWrittenFormula) {
         const auto& vd = values[static_cast<std::size_t>(d)];
         measures_t[static_cast<std::size_t>(d * ld + r)] = vd[static_cast<std::size_t>((r * (d + 1)) % static_cast<Index>(vd.size()))];
       }
-    for (Index n : {count, count - 1, Index{8}, Index{7}, Index{1}, Index{0}}) {
+    for (Index n : {count, count - 1, Index{33}, Index{17}, Index{16}, Index{15}, Index{8}, Index{7}, Index{1}, Index{0}}) {
       std::vector<std::int32_t> cells(static_cast<std::size_t>(n) + 1, -7);
       index.cells_of_t(measures_t.data(), ld, n, cells.data());
       EXPECT_EQ(cells[static_cast<std::size_t>(n)], -7) << "wrote past count";

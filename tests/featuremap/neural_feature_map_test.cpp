@@ -274,7 +274,7 @@ TEST_P(NeuralFeatureMapShapes, EqualsTheScalarFloatDefinitionBitForBit) {
   const NeuralFeatureMapShape s = GetParam();
   const std::vector<double> w = uniform_weights(s.weight_count(), -2.0, 2.0, 21);
   const NeuralFeatureMap map(s, w);
-  for (const Index count : {Index{1}, Index{15}, Index{16}, Index{17}, Index{300}}) {
+  for (const Index count : {Index{1}, Index{15}, Index{16}, Index{17}, Index{31}, Index{32}, Index{33}, Index{48}, Index{300}}) {
     const RowMatrix base = uniform_rows(count, s.inputs, -1.0f, 2.0f, static_cast<std::uint64_t>(count));
     RowMatrix target(count, s.outputs);
     map.map(base.data(), count, target.data());

@@ -1,3 +1,9 @@
+// GCC 12's avx512fintrin.h passes _mm512_undefined_pd() as the masked-off source of max, min and
+// conversions and then warns about it at every use (fixed in GCC 13): the pragma must come
+// before the first include, which pulls the header in.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13 && defined(__AVX512F__)
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#endif
 #include "qdmeta/archive/grid_index.hpp"
 
 #include <fmt/format.h>
@@ -10,7 +16,10 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/fused.hpp"
 
-#if defined(__AVX2__) && defined(__FMA__)
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#define QDMETA_GRID_INDEX_AVX512 1
+#elif defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
 #define QDMETA_GRID_INDEX_AVX2 1
 #endif
@@ -51,7 +60,35 @@ Index GridIndex::cell_of(const Real* measures) const {
 void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::int32_t* cells) const {
   const auto dims = static_cast<Index>(bins_.size());
   Index r = 0;
-#if defined(QDMETA_GRID_INDEX_AVX2)
+#if defined(QDMETA_GRID_INDEX_AVX512)
+  // Sixteen rows per step in two halves of eight double lanes.
+  const __m512d lower = _mm512_set1_pd(lower_);
+  const __m512d scale = _mm512_set1_pd(scale_);
+  const __m512d zero = _mm512_setzero_pd();
+  for (; r + 16 <= count; r += 16) {
+    __m256i lo = _mm256_setzero_si256(), hi = _mm256_setzero_si256();
+    __mmask16 nan = 0;
+    for (Index d = 0; d < dims; ++d) {
+      const auto du = static_cast<std::size_t>(d);
+      const __m512 m = _mm512_loadu_ps(measures_t + d * ld + r);
+      nan |= _mm512_cmp_ps_mask(m, m, _CMP_UNORD_Q);
+      const __m512d bins = _mm512_set1_pd(bins_[du]), margin = _mm512_set1_pd(margin_[du]);
+      const __m512d top = _mm512_set1_pd(top_[du]);
+      const __m256i stride = _mm256_set1_epi32(stride_[du]);
+      auto half = [&](__m256 m8) {
+        const __m512d x = _mm512_mul_pd(_mm512_sub_pd(_mm512_cvtps_pd(m8), lower), scale);
+        const __m512d pos = _mm512_roundscale_pd(_mm512_fmadd_pd(x, bins, margin), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+        const __m512d clamped = _mm512_min_pd(_mm512_max_pd(pos, zero), top);
+        return _mm256_mullo_epi32(_mm512_cvttpd_epi32(clamped), stride);
+      };
+      lo = _mm256_add_epi32(lo, half(_mm512_castps512_ps256(m)));
+      hi = _mm256_add_epi32(hi, half(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(m), 1))));
+    }
+    if (nan) break;  // the scalar loop below throws with the dimension's name
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cells + r), lo);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cells + r + 8), hi);
+  }
+#elif defined(QDMETA_GRID_INDEX_AVX2)
   const __m256d lower = _mm256_set1_pd(lower_);
   const __m256d scale = _mm256_set1_pd(scale_);
   const __m256d zero = _mm256_setzero_pd();
