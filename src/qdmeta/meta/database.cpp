@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "qdmeta/core/huge_pages.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -26,6 +27,10 @@ Database::Database(DatabaseParams params) : params_(params) {
   params_.validate();
   genotypes_.resize(params_.capacity, params_.genotype_size);
   base_.resize(params_.capacity, params_.base_feature_size);
+  // Rebuilds copy each cell's winner from a random row of these (tens of MB): huge pages spare
+  // most of the TLB misses. resize() has not touched them yet.
+  advise_huge_pages(genotypes_.data(), static_cast<std::size_t>(genotypes_.size()) * sizeof(Real));
+  advise_huge_pages(base_.data(), static_cast<std::size_t>(base_.size()) * sizeof(Real));
   base_t_.assign(static_cast<std::size_t>(params_.base_feature_size * (params_.capacity + kDatabasePadding)), Real{0});
   fitness_.assign(static_cast<std::size_t>(params_.capacity), Real{0});
 }
