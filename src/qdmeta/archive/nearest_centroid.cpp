@@ -3,11 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <utility>
 
+#include "qdmeta/archive/centroid_values.hpp"
+#include "qdmeta/archive/fast_distance.hpp"
+#include "qdmeta/archive/list_selection.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace qdmeta {
@@ -19,11 +24,8 @@ constexpr Index kPointBlock = 64;
 constexpr Index kCentroidBlock = 512;
 
 struct NeighbourScratch {
-  Vector values;
-  std::vector<std::int32_t> order, below;
-  std::vector<std::pair<Real, std::int32_t>> passed;
-  std::vector<Real> sample;
-  std::vector<std::pair<double, std::int32_t>> exact;
+  std::vector<Real> values, sample;
+  std::vector<std::uint64_t> keys, chosen, scratch;
 };
 
 struct Candidate {
@@ -61,8 +63,15 @@ NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(cen
                                  centroids_.rows(), centroids_.cols()));
   if (!centroids_.allFinite()) throw InputError("nearest centroid: a centroid has a NaN or infinite coordinate");
   transposed_ = -2 * centroids_.transpose();  // x * transposed_ = -2 x.c (exact scaling)
-  transposed_rows_ = transposed_;
   norms_ = centroids_.rowwise().squaredNorm();
+  const Index k = centroids_.rows(), d = centroids_.cols(), padded = padded_centroids(k);
+  blocked_.assign(static_cast<std::size_t>(padded * d), 0.0f);
+  padded_norms_.assign(static_cast<std::size_t>(padded), 0.0f);
+  for (Index c = 0; c < k; ++c) {
+    padded_norms_[static_cast<std::size_t>(c)] = norms_[c];
+    for (Index i = 0; i < d; ++i)
+      blocked_[static_cast<std::size_t>(((c / kValueLanes) * d + i) * kValueLanes + c % kValueLanes)] = transposed_(i, c);
+  }
   max_norm_ = std::sqrt(static_cast<double>(norms_.maxCoeff()));
 }
 
@@ -72,49 +81,59 @@ Index NearestCentroid::find(const Real* point) const {
   return cell;
 }
 
-void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* cells, float* distances,
+void NearestCentroid::neighbours(const Real* points, Index rows, Index count, std::int32_t* cells, float* distances,
                                  double* outside) const {
-  const Index k = this->count(), d = dimensions();
-  const Eigen::Map<const Vector> x(point, d);
-  // Per-thread scratch: a remake runs for about a quarter of the offspring that enter, and
-  // allocating its k-long buffers each time cost more than the selection itself.
+  // Per-thread scratch: allocating its k-long buffers for each remake cost more than the
+  // selection itself.
   thread_local NeighbourScratch s;
-  Vector& values = s.values;
-  values = norms_;
-  values.noalias() += transposed_rows_.transpose() * x;
-  // The `count` smallest values (ties to the lowest index). A threshold from every 16th value,
-  // set to let through about twice `count`, keeps one cheap pass over all values and a selection
-  // among the few that pass; when too few pass, the selection runs over all values.
-  std::vector<std::int32_t>& order = s.order;
-  order.clear();
+  const Index padded = padded_centroids(this->count()), d = dimensions();
+  s.values.resize(static_cast<std::size_t>(kValueRows * padded));
+  for (Index first = 0; first < rows; first += kValueRows) {
+    const Index n = std::min(kValueRows, rows - first);
+    centroid_values(points + first * d, n, blocked_.data(), padded_norms_.data(), padded, d, s.values.data());
+    for (Index r = 0; r < n; ++r) {
+      const Index row = first + r;
+      select_list(points + row * d, s.values.data() + r * padded, count, cells + row * count, distances + row * count,
+                  outside + row);
+    }
+  }
+}
+
+void NearestCentroid::select_list(const Real* point, const Real* values, Index count, std::int32_t* cells,
+                                  float* distances, double* outside) const {
+  thread_local NeighbourScratch s;
+  const Index k = this->count(), d = dimensions();
+  std::vector<std::uint64_t>& keys = s.keys;
+  std::vector<std::uint64_t>& chosen = s.chosen;
+  keys.clear();
   if (count < k) {
-    std::vector<std::pair<Real, std::int32_t>>& passed = s.passed;
+    // The `count` smallest values (ties to the lowest index). A threshold from every 32nd value,
+    // set to let through about twice `count`, keeps one cheap pass over all values and a
+    // selection among the few that pass; when too few pass, the selection runs over all values.
     std::vector<Real>& sample = s.sample;
-    passed.clear();
     sample.clear();
-    for (Index j = 0; j < k; j += 16) sample.push_back(values[j]);
-    const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 16 + 8));
+    for (Index j = 0; j < k; j += 32) sample.push_back(values[j]);
+    const auto q = std::min<std::size_t>(sample.size() - 1, static_cast<std::size_t>(2 * count / 32 + 4));
     std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(q), sample.end());
     const Real threshold = sample[q];
-    std::vector<std::int32_t>& below = s.below;
-    below.resize(static_cast<std::size_t>(k));
-    std::size_t n_below = 0;
-    for (Index j = 0; j < k; ++j) {  // branch-free compaction
-      below[n_below] = static_cast<std::int32_t>(j);
-      n_below += values[j] <= threshold;
+    for (Index j0 = 0; j0 < k; j0 += 16) {  // a mask per 16 values (vectorised), then its set bits
+      const Index n = std::min<Index>(16, k - j0);
+      unsigned mask = 0;
+      for (Index j = 0; j < n; ++j) mask |= static_cast<unsigned>(values[j0 + j] <= threshold) << j;
+      for (; mask != 0; mask &= mask - 1) {
+        const Index j = j0 + std::countr_zero(mask);
+        keys.push_back(value_key(values[j], j));
+      }
     }
-    passed.reserve(n_below);
-    for (std::size_t i = 0; i < n_below; ++i) passed.emplace_back(values[below[i]], below[i]);
-    if (static_cast<Index>(passed.size()) <= count) {  // rare: select among all values
-      passed.clear();
-      for (Index j = 0; j < k; ++j) passed.emplace_back(values[j], static_cast<std::int32_t>(j));
+    if (static_cast<Index>(keys.size()) <= count) {  // rare: select among all values
+      keys.clear();
+      for (Index j = 0; j < k; ++j) keys.push_back(value_key(values[j], j));
     }
-    std::nth_element(passed.begin(), passed.begin() + count, passed.end());
     // The smallest value left out: the values that did not pass exceed every one that did.
-    const Real next = std::min_element(passed.begin() + count, passed.end())->first;
-    for (Index i = 0; i < count; ++i) order.push_back(passed[static_cast<std::size_t>(i)].second);
+    const Real next = key_value(select_smallest(keys, count, chosen, s.scratch));
     // Every centroid outside the list has a float value at least `next`; its exact value is at
     // least that minus the rounding bound (as in find()), plus ||x||^2 for the distance.
+    const Eigen::Map<const Vector> x(point, d);
     const double reach = std::sqrt(static_cast<double>(x.squaredNorm())) + max_norm_;
     const double error = 4.0 * (static_cast<double>(d) + 1.0) * (std::numeric_limits<Real>::epsilon() / 2) * reach * reach;
     double norm = 0.0;
@@ -122,19 +141,25 @@ void NearestCentroid::neighbours(const Real* point, Index count, std::int32_t* c
     const double squared = norm + static_cast<double>(next) - error;
     *outside = squared > 0 ? std::sqrt(squared) * (1 - 1e-9) : 0.0;
   } else {
-    for (Index j = 0; j < k; ++j) order.push_back(static_cast<std::int32_t>(j));
+    chosen.clear();
+    for (Index j = 0; j < k; ++j) chosen.push_back(value_key(0.0f, j));
     *outside = std::numeric_limits<double>::infinity();
   }
-  std::vector<std::pair<double, std::int32_t>>& exact = s.exact;
-  exact.resize(static_cast<std::size_t>(count));
+  // The listed centroids (in index order) sorted by distance, the fast one rounded to float
+  // (well within the 1e-6 the walks allow for); the sort is stable, so ties go to the lowest
+  // index. Rows are prefetched a few ahead: they are scattered over all centroids.
+  constexpr Index kAhead = 8;
+  for (Index i = 0; i < std::min(count, kAhead); ++i) __builtin_prefetch(centroids_.row(key_index(chosen[static_cast<std::size_t>(i)])).data());
   for (Index i = 0; i < count; ++i) {
-    const std::int32_t c = order[static_cast<std::size_t>(i)];
-    exact[static_cast<std::size_t>(i)] = {squared_distance(point, centroids_.row(c).data(), d), c};
+    if (i + kAhead < count) __builtin_prefetch(centroids_.row(key_index(chosen[static_cast<std::size_t>(i + kAhead)])).data());
+    const std::int32_t c = key_index(chosen[static_cast<std::size_t>(i)]);
+    const auto distance = static_cast<float>(std::sqrt(fast_squared_distance(point, centroids_.row(c).data(), d)));
+    chosen[static_cast<std::size_t>(i)] = value_key(distance, c);
   }
-  std::sort(exact.begin(), exact.end());
+  sort_by_value(chosen, s.scratch);
   for (Index i = 0; i < count; ++i) {
-    cells[i] = exact[static_cast<std::size_t>(i)].second;
-    distances[i] = static_cast<float>(std::sqrt(exact[static_cast<std::size_t>(i)].first));
+    cells[i] = key_index(chosen[static_cast<std::size_t>(i)]);
+    distances[i] = key_value(chosen[static_cast<std::size_t>(i)]);
   }
 }
 
