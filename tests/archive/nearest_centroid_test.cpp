@@ -78,7 +78,7 @@ TEST(NearestCentroid, ExactTiesGoToTheLowestIndex) {
   expect_matches_naive(centroids, random_block(200, 20, 9));
 }
 
-TEST(NearestCentroid, NeighbourListsAreSortedExactAndBoundTheRest) {
+TEST(NearestCentroid, NeighbourListsAreSortedAndBoundTheirEntriesAndTheRest) {
   const Index k = 700, d = 20;
   const RowMatrix centroids = random_block(k, d, 41);
   const NearestCentroid search(centroids);
@@ -94,7 +94,8 @@ TEST(NearestCentroid, NeighbourListsAreSortedExactAndBoundTheRest) {
         const auto u = static_cast<std::size_t>(j);
         listed[static_cast<std::size_t>(cells[u])] = true;
         const double exact = std::sqrt(squared_distance(points.row(i).data(), centroids.row(cells[u]).data(), d));
-        EXPECT_NEAR(distances[u], exact, 1e-6 * exact);
+        EXPECT_LE(distances[u], exact * (1 + 1e-7));  // a lower bound (rounded to float)
+        EXPECT_GE(distances[u], exact - 1e-3);        // and not loose
         if (j > 0) {
           EXPECT_LE(distances[u - 1], distances[u]);
         }

@@ -5,8 +5,8 @@
 // features.
 //
 // Offspring land near their parent, so each elite also keeps a neighbour list: the `neighbours`
-// centroids nearest its descriptor with their distances, and a lower bound on its distance to
-// every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
+// centroids nearest its descriptor with lower bounds on their distances (sorted), and a lower
+// bound on its distance to every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
 // least d(m_p, c) - delta from any centroid c (triangle inequality): walking p's list in order
 // of distance finds the nearest listed centroid, and when p's outside bound minus delta exceeds
 // that distance no other centroid can be nearer, so the answer is exact without the full search

@@ -1,31 +1,58 @@
 #pragma once
 // A fast squared distance for filtering, next to the reference squared_distance
-// (nearest_centroid.hpp): the same double differences and squares, summed in eight independent
-// lanes (which the compiler vectorises) instead of one chain in index order. Its bits may differ
+// (nearest_centroid.hpp): the same double differences and squares, summed in eight lanes of a
+// vector and a scalar tail instead of one chain in index order. Its bits may differ
 // from the reference's in the last places, and with the instruction set, so it only ever decides
 // which centroids get the reference check, never a cell: both sums of the same d non-negative
-// terms lie within relative_error(d) of the exact real sum.
+// terms lie within distance_relative_error(d) of the exact real sum.
 #include <cstddef>
+#include <cstring>
 #include <limits>
 
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
 
-inline double fast_squared_distance(const Real* a, const Real* b, Index dimensions) {
-  constexpr int kLanes = 8;
-  double lane[kLanes] = {};
+namespace detail {
+// Eight lanes in one vector (an AVX-512 register; split by the compiler on narrower machines),
+// so that the partial sums stay in registers.
+using Doubles = double __attribute__((vector_size(8 * sizeof(double))));
+using Floats = Real __attribute__((vector_size(8 * sizeof(Real))));
+
+template <class A>
+double lane_squared_distance(const A* a, const Real* b, Index dimensions) {
+  Doubles acc = {};
   Index i = 0;
-  for (; i + kLanes <= dimensions; i += kLanes)
-    for (int j = 0; j < kLanes; ++j) {
-      const double t = static_cast<double>(a[i + j]) - static_cast<double>(b[i + j]);
-      lane[j] += t * t;
+  for (; i + 8 <= dimensions; i += 8) {
+    Floats fb;
+    std::memcpy(&fb, b + i, sizeof fb);
+    Doubles da;
+    if constexpr (sizeof(A) == sizeof(double)) {
+      std::memcpy(&da, a + i, sizeof da);
+    } else {
+      Floats fa;
+      std::memcpy(&fa, a + i, sizeof fa);
+      da = __builtin_convertvector(fa, Doubles);
     }
-  for (int j = 0; i + j < dimensions; ++j) {
-    const double t = static_cast<double>(a[i + j]) - static_cast<double>(b[i + j]);
-    lane[j] += t * t;
+    const Doubles t = da - __builtin_convertvector(fb, Doubles);
+    acc += t * t;
   }
-  return ((lane[0] + lane[4]) + (lane[1] + lane[5])) + ((lane[2] + lane[6]) + (lane[3] + lane[7]));
+  double tail = 0.0;
+  for (; i < dimensions; ++i) {
+    const double t = static_cast<double>(a[i]) - static_cast<double>(b[i]);
+    tail += t * t;
+  }
+  return (((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]))) + tail;
+}
+}  // namespace detail
+
+inline double fast_squared_distance(const Real* a, const Real* b, Index dimensions) {
+  return detail::lane_squared_distance(a, b, dimensions);
+}
+
+// The same with `a` already in double (a point compared with many centroids): the same bits.
+inline double fast_squared_distance(const double* a, const Real* b, Index dimensions) {
+  return detail::lane_squared_distance(a, b, dimensions);
 }
 
 // A bound, with a wide safety factor, on the relative distance of either sum (fast or

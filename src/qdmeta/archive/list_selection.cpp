@@ -18,28 +18,38 @@ std::uint64_t select_smallest(const std::vector<std::uint64_t>& keys, Index coun
   }
   const double width = static_cast<double>(hi) - static_cast<double>(lo);
   const double scale = width > 0 ? kBuckets / width : 0.0;
-  const auto bucket = [&](std::uint64_t key) {
-    const double t = (static_cast<double>(key_value(key)) - static_cast<double>(lo)) * scale;
-    return std::min(kBuckets - 1, static_cast<int>(t));
-  };
+  thread_local std::vector<std::uint8_t> buckets;
+  buckets.resize(keys.size());
   std::array<Index, kBuckets> sizes{};
-  for (std::uint64_t key : keys) ++sizes[static_cast<std::size_t>(bucket(key))];
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const double t = (static_cast<double>(key_value(keys[i])) - static_cast<double>(lo)) * scale;
+    const auto b = static_cast<std::uint8_t>(std::min(kBuckets - 1, static_cast<int>(t)));
+    buckets[i] = b;
+    ++sizes[b];
+  }
   int edge = 0;
   Index below = 0;  // keys in buckets before `edge`
   while (below + sizes[static_cast<std::size_t>(edge)] <= count) below += sizes[static_cast<std::size_t>(edge++)];
   // The edge bucket has more keys than the `count - below` still wanted: the smallest of them
   // go in, and the next one is the smallest key left out of the whole set.
-  scratch.clear();
-  for (std::uint64_t key : keys)
-    if (bucket(key) == edge) scratch.push_back(key);
+  // Branch-free compactions: which keys go where is data, not control flow.
+  scratch.resize(keys.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    scratch[n] = keys[i];
+    n += buckets[i] == edge;
+  }
+  scratch.resize(n);
   const auto wanted = static_cast<std::size_t>(count - below);
   std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(wanted), scratch.end());
   const std::uint64_t next = scratch[wanted];
-  chosen.clear();
-  for (std::uint64_t key : keys) {
-    const int b = bucket(key);
-    if (b < edge || (b == edge && key < next)) chosen.push_back(key);
+  chosen.resize(keys.size());
+  n = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    chosen[n] = keys[i];
+    n += (buckets[i] < edge) | ((buckets[i] == edge) & (keys[i] < next));
   }
+  chosen.resize(n);
   return next;
 }
 

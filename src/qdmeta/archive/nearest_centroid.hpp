@@ -35,9 +35,10 @@ class NearestCentroid {
   Index find(const Real* point) const;
 
   // A neighbour list for `point`: the `count` centroids with the smallest float distance values
-  // (count <= count()), sorted by distance (rounded to float: relative error under 1e-7; ties
-  // to the lowest index), into `cells` and `distances`, and a lower bound on the distance from
-  // the point to every centroid not in the list (infinity when the list holds them all).
+  // (count <= count()), sorted by those values (ties to the lowest index), into `cells`, with a
+  // lower bound on each one's distance into `distances` (non-decreasing, within the values'
+  // rounding bound of the exact distance), and a lower bound on the distance from the point to
+  // every centroid not in the list (infinity when the list holds them all).
   void neighbours(const Real* point, Index count, std::int32_t* cells, float* distances, double* outside) const {
     neighbours(point, 1, count, cells, distances, outside);
   }
