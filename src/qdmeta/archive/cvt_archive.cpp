@@ -96,9 +96,22 @@ Index CvtArchive::from_parent(const Real* x, Index parent) const {
   const double delta = std::sqrt(fast_squared_distance(x, measures(parent), d)) * wide;
   const Real* listed = lists_.distances.row(parent).data();
   const double slack = lists_.slack[static_cast<std::size_t>(parent)];
-  thread_local std::vector<double> fast, point;
-  fast.resize(static_cast<std::size_t>(list_length_));
-  point.assign(x, x + d);
+  // Scratch in locals (a thread_local reached through the TLS block on every entry cost
+  // measurably): on the stack for the usual sizes.
+  constexpr Index kStack = 512;
+  double fast_stack[kStack], point_stack[kStack];
+  thread_local std::vector<double> fast_heap, point_heap;
+  double* fast = fast_stack;
+  double* point = point_stack;
+  if (list_length_ > kStack) {
+    fast_heap.resize(static_cast<std::size_t>(list_length_));
+    fast = fast_heap.data();
+  }
+  if (d > kStack) {
+    point_heap.resize(static_cast<std::size_t>(d));
+    point = point_heap.data();
+  }
+  std::copy_n(x, d, point);
   double best_fast = std::numeric_limits<double>::infinity();
   double best_bound = best_fast;  // above the true distance to the nearest walked centroid
   Index walked = 0;
@@ -117,8 +130,8 @@ Index CvtArchive::from_parent(const Real* x, Index parent) const {
       __builtin_prefetch(ahead);
       __builtin_prefetch(ahead + d - 1);
     }
-    const double f = fast_squared_distance(point.data(), search_.centroids().row(list[walked]).data(), d);
-    fast[static_cast<std::size_t>(walked)] = f;
+    const double f = fast_squared_distance(point, search_.centroids().row(list[walked]).data(), d);
+    fast[walked] = f;
     if (f < best_fast) {
       best_fast = f;
       best_bound = std::sqrt(f) * wide;
@@ -130,7 +143,7 @@ Index CvtArchive::from_parent(const Real* x, Index parent) const {
   Index best = -1;
   double best_squared = std::numeric_limits<double>::infinity();
   for (Index i = 0; i < walked; ++i) {
-    if (fast[static_cast<std::size_t>(i)] > cut) continue;
+    if (fast[i] > cut) continue;
     const Index c = list[i];
     const double squared = squared_distance(x, search_.centroids().row(c).data(), d);
     if (squared < best_squared || (squared == best_squared && c < best)) {

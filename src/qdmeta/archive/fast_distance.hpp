@@ -38,6 +38,16 @@ double lane_squared_distance(const A* a, const Real* b, Index dimensions) {
     acc += t * t;
   }
   double tail = 0.0;
+  if (i + 4 <= dimensions) {  // e.g. the last 4 of 20
+    using Doubles4 = double __attribute__((vector_size(4 * sizeof(double))));
+    Doubles4 quarter;
+    for (int j = 0; j < 4; ++j) {
+      const double t = static_cast<double>(a[i + j]) - static_cast<double>(b[i + j]);
+      quarter[j] = t * t;
+    }
+    tail = (quarter[0] + quarter[2]) + (quarter[1] + quarter[3]);
+    i += 4;
+  }
   for (; i < dimensions; ++i) {
     const double t = static_cast<double>(a[i]) - static_cast<double>(b[i]);
     tail += t * t;
