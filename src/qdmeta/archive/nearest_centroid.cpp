@@ -189,7 +189,62 @@ void NearestCentroid::select_list(const Real* point, const Real* values, Index c
   }
 }
 
+namespace {
+// The smallest of k values (NaN never is).
+Real min_value(const Real* values, Index k) {
+  using Lanes = Real __attribute__((vector_size(16 * sizeof(Real))));
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  Lanes lowest = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+  Index j = 0;
+  for (; j + 16 <= k; j += 16) {
+    Lanes v;
+    std::memcpy(&v, values + j, sizeof v);
+    lowest = v < lowest ? v : lowest;
+  }
+  Real best = kInf;
+  for (int i = 0; i < 16; ++i) best = lowest[i] < best ? lowest[i] : best;
+  for (; j < k; ++j) best = values[j] < best ? values[j] : best;
+  return best;
+}
+}  // namespace
+
+void NearestCentroid::find_few(const Real* points, Index n, Index* cells, double* distances) const {
+  // As find() below, with the values of kValueRows points at a time from centroid_values (no
+  // packing of the operands, which for a few points cost more than the product itself); the
+  // same bounds, so the same answers.
+  const Index k = count(), d = dimensions(), padded = padded_centroids(k);
+  const double unit = std::numeric_limits<Real>::epsilon() / 2;
+  thread_local std::vector<Real> values;
+  thread_local std::vector<std::int32_t> candidates;
+  values.resize(static_cast<std::size_t>(kValueRows * padded));
+  candidates.resize(static_cast<std::size_t>(k + 16));
+  for (Index first = 0; first < n; first += kValueRows) {
+    const Index rows = std::min(kValueRows, n - first);
+    centroid_values(points + first * d, rows, blocked_.data(), padded_norms_.data(), padded, d, values.data());
+    for (Index r = 0; r < rows; ++r) {
+      const Real* row = values.data() + r * padded;
+      const Real* p = points + (first + r) * d;
+      const double reach = std::sqrt(static_cast<double>(Eigen::Map<const Vector>(p, d).squaredNorm())) + max_norm_;
+      const auto slack = static_cast<Real>(8.0 * (static_cast<double>(d) + 1.0) * unit * reach * reach + 1e-30);
+      const std::size_t m = indices_at_most(row, k, min_value(row, k) + slack, candidates.data());
+      Index winner = -1;
+      double winner_distance = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < m; ++i) {  // in increasing cell order
+        const double dist = squared_distance(p, centroids_.row(candidates[i]).data(), d);
+        if (dist < winner_distance) {
+          winner_distance = dist;
+          winner = candidates[i];
+        }
+      }
+      if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));
+      cells[first + r] = winner;
+      if (distances) distances[first + r] = winner_distance;
+    }
+  }
+}
+
 void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
+  if (n < kPointBlock) return find_few(points, n, cells, distances);
   const Index k = count(), d = dimensions();
   // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
   // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their

@@ -49,6 +49,8 @@ class NearestCentroid {
                   double* outside) const;
 
  private:
+  // find() for fewer than one block of points (the parent-bound search's few unsettled rows).
+  void find_few(const Real* points, Index n, Index* cells, double* distances) const;
   // One point's list from its values against every centroid.
   void select_list(const Real* point, const Real* values, Index count, std::int32_t* cells, float* distances,
                    double* outside) const;
