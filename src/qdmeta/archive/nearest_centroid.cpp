@@ -21,11 +21,6 @@
 namespace qdmeta {
 namespace {
 
-// Block sizes of the distance product (the best of those measured, bench/README.md): a 64 x 512
-// float block (128 KiB) stays in L2 while it is scanned for its minimum.
-constexpr Index kPointBlock = 64;
-constexpr Index kCentroidBlock = 512;
-
 // Neighbour lists: the threshold comes from every kSampleStep-th value.
 constexpr Index kSampleStep = 64;
 
@@ -59,10 +54,6 @@ struct NeighbourScratch {
   std::vector<std::int32_t> passed;
 };
 
-struct Candidate {
-  Index cell;
-  Real value;  // ||c||^2 - 2 x.c in float
-};
 
 }  // namespace
 
@@ -93,7 +84,6 @@ NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(cen
     throw InputError(fmt::format("nearest centroid: {} x {} centroids: need at least one centroid of one dimension",
                                  centroids_.rows(), centroids_.cols()));
   if (!centroids_.allFinite()) throw InputError("nearest centroid: a centroid has a NaN or infinite coordinate");
-  transposed_ = -2 * centroids_.transpose();  // x * transposed_ = -2 x.c (exact scaling)
   norms_ = centroids_.rowwise().squaredNorm();
   const Index k = centroids_.rows(), d = centroids_.cols(), padded = padded_centroids(k);
   blocked_.assign(static_cast<std::size_t>(padded * d), 0.0f);
@@ -101,7 +91,7 @@ NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(cen
   for (Index c = 0; c < k; ++c) {
     padded_norms_[static_cast<std::size_t>(c)] = norms_[c];
     for (Index i = 0; i < d; ++i)
-      blocked_[static_cast<std::size_t>(((c / kValueLanes) * d + i) * kValueLanes + c % kValueLanes)] = transposed_(i, c);
+      blocked_[static_cast<std::size_t>(((c / kValueLanes) * d + i) * kValueLanes + c % kValueLanes)] = -2 * centroids_(c, i);  // exact scaling
   }
   max_norm_ = std::sqrt(static_cast<double>(norms_.maxCoeff()));
 }
@@ -208,10 +198,14 @@ Real min_value(const Real* values, Index k) {
 }
 }  // namespace
 
-void NearestCentroid::find_few(const Real* points, Index n, Index* cells, double* distances) const {
-  // As find() below, with the values of kValueRows points at a time from centroid_values (no
-  // packing of the operands, which for a few points cost more than the product itself); the
-  // same bounds, so the same answers.
+void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
+  // The values of kValueRows points at a time (centroid_values), the smallest, then the exact
+  // reference distance for every centroid whose value lies within the rounding bound of it.
+  // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
+  // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their
+  // magnitudes, under (2d + 1) u (||x|| + ||c||)^2 in all. Two values whose exact order could
+  // differ lie within twice that; the slack doubles it again for safety. (Faster than Eigen's
+  // packed product at every size measured, bench/README.md: no packing of the operands.)
   const Index k = count(), d = dimensions(), padded = padded_centroids(k);
   const double unit = std::numeric_limits<Real>::epsilon() / 2;
   thread_local std::vector<Real> values;
@@ -234,68 +228,6 @@ void NearestCentroid::find_few(const Real* points, Index n, Index* cells, double
         if (dist < winner_distance) {
           winner_distance = dist;
           winner = candidates[i];
-        }
-      }
-      if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));
-      cells[first + r] = winner;
-      if (distances) distances[first + r] = winner_distance;
-    }
-  }
-}
-
-void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
-  if (n < kPointBlock) return find_few(points, n, cells, distances);
-  const Index k = count(), d = dimensions();
-  // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d
-  // terms) and the d + 1 terms of the sum each add at most about d unit roundoffs times their
-  // magnitudes, under (2d + 1) u (||x|| + ||c||)^2 in all. Two values whose exact order could
-  // differ lie within twice that; the slack doubles it again for safety.
-  const double unit = std::numeric_limits<Real>::epsilon() / 2;
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  RowMatrix values;
-  const auto block_rows = static_cast<std::size_t>(std::min(n, kPointBlock));
-  std::vector<std::vector<Candidate>> candidates(block_rows);
-  std::vector<Real> best(block_rows), slack(block_rows);  // per row: the smallest float value
-  for (Index first = 0; first < n; first += kPointBlock) {
-    const Index rows = std::min(kPointBlock, n - first);
-    const Eigen::Map<const RowMatrix> x(points + first * d, rows, d);
-    for (Index r = 0; r < rows; ++r) {
-      const auto u = static_cast<std::size_t>(r);
-      candidates[u].clear();
-      best[u] = kInf;
-      const double reach = std::sqrt(static_cast<double>(x.row(r).squaredNorm())) + max_norm_;
-      slack[u] = static_cast<Real>(8.0 * (static_cast<double>(d) + 1.0) * unit * reach * reach + 1e-30);
-    }
-    for (Index c0 = 0; c0 < k; c0 += kCentroidBlock) {
-      const Index cols = std::min(kCentroidBlock, k - c0);
-      // values(r, j) = ||c_j||^2 - 2 x_r.c_j: the norms broadcast, then the product added.
-      values.resize(rows, cols);
-      values.rowwise() = norms_.segment(c0, cols).transpose();
-      values.noalias() += x * transposed_.middleCols(c0, cols);
-      for (Index r = 0; r < rows; ++r) {
-        const auto u = static_cast<std::size_t>(r);
-        // Most blocks hold nothing near the best so far: one vectorised minimum rules them out.
-        const Real block_min = values.row(r).minCoeff();
-        if (!(block_min <= best[u] + slack[u])) continue;
-        best[u] = std::min(best[u], block_min);
-        const Real limit = best[u] + slack[u];
-        const Real* row = values.row(r).data();
-        for (Index j = 0; j < cols; ++j)
-          if (row[j] <= limit) candidates[u].push_back({c0 + j, row[j]});
-      }
-    }
-    for (Index r = 0; r < rows; ++r) {
-      const auto u = static_cast<std::size_t>(r);
-      const Real limit = best[u] + slack[u];
-      const Real* p = points + (first + r) * d;
-      Index winner = -1;
-      double winner_distance = std::numeric_limits<double>::infinity();
-      for (const Candidate& c : candidates[u]) {  // in increasing cell order
-        if (c.value > limit) continue;
-        const double dist = squared_distance(p, centroids_.row(c.cell).data(), d);
-        if (dist < winner_distance) {
-          winner_distance = dist;
-          winner = c.cell;
         }
       }
       if (winner < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", first + r));

@@ -1,7 +1,7 @@
 #pragma once
 // Exact nearest-centroid search for CVT archives and k-means. Distances are first computed for
-// blocks of points x blocks of centroids as ||c||^2 - 2 x.c through an Eigen float matrix
-// product (the arithmetic peak of the machine); every centroid whose float value lies within the
+// blocks of points against all centroids as ||c||^2 - 2 x.c in float (centroid_values.hpp,
+// at the multiply-add peak of the machine); every centroid whose float value lies within the
 // product's rounding bound of the best is then re-checked with the exact reference distance
 // (squared_distance below, in double), so the answer is the centroid the plain loop over all
 // centroids would pick, ties broken by the lowest index.
@@ -49,15 +49,12 @@ class NearestCentroid {
                   double* outside) const;
 
  private:
-  // find() for fewer than one block of points (the parent-bound search's few unsettled rows).
-  void find_few(const Real* points, Index n, Index* cells, double* distances) const;
   // One point's list from its values against every centroid.
   void select_list(const Real* point, const Real* values, Index count, std::int32_t* cells, float* distances,
                    double* outside) const;
 
   RowMatrix centroids_;
-  Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> transposed_;  // -2 C^T (d x k), column per centroid
-  std::vector<Real> blocked_;        // the same in blocks of 16 centroids (centroid_values.hpp)
+  std::vector<Real> blocked_;        // -2 C^T in blocks of 16 centroids (centroid_values.hpp)
   std::vector<Real> padded_norms_;   // ||c||^2, padded to whole blocks
   Vector norms_;                                                     // ||c||^2 in float
   double max_norm_ = 0.0;                                            // max ||c||
