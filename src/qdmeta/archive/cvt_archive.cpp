@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -122,7 +122,7 @@ Index CvtArchive::from_parent(const Real* x, Index parent) const {
     if (lower > best_bound) break;  // the list is sorted: no later entry can be as near
     // Past the rows prefetched before the walk, the loads are started a few entries ahead.
     if (walked + kWalkAhead < list_length_) {
-      if ((walked & 15) == 0) {
+      if ((walked & 15) == 0 && walked + 2 * kWalkAhead < list_length_) {
         __builtin_prefetch(list + walked + 2 * kWalkAhead);
         __builtin_prefetch(listed + walked + 2 * kWalkAhead);
       }

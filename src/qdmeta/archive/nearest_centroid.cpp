@@ -3,15 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#if defined(__AVX512F__)
-#include <immintrin.h>
-#endif
 #include <bit>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <utility>
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #include "qdmeta/archive/centroid_values.hpp"
 #include "qdmeta/archive/fast_distance.hpp"
@@ -48,12 +48,28 @@ std::size_t indices_at_most(const Real* values, Index k, Real threshold, std::in
   return n;
 }
 
+// The smallest of k values (NaN never is).
+Real min_value(const Real* values, Index k) {
+  using Lanes = Real __attribute__((vector_size(16 * sizeof(Real))));
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  Lanes lowest = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+  Index j = 0;
+  for (; j + 16 <= k; j += 16) {
+    Lanes v;
+    std::memcpy(&v, values + j, sizeof v);
+    lowest = v < lowest ? v : lowest;
+  }
+  Real best = kInf;
+  for (int i = 0; i < 16; ++i) best = lowest[i] < best ? lowest[i] : best;
+  for (; j < k; ++j) best = values[j] < best ? values[j] : best;
+  return best;
+}
+
 struct NeighbourScratch {
   std::vector<Real> values, sample;
   std::vector<std::uint64_t> keys, chosen, scratch;
   std::vector<std::int32_t> passed;
 };
-
 
 }  // namespace
 
@@ -178,25 +194,6 @@ void NearestCentroid::select_list(const Real* point, const Real* values, Index c
     distances[i] = static_cast<float>(lower_distance(key_value(key)) * (1 - 1e-9));
   }
 }
-
-namespace {
-// The smallest of k values (NaN never is).
-Real min_value(const Real* values, Index k) {
-  using Lanes = Real __attribute__((vector_size(16 * sizeof(Real))));
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  Lanes lowest = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
-  Index j = 0;
-  for (; j + 16 <= k; j += 16) {
-    Lanes v;
-    std::memcpy(&v, values + j, sizeof v);
-    lowest = v < lowest ? v : lowest;
-  }
-  Real best = kInf;
-  for (int i = 0; i < 16; ++i) best = lowest[i] < best ? lowest[i] : best;
-  for (; j < k; ++j) best = values[j] < best ? values[j] : best;
-  return best;
-}
-}  // namespace
 
 void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
   // The values of kValueRows points at a time (centroid_values), the smallest, then the exact
