@@ -10,11 +10,9 @@ namespace {
 using Lanes = Real __attribute__((vector_size(16 * sizeof(Real))));
 constexpr Index kLanes = kValueLanes;
 
-Lanes load(const Real* p) {
-  Lanes v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
+// Through a reference: a vector returned by value changes the ABI where 512-bit registers are
+// missing (GCC's -Wpsabi).
+void load(Lanes& v, const Real* p) { std::memcpy(&v, p, sizeof v); }
 
 // R points x C blocks of 16 centroids, all accumulators in registers; at least 8 independent
 // accumulators keep both multiply-add pipes busy (R * C >= 8).
@@ -25,12 +23,16 @@ void kernel(const Real* points, const Real* blocked, const Real* norms, Index k,
     const Index chunks = std::min<Index>(C, (k - j) / kLanes);
     Lanes acc[R][C];
     for (int c = 0; c < C; ++c)
-      for (int r = 0; r < R; ++r) acc[r][c] = c < chunks ? load(norms + j + c * kLanes) : Lanes{};
+      for (int r = 0; r < R; ++r) {
+        acc[r][c] = Lanes{};
+        if (c < chunks) load(acc[r][c], norms + j + c * kLanes);
+      }
     const Real* t = blocked + (j / kLanes) * block_floats;
     for (Index i = 0; i < d; ++i)
       for (int c = 0; c < C; ++c) {
         if (c >= chunks) break;
-        const Lanes column = load(t + c * block_floats + i * kLanes);
+        Lanes column;
+        load(column, t + c * block_floats + i * kLanes);
         for (int r = 0; r < R; ++r) acc[r][c] += points[r * d + i] * column;
       }
     for (int r = 0; r < R; ++r)
