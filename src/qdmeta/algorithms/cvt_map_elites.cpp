@@ -127,8 +127,8 @@ bool CvtMapElites::take_results() {
   }
   lists_.resize(count, archive.list_length());
   if (archive.list_length() > 0) {
-    // Parents' lists where they serve; the rest are remade together, kValueRows per task (the
-    // centroids streamed once per block; blocks depend on the batch only, not the threads).
+    // Parents' lists where they serve; the rest are remade together, at most kValueRows per task
+    // (the centroids streamed once per block; blocks depend on the batch only, not the threads).
     const auto entering = static_cast<Index>(entering_.size());
     remade_.assign(entering_.size(), 0);
     for_each_chunk((entering + chunk - 1) / chunk, [&](Index c) {
@@ -146,8 +146,8 @@ bool CvtMapElites::take_results() {
     const Index d = task_.base_feature_size();
     remade_points_.resize(remade, d);
     for (Index i = 0; i < remade; ++i) remade_points_.row(i) = evaluations_.base_features.row(remade_rows_[static_cast<std::size_t>(i)]);
-    // An even number of blocks of near-equal size (about 18 remakes per batch of 400: 4 blocks
-    // of 5 rather than 8, 8, 2), so that two workers share them evenly.
+    // An even number of blocks of near-equal size (about 18 remakes per batch of 400: blocks of
+    // 5, 5, 5, 3 rather than 8, 8, 2), so that two workers share them evenly.
     const Index blocks = 2 * ((remade + 2 * kValueRows - 1) / (2 * kValueRows));
     const Index per_block = blocks > 0 ? (remade + blocks - 1) / blocks : 0;
     for_each_chunk(blocks, [&](Index b) {
