@@ -46,6 +46,31 @@ void BM_NearestCentroidNaive(benchmark::State& state) {
 }
 BENCHMARK(BM_NearestCentroidNaive)->Unit(benchmark::kMillisecond);
 
+// Neighbour lists (a CVT elite's 256 nearest centroids and the bound on the rest), the remake of
+// the parent-bound search: 64 points, made `rows` at a time (1: one per call; 8: the centroids
+// streamed once per 8 points). items_per_second = lists per second.
+void BM_NeighbourLists(benchmark::State& state) {
+  const NearestCentroid search(random_block(10'000, 20, 1));
+  const RowMatrix points = random_block(64, 20, 2);
+  const Index rows = state.range(0), length = 256;
+  std::vector<std::int32_t> cells(64 * length);
+  std::vector<float> distances(cells.size());
+  std::vector<double> outside(64);
+  for (auto _ : state) {
+    for (Index first = 0; first < 64; first += rows) {
+      if (rows == 1)  // the one-point call (main's only form: this case also builds against it)
+        search.neighbours(points.row(first).data(), length, cells.data() + first * length, distances.data() + first * length,
+                          outside.data() + first);
+      else
+        search.neighbours(points.row(first).data(), rows, length, cells.data() + first * length,
+                          distances.data() + first * length, outside.data() + first);
+    }
+    benchmark::DoNotOptimize(cells.data());
+  }
+  state.SetItemsProcessed(64 * state.iterations());
+}
+BENCHMARK(BM_NeighbourLists)->ArgName("rows")->Arg(1)->Arg(8)->Unit(benchmark::kMicrosecond);
+
 // k-means++ seeding and Lloyd iterations on a reduced case (1,000 centroids over 100,000 20-D
 // points); the full 10,000 x 1,000,000 case is timed as a whole run (bench/README.md).
 void BM_KMeans(benchmark::State& state) {

@@ -114,6 +114,64 @@ TEST(CvtArchive, LocatingFromParentsGivesTheNearestCentroid) {
   }
 }
 
+// Ties and near-ties: centroids on a grid of quarters (exact arithmetic) with duplicates, and
+// offspring exactly halfway between a parent's cell and a listed neighbour (equidistant: the
+// lowest index must win), or nudged off the midpoint by about one float ulp. Lists are made in
+// blocks (remake_lists), as CvtMapElites makes them, and must equal the lists one at a time.
+TEST(CvtArchive, LocatingFromParentsIsExactOnVoronoiBoundaries) {
+  Rng rng(37);
+  const Index k = 400, d = 6, length = 24;
+  RowMatrix centroids(k, d);
+  for (Index i = 0; i < centroids.size(); ++i) centroids.data()[i] = static_cast<Real>(rng.below(5)) * 0.25f;
+  for (Index i = 0; i < 20; ++i) centroids.row(k - 1 - i) = centroids.row(i * 7);  // exact duplicates, higher indices
+  CvtArchive archive({1, 0.0, length}, centroids);
+  const Real s = 0.0f;
+  // Elites near every 3rd centroid, their lists made in blocks.
+  RowMatrix elites(k / 3, d);
+  for (Index i = 0; i < elites.rows(); ++i)
+    for (Index j = 0; j < d; ++j) elites(i, j) = centroids(3 * i, j) + static_cast<Real>(0.05 * (rng.uniform() - 0.5));
+  std::vector<Index> rows(static_cast<std::size_t>(elites.rows()));
+  for (Index i = 0; i < elites.rows(); ++i) rows[static_cast<std::size_t>(i)] = i;
+  NeighbourLists lists, one;
+  lists.resize(elites.rows(), length);
+  one.resize(1, length);
+  archive.remake_lists(elites.data(), elites.rows(), rows.data(), lists);
+  for (Index i = 0; i < elites.rows(); ++i) {
+    archive.neighbours_of(elites.row(i).data(), -1, one, 0);
+    ASSERT_TRUE(one.cells.row(0) == lists.cells.row(i)) << "elite " << i;
+    ASSERT_TRUE(one.distances.row(0) == lists.distances.row(i)) << "elite " << i;
+    ASSERT_EQ(one.outside[0], lists.outside[static_cast<std::size_t>(i)]) << "elite " << i;
+  }
+  for (Index i = 0; i < elites.rows(); ++i)
+    archive.add_to_cell(archive.index_of(elites.row(i).data()), &s, 1.0f, elites.row(i).data(), lists, i);
+  const std::vector<Index> filled = archive.filled_cells();
+  const Index count = 3000;
+  RowMatrix offspring(count, d);
+  std::vector<Index> parents(static_cast<std::size_t>(count));
+  Index ties = 0;
+  for (Index r = 0; r < count; ++r) {
+    const Index p = filled[rng.below(filled.size())];
+    parents[static_cast<std::size_t>(r)] = p;
+    const auto other = static_cast<Index>(rng.below(static_cast<std::uint64_t>(k)));
+    offspring.row(r) = (centroids.row(p) + centroids.row(other)) / 2;  // exact: quarters halved
+    if (r % 3 == 1) offspring(r, r % d) = std::nextafter(offspring(r, r % d), 2.0f);
+    if (r % 3 == 2) offspring(r, r % d) = std::nextafter(offspring(r, r % d), -1.0f);
+    const Index naive = nearest_centroid_naive(centroids, offspring.row(r).data());
+    ties += squared_distance(offspring.row(r).data(), centroids.row(naive).data(), d) ==
+            squared_distance(offspring.row(r).data(), centroids.row(p).data(), d) && naive != p;
+  }
+  std::vector<Index> cells(static_cast<std::size_t>(count));
+  std::vector<std::uint8_t> settled(static_cast<std::size_t>(count));
+  archive.locate(offspring.data(), count, parents.data(), cells.data(), settled.data());
+  Index from_lists = 0;
+  for (Index r = 0; r < count; ++r) {
+    ASSERT_EQ(cells[static_cast<std::size_t>(r)], nearest_centroid_naive(centroids, offspring.row(r).data())) << "row " << r;
+    from_lists += settled[static_cast<std::size_t>(r)];
+  }
+  EXPECT_GT(ties, count / 40);        // the case is there: exact ties won by a lower index
+  EXPECT_GT(from_lists, count / 10);  // and the lists settle a good share of the rows
+}
+
 TEST(CvtArchive, RejectsBadParameters) {
   EXPECT_THROW(CvtArchive({0, 0.0}, RowMatrix::Zero(2, 2)), InputError);
   EXPECT_THROW(CvtArchive({1, 0.0}, RowMatrix(0, 2)), InputError);

@@ -93,6 +93,9 @@ class CvtMapElites final : public Algorithm {
   std::vector<Index> searched_per_chunk_;
   std::vector<Index> entering_;  // rows that would enter the archive as it was before the batch
   NeighbourLists lists_;         // their neighbour lists, one row per batch row
+  std::vector<std::uint8_t> remade_;  // per entering row: 1 when its list is made from all centroids
+  std::vector<Index> remade_rows_;    // those rows, and their descriptors
+  RowMatrix remade_points_;
 };
 
 }  // namespace qdmeta

@@ -1,12 +1,18 @@
 #include "qdmeta/archive/cvt_archive.hpp"
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
+#include "qdmeta/archive/fast_distance.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -19,6 +25,23 @@ void CvtArchiveParams::validate() const {
 namespace {
 // Centroid rows prefetched at the start of a parent-list walk (walks read about 24).
 constexpr Index kPrefetchRows = 24;
+// How far ahead a walk prefetches the rows it reads next.
+constexpr Index kWalkAhead = 8;
+
+// Walks read two random rows of the lists (20 MB at the paper's sizes) per offspring; with 4 KiB
+// pages most of those reads also miss the TLB. Huge pages where the system offers them on request
+// (Linux: transparent huge pages in "madvise" mode); a hint only, nothing depends on it.
+void advise_huge_pages(void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
 
 EliteStoreShape store_shape(const CvtArchiveParams& p, const RowMatrix& centroids) {
   p.validate();
@@ -32,38 +55,103 @@ CvtArchive::CvtArchive(CvtArchiveParams params, RowMatrix centroids)
       params_(params) {
   list_length_ = std::min(params_.neighbours, cells());
   lists_.resize(cells(), list_length_);
+  advise_huge_pages(lists_.cells.data(), static_cast<std::size_t>(lists_.cells.size()) * sizeof(std::int32_t));
+  advise_huge_pages(lists_.distances.data(), static_cast<std::size_t>(lists_.distances.size()) * sizeof(Real));
+}
+
+void CvtArchive::prefetch_list(Index parent) const {
+  // Lines of the entries a typical walk reads (about 24) and the parent's descriptor.
+  const Index entries = std::min<Index>(list_length_, kPrefetchRows);
+  const char* cells = reinterpret_cast<const char*>(lists_.cells.row(parent).data());
+  const char* distances = reinterpret_cast<const char*>(lists_.distances.row(parent).data());
+  for (Index b = 0; b < entries * 4; b += 64) {
+    __builtin_prefetch(cells + b);
+    __builtin_prefetch(distances + b);
+  }
+  const Index d = dimensions();
+  __builtin_prefetch(measures(parent));
+  __builtin_prefetch(measures(parent) + d - 1);
+  __builtin_prefetch(&lists_.slack[static_cast<std::size_t>(parent)]);
+  __builtin_prefetch(&lists_.outside[static_cast<std::size_t>(parent)]);
+}
+
+void CvtArchive::prefetch_rows(Index parent) const {
+  const Index d = dimensions();
+  const std::int32_t* list = lists_.cells.row(parent).data();
+  const Index entries = std::min<Index>(list_length_, kPrefetchRows);
+  for (Index i = 0; i < entries; ++i) {
+    const Real* row = search_.centroids().row(list[i]).data();
+    __builtin_prefetch(row);
+    __builtin_prefetch(row + d - 1);
+  }
 }
 
 Index CvtArchive::from_parent(const Real* x, Index parent) const {
   const Index d = dimensions();
   const std::int32_t* list = lists_.cells.row(parent).data();
-  // The walk is bound by memory latency (random centroid rows, about 24 per walk): start the
-  // loads of the first rows before the arithmetic so that they overlap.
-  const Index ahead = std::min<Index>(list_length_, kPrefetchRows);
-  for (Index i = 0; i < ahead; ++i) {
-    const Real* row = search_.centroids().row(list[i]).data();
-    __builtin_prefetch(row);
-    __builtin_prefetch(row + d - 1);
-  }
-  const double delta = std::sqrt(squared_distance(x, measures(parent), d));
+  // The walk runs on fast distances (fast_distance.hpp); each is within `rel` of the exact
+  // real sum, and so is the reference, so widening by `rel` keeps every bound on the safe side.
+  const double rel = distance_relative_error(d);
+  const double wide = 1 + std::max(rel, 1e-12);
+  const double delta = std::sqrt(fast_squared_distance(x, measures(parent), d)) * wide;
   const Real* listed = lists_.distances.row(parent).data();
   const double slack = lists_.slack[static_cast<std::size_t>(parent)];
+  // Scratch in locals (a thread_local reached through the TLS block on every entry cost
+  // measurably): on the stack for the usual sizes.
+  constexpr Index kStack = 512;
+  double fast_stack[kStack], point_stack[kStack];
+  thread_local std::vector<double> fast_heap, point_heap;
+  double* fast = fast_stack;
+  double* point = point_stack;
+  if (list_length_ > kStack) {
+    fast_heap.resize(static_cast<std::size_t>(list_length_));
+    fast = fast_heap.data();
+  }
+  if (d > kStack) {
+    point_heap.resize(static_cast<std::size_t>(d));
+    point = point_heap.data();
+  }
+  std::copy_n(x, d, point);
+  double best_fast = std::numeric_limits<double>::infinity();
+  double best_bound = best_fast;  // above the true distance to the nearest walked centroid
+  Index walked = 0;
+  for (; walked < list_length_; ++walked) {
+    // Listed distances are lower bounds rounded to float (relative error under 1e-7); the
+    // margins keep every bound below the truth despite that and the double rounding here.
+    const double lower = static_cast<double>(listed[walked]) * (1 - 1e-6) - slack - delta - 1e-12;
+    if (lower > best_bound) break;  // the list is sorted: no later entry can be as near
+    // Past the rows prefetched before the walk, the loads are started a few entries ahead.
+    if (walked + kWalkAhead < list_length_) {
+      if ((walked & 15) == 0 && walked + 2 * kWalkAhead < list_length_) {
+        __builtin_prefetch(list + walked + 2 * kWalkAhead);
+        __builtin_prefetch(listed + walked + 2 * kWalkAhead);
+      }
+      const Real* ahead = search_.centroids().row(list[walked + kWalkAhead]).data();
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + d - 1);
+    }
+    const double f = fast_squared_distance(point, search_.centroids().row(list[walked]).data(), d);
+    fast[walked] = f;
+    if (f < best_fast) {
+      best_fast = f;
+      best_bound = std::sqrt(f) * wide;
+    }
+  }
+  // The reference distance decides among the walked entries that may tie with the best: any
+  // entry further than this in fast distance is further in the reference one too.
+  const double cut = best_fast * (1 + 4 * rel) + std::numeric_limits<double>::min();
   Index best = -1;
   double best_squared = std::numeric_limits<double>::infinity();
-  double best_distance = best_squared;
-  for (Index i = 0; i < list_length_; ++i) {
-    // Listed distances are exact distances rounded to float (relative error under 1e-7); the
-    // margins keep every bound below the truth despite that and the double rounding here.
-    const double lower = static_cast<double>(listed[i]) * (1 - 1e-6) - slack - delta - 1e-12;
-    if (lower > best_distance) break;  // the list is sorted: no later entry can be nearer
+  for (Index i = 0; i < walked; ++i) {
+    if (fast[i] > cut) continue;
     const Index c = list[i];
     const double squared = squared_distance(x, search_.centroids().row(c).data(), d);
     if (squared < best_squared || (squared == best_squared && c < best)) {
       best_squared = squared;
       best = c;
-      best_distance = std::sqrt(squared) * (1 + 1e-12);
     }
   }
+  const double best_distance = std::sqrt(best_squared) * wide;
   const double outside = lists_.outside[static_cast<std::size_t>(parent)] - delta - 1e-12;
   return best >= 0 && outside > best_distance ? best : -1;
 }
@@ -72,9 +160,19 @@ Index CvtArchive::locate(const Real* measures, Index count, const Index* parents
                          std::uint8_t* settled) const {
   const Index d = dimensions();
   std::vector<Index> searched;  // rows that need the full search
+  // Walks are bound by memory latency: random parents' lists, then random centroid rows. A
+  // software pipeline hides it: the list of row r + 2 and the centroid rows of row r + 1 are
+  // fetched while row r walks.
+  const bool walks = parents && list_length_ > 0;
+  const auto parent_of = [&](Index r) { return walks && r < count && parents[r] >= 0 && occupied(parents[r]) ? parents[r] : -1; };
+  for (Index r = 0; r < 2; ++r)
+    if (parent_of(r) >= 0) prefetch_list(parent_of(r));
+  if (parent_of(0) >= 0) prefetch_rows(parent_of(0));
   for (Index r = 0; r < count; ++r) {
-    const Index p = parents && list_length_ > 0 ? parents[r] : -1;
-    const Index cell = p >= 0 && occupied(p) ? from_parent(measures + r * d, p) : -1;
+    if (parent_of(r + 2) >= 0) prefetch_list(parent_of(r + 2));
+    if (parent_of(r + 1) >= 0) prefetch_rows(parent_of(r + 1));
+    const Index p = parent_of(r);
+    const Index cell = p >= 0 ? from_parent(measures + r * d, p) : -1;
     if (settled) settled[r] = cell >= 0;
     if (cell >= 0) cells[r] = cell;
     else searched.push_back(r);
@@ -89,26 +187,50 @@ Index CvtArchive::locate(const Real* measures, Index count, const Index* parents
   return static_cast<Index>(searched.size());
 }
 
-void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const {
+bool CvtArchive::inherit_list(const Real* measures, Index parent, NeighbourLists& lists, Index row) const {
+  if (list_length_ == 0) return true;
+  if (parent < 0) return false;
+  const Index d = dimensions();
+  const auto u = static_cast<std::size_t>(row), p = static_cast<std::size_t>(parent);
+  const double delta =
+      std::sqrt(fast_squared_distance(measures, this->measures(parent), d)) * (1 + std::max(distance_relative_error(d), 1e-12));
+  // Kept a hair wide (slack) and low (outside) against the rounding of delta.
+  const double slack = (lists_.slack[p] + delta) * (1 + 1e-12) + 1e-12;
+  const double outside = (lists_.outside[p] - delta) * (1 - 1e-12) - 1e-12;
+  // The bound wears down along a line of descent; once its margin over the nearest centroid
+  // falls under a fifth of that distance, most offspring would fail it and need the full
+  // search, so the list is remade from all centroids instead.
+  const double nearest = std::sqrt(fast_squared_distance(measures, search_.centroids().row(lists_.cells(parent, 0)).data(), d));
+  if (outside - nearest < 0.2 * nearest) return false;
+  lists.cells.row(row) = lists_.cells.row(parent);
+  lists.distances.row(row) = lists_.distances.row(parent);
+  lists.slack[u] = slack;
+  lists.outside[u] = outside;
+  return true;
+}
+
+void CvtArchive::remake_lists(const Real* measures, Index count, const Index* rows, NeighbourLists& lists) const {
   if (list_length_ == 0) return;
-  if (parent >= 0) {
-    const Index d = dimensions();
-    const auto u = static_cast<std::size_t>(row);
-    const double delta = std::sqrt(squared_distance(measures, this->measures(parent), d));
-    lists.cells.row(row) = lists_.cells.row(parent);
-    lists.distances.row(row) = lists_.distances.row(parent);
-    // Kept a hair wide (slack) and low (outside) against the rounding of delta.
-    lists.slack[u] = (lists_.slack[static_cast<std::size_t>(parent)] + delta) * (1 + 1e-12) + 1e-12;
-    lists.outside[u] = (lists_.outside[static_cast<std::size_t>(parent)] - delta) * (1 - 1e-12) - 1e-12;
-    // The bound wears down along a line of descent; once its margin over the nearest centroid
-    // falls under a fifth of that distance, most offspring would fail it and need the full
-    // search, so the list is remade from all centroids instead.
-    const double nearest = std::sqrt(squared_distance(measures, search_.centroids().row(lists_.cells(parent, 0)).data(), d));
-    if (lists.outside[u] - nearest >= 0.2 * nearest) return;
+  // Made kValueRows at a time (the centroids streamed once per block), then copied to their rows.
+  thread_local NeighbourLists block;
+  block.resize(kValueRows, list_length_);
+  const Index d = dimensions();
+  for (Index first = 0; first < count; first += kValueRows) {
+    const Index n = std::min(kValueRows, count - first);
+    search_.neighbours(measures + first * d, n, list_length_, block.cells.data(), block.distances.data(), block.outside.data());
+    for (Index i = 0; i < n; ++i) {
+      const Index row = rows[first + i];
+      const auto u = static_cast<std::size_t>(row);
+      lists.cells.row(row) = block.cells.row(i);
+      lists.distances.row(row) = block.distances.row(i);
+      lists.outside[u] = block.outside[static_cast<std::size_t>(i)];
+      lists.slack[u] = 0.0;
+    }
   }
-  search_.neighbours(measures, list_length_, lists.cells.row(row).data(), lists.distances.row(row).data(),
-                     &lists.outside[static_cast<std::size_t>(row)]);
-  lists.slack[static_cast<std::size_t>(row)] = 0.0;
+}
+
+void CvtArchive::neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const {
+  if (!inherit_list(measures, parent, lists, row)) remake_lists(measures, 1, &row, lists);
 }
 
 Index CvtArchive::add_batch(const EliteBatch& batch, std::span<AddStatus> status, const Index* parents) {

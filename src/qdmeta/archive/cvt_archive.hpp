@@ -5,8 +5,8 @@
 // features.
 //
 // Offspring land near their parent, so each elite also keeps a neighbour list: the `neighbours`
-// centroids nearest its descriptor with their distances, and a lower bound on its distance to
-// every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
+// centroids nearest its descriptor with lower bounds on their distances (sorted), and a lower
+// bound on its distance to every other centroid. An offspring x of parent p (descriptor m_p, delta = |x - m_p|) is at
 // least d(m_p, c) - delta from any centroid c (triangle inequality): walking p's list in order
 // of distance finds the nearest listed centroid, and when p's outside bound minus delta exceeds
 // that distance no other centroid can be nearer, so the answer is exact without the full search
@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/centroid_values.hpp"
 #include "qdmeta/archive/elite_batch.hpp"
 #include "qdmeta/archive/elite_store.hpp"
 #include "qdmeta/archive/nearest_centroid.hpp"
@@ -89,6 +90,12 @@ class CvtArchive : private CvtCentroidSearch, private EliteStore {
   // the parent's list serves as it is, its slack and outside bound worn by delta (cheap), unless
   // that leaves too thin a margin; else the full computation (a pass over all centroids).
   void neighbours_of(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
+  // neighbours_of in two steps, for batches: the parent's list into row `row` when it serves
+  // (true; also when list_length() is 0), else false and the row is left for remake_lists.
+  bool inherit_list(const Real* measures, Index parent, NeighbourLists& lists, Index row) const;
+  // The lists of `count` descriptors (row-major) made from all centroids into rows rows[i] of
+  // `lists`, kValueRows at a time (the same lists as one at a time, which is much slower).
+  void remake_lists(const Real* measures, Index count, const Index* rows, NeighbourLists& lists) const;
 
   // Adds the valid rows in batch order, the same as adding them one by one (of rows that tie
   // for a cell, the first keeps it); `status`, when given, gets every row's outcome (kNotAdded
@@ -127,6 +134,10 @@ class CvtArchive : private CvtCentroidSearch, private EliteStore {
  private:
   // The nearest centroid from the parent's list, or -1 when the list cannot prove it.
   Index from_parent(const Real* x, Index parent) const;
+  // Start the loads a walk from `parent` needs: its list and descriptor, then (once the list
+  // has arrived) the first listed centroid rows.
+  void prefetch_list(Index parent) const;
+  void prefetch_rows(Index parent) const;
 
   CvtArchiveParams params_;
   Index list_length_ = 0;

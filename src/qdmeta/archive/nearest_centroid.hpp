@@ -1,7 +1,7 @@
 #pragma once
 // Exact nearest-centroid search for CVT archives and k-means. Distances are first computed for
-// blocks of points x blocks of centroids as ||c||^2 - 2 x.c through an Eigen float matrix
-// product (the arithmetic peak of the machine); every centroid whose float value lies within the
+// blocks of points against all centroids as ||c||^2 - 2 x.c in float (centroid_values.hpp,
+// at the multiply-add peak of the machine); every centroid whose float value lies within the
 // product's rounding bound of the best is then re-checked with the exact reference distance
 // (squared_distance below, in double), so the answer is the centroid the plain loop over all
 // centroids would pick, ties broken by the lowest index.
@@ -35,15 +35,27 @@ class NearestCentroid {
   Index find(const Real* point) const;
 
   // A neighbour list for `point`: the `count` centroids with the smallest float distance values
-  // (count <= count()), sorted by exact distance, into `cells` and `distances` (exact distances,
-  // rounded to float), and a lower bound on the distance from the point to every centroid not in
-  // the list (infinity when the list holds them all). One matrix-vector product and a selection.
-  void neighbours(const Real* point, Index count, std::int32_t* cells, float* distances, double* outside) const;
+  // (count <= count()), sorted by those values (ties to the lowest index), into `cells`, with a
+  // lower bound on each one's distance into `distances` (non-decreasing, within the values'
+  // rounding bound of the exact distance), and a lower bound on the distance from the point to
+  // every centroid not in the list (infinity when the list holds them all).
+  void neighbours(const Real* point, Index count, std::int32_t* cells, float* distances, double* outside) const {
+    neighbours(point, 1, count, cells, distances, outside);
+  }
+  // The lists of `rows` points (row-major) at once, row r's at cells + r * count, distances +
+  // r * count and outside[r]: the same lists as one point at a time, with the centroids
+  // streamed once per kValueRows points (centroid_values.hpp).
+  void neighbours(const Real* points, Index rows, Index count, std::int32_t* cells, float* distances,
+                  double* outside) const;
 
  private:
+  // One point's list from its values against every centroid.
+  void select_list(const Real* point, const Real* values, Index count, std::int32_t* cells, float* distances,
+                   double* outside) const;
+
   RowMatrix centroids_;
-  Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> transposed_;  // -2 C^T (d x k), column per centroid
-  RowMatrix transposed_rows_;  // the same, row-major: one point's values as d passes over k floats
+  std::vector<Real> blocked_;        // -2 C^T in blocks of 16 centroids (centroid_values.hpp)
+  std::vector<Real> padded_norms_;   // ||c||^2, padded to whole blocks
   Vector norms_;                                                     // ||c||^2 in float
   double max_norm_ = 0.0;                                            // max ||c||
 };
