@@ -1,9 +1,5 @@
 #include "qdmeta/archive/cvt_archive.hpp"
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +9,7 @@
 #include <utility>
 
 #include "qdmeta/archive/fast_distance.hpp"
+#include "qdmeta/core/huge_pages.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -28,21 +25,6 @@ constexpr Index kPrefetchRows = 24;
 // How far ahead a walk prefetches the rows it reads next.
 constexpr Index kWalkAhead = 8;
 
-// Walks read two random rows of the lists (20 MB at the paper's sizes) per offspring; with 4 KiB
-// pages most of those reads also miss the TLB. Huge pages where the system offers them on request
-// (Linux: transparent huge pages in "madvise" mode); a hint only, nothing depends on it.
-void advise_huge_pages(void* data, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);
-  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-  (void)data;
-  (void)bytes;
-#endif
-}
-
 EliteStoreShape store_shape(const CvtArchiveParams& p, const RowMatrix& centroids) {
   p.validate();
   return {centroids.rows(), p.solution_size, centroids.cols(), 0, p.qd_offset};
@@ -55,6 +37,8 @@ CvtArchive::CvtArchive(CvtArchiveParams params, RowMatrix centroids)
       params_(params) {
   list_length_ = std::min(params_.neighbours, cells());
   lists_.resize(cells(), list_length_);
+  // Walks read two random rows of the lists (20 MB at the paper's sizes) per offspring: with
+  // 4 KiB pages most of those reads would also miss the TLB. Not touched yet by resize().
   advise_huge_pages(lists_.cells.data(), static_cast<std::size_t>(lists_.cells.size()) * sizeof(std::int32_t));
   advise_huge_pages(lists_.distances.data(), static_cast<std::size_t>(lists_.distances.size()) * sizeof(Real));
 }
