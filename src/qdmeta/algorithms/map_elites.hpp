@@ -4,6 +4,7 @@
 // uniformly from the filled cells; no crossover. Descriptors come from a FeatureMap; the
 // archive is a grid (the paper's) or any other EliteArchive.
 #include <algorithm>
+#include <array>
 #include <concepts>
 #include <memory>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/archive/archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/core/copy_row.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
@@ -31,7 +33,7 @@ void random_genotypes(RowMatrix& genotypes, Rng& rng);
 template <class PickParent>
 void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
   const Index n = offspring.cols();
-  for (Index r = 0; r < offspring.rows(); ++r) std::copy_n(pick_parent(rng), n, offspring.row(r).data());
+  for (Index r = 0; r < offspring.rows(); ++r) copy_row(pick_parent(rng), n, offspring.row(r).data());
   mutation.apply(offspring, rng);
 }
 
@@ -41,11 +43,26 @@ template <EliteArchive Archive>
 void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring,
                         std::vector<Index>* parents = nullptr) {
   const Index n = offspring.cols();
-  if (parents) parents->resize(static_cast<std::size_t>(offspring.rows()));
-  for (Index r = 0; r < offspring.rows(); ++r) {
-    const Index cell = archive.sample_cell(rng);
-    std::copy_n(archive.solution(cell), n, offspring.row(r).data());
-    if (parents) (*parents)[static_cast<std::size_t>(r)] = cell;
+  const Index rows = offspring.rows();
+  if (parents) parents->resize(static_cast<std::size_t>(rows));
+  // In chunks: the chunk's parents drawn (in row order, as before), their rows prefetched, then
+  // copied; the elites are random rows of a table larger than L2, so the copies would otherwise
+  // wait on one cache miss after another.
+  constexpr Index kChunk = 64;
+  std::array<Index, kChunk> cells;
+  for (Index first = 0; first < rows; first += kChunk) {
+    const Index count = std::min(kChunk, rows - first);
+    for (Index i = 0; i < count; ++i) {
+      cells[static_cast<std::size_t>(i)] = archive.sample_cell(rng);
+      const Real* parent = archive.solution(cells[static_cast<std::size_t>(i)]);
+      __builtin_prefetch(parent);
+      __builtin_prefetch(parent + n - 1);
+    }
+    for (Index i = 0; i < count; ++i) {
+      const Index cell = cells[static_cast<std::size_t>(i)];
+      copy_row(archive.solution(cell), n, offspring.row(first + i).data());
+      if (parents) (*parents)[static_cast<std::size_t>(first + i)] = cell;
+    }
   }
   mutation.apply(offspring, rng);
 }

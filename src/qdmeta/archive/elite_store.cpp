@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "qdmeta/core/copy_row.hpp"
+
 namespace qdmeta {
 
 EliteStore::EliteStore(const EliteStoreShape& shape) : shape_(shape) {
@@ -17,8 +19,8 @@ EliteStore::EliteStore(const EliteStoreShape& shape) : shape_(shape) {
 void EliteStore::store(Index cell, const Real* solution, Real objective, const Real* measures,
                        const Real* base_features) {
   objectives_[static_cast<std::size_t>(cell)] = objective;
-  std::copy_n(solution, shape_.solution_size, solutions_.row(cell).data());
-  std::copy_n(measures, shape_.measure_size, measures_.row(cell).data());
+  copy_row(solution, shape_.solution_size, solutions_.row(cell).data());
+  copy_row(measures, shape_.measure_size, measures_.row(cell).data());
   if (shape_.base_feature_size > 0 && base_features != nullptr)
     std::copy_n(base_features, shape_.base_feature_size, base_.row(cell).data());
 }

@@ -43,8 +43,28 @@ Real Mutation::mutate_gene(Real gene, Rng& rng) const {
   return gene;
 }
 
+// The Gaussian operator's loop with everything inlined and the generator in a local copy, so
+// that its state stays in registers across the logf calls: the same draws in the same order and
+// the same float operations as mutate_gene, so the same bits (tests/core/mutation_test.cpp).
+void Mutation::apply_gaussian(Real* genes, std::uint64_t n, Rng& rng) const {
+  Rng local = rng;
+  const auto sigma = static_cast<Real>(params_.sigma);
+  const float inv = inv_log1m_rate_;
+  std::uint64_t pos = local.geometric(inv);
+  while (pos < n) {
+    const Real g = genes[pos] + sigma * local.normal_float();
+    genes[pos] = std::clamp(g, Real{0}, Real{1});
+    pos += 1 + local.geometric(inv);
+  }
+  rng = local;
+}
+
 void Mutation::apply(Real* genes, Index count, Rng& rng) const {
   if (params_.rate <= 0.0 || count <= 0) return;
+  if (params_.kind == MutationKind::kGaussian && params_.rate < 1.0) {
+    apply_gaussian(genes, static_cast<std::uint64_t>(count), rng);
+    return;
+  }
   if (params_.rate >= 1.0) {
     for (Index i = 0; i < count; ++i) genes[i] = mutate_gene(genes[i], rng);
     return;

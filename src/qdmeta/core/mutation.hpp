@@ -2,6 +2,7 @@
 // Mutation operators over a block of genotypes in [0, 1]. Each gene mutates independently with
 // probability `rate`; the mask is drawn by geometric skipping over the whole block, so the cost
 // is proportional to the number of mutated genes, not to the block size.
+#include <cstdint>
 #include <string_view>
 
 #include "qdmeta/core/params.hpp"
@@ -38,6 +39,7 @@ class Mutation {
 
  private:
   Real mutate_gene(Real gene, Rng& rng) const;
+  void apply_gaussian(Real* genes, std::uint64_t count, Rng& rng) const;  // 0 < rate < 1
   MutationParams params_;
   float inv_log1m_rate_ = 0.0f;
   int grid_steps_ = 0;  // number of steps between 0 and 1 on the discrete grid
