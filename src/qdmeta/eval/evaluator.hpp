@@ -48,8 +48,12 @@ class SerialEvaluator final : public Evaluator {
 };
 
 // Threads from oneTBB. `threads` = 0 uses every core. Rows are split into chunks of at most
-// `chunk_rows`; a task that may not be shared gets one copy per thread.
-std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows = 32);
+// `chunk_rows`; a task that may not be shared gets one copy per thread. Once a batch of a task
+// took under `cheap_batch_seconds` on the threads, evaluate() runs that task's batches on the
+// calling thread (handing them out would cost more than it saves) until one takes over twice
+// that; results never depend on it.
+std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows = 32,
+                                                 double cheap_batch_seconds = 200e-6);
 
 // Serial for 1 thread, TBB otherwise.
 std::unique_ptr<Evaluator> make_evaluator(int threads);

@@ -5,6 +5,7 @@
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -15,15 +16,23 @@ namespace {
 
 class ThreadEvaluator final : public Evaluator {
  public:
-  ThreadEvaluator(int threads, Index chunk_rows)
+  ThreadEvaluator(int threads, Index chunk_rows, double cheap_batch_seconds)
       : threads_(threads > 0 ? threads : tbb::info::default_concurrency()),
         chunk_rows_(chunk_rows > 0 ? chunk_rows : 32),
+        cheap_batch_seconds_(cheap_batch_seconds),
         arena_(threads_) {}
 
   void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
     const Index chunks = (genotypes.count + chunk_rows_ - 1) / chunk_rows_;
-    if (chunks <= 1 || threads_ == 1) {
+    // A batch that takes a few tens of microseconds (400 Rastrigin rows) costs more to hand to
+    // the other threads than it saves: once a batch of this task ran that fast, the next ones
+    // run here, until one of them is slow. Only the timing changes, never a result (each row's
+    // result does not depend on the split).
+    const bool cheap = cheap_task_ == task.id();
+    const auto start = std::chrono::steady_clock::now();
+    if (chunks <= 1 || threads_ == 1 || cheap) {
       task.evaluate(genotypes, out);
+      if (cheap && seconds_since(start) > 2 * cheap_batch_seconds_) cheap_task_ = nullptr;
       return;
     }
     // Per-thread copies of a task that may not be shared (e.g. a physics world), kept
@@ -50,6 +59,7 @@ class ThreadEvaluator final : public Evaluator {
           },
           tbb::simple_partitioner());
     });
+    if (seconds_since(start) < cheap_batch_seconds_) cheap_task_ = task.id();
   }
   // All jobs' chunks in one pool, so a request of many small batches (a meta-fitness's
   // environments) keeps every thread busy. Copies of unshareable tasks live for this call.
@@ -102,8 +112,13 @@ class ThreadEvaluator final : public Evaluator {
   void within_workers(const std::function<void()>& fn) override { arena_.execute(fn); }
 
  private:
+  static double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   int threads_;
   Index chunk_rows_;
+  double cheap_batch_seconds_;
+  const void* cheap_task_ = nullptr;  // the task whose batches run on the calling thread
   tbb::task_arena arena_;
   tbb::enumerable_thread_specific<std::optional<Task>> copies_;
   const void* copies_of_ = nullptr;
@@ -116,8 +131,8 @@ void SerialEvaluator::within_workers(const std::function<void()>& fn) {
   one.execute(fn);
 }
 
-std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows) {
-  return std::make_unique<ThreadEvaluator>(threads, chunk_rows);
+std::unique_ptr<Evaluator> make_thread_evaluator(int threads, Index chunk_rows, double cheap_batch_seconds) {
+  return std::make_unique<ThreadEvaluator>(threads, chunk_rows, cheap_batch_seconds);
 }
 
 std::unique_ptr<Evaluator> make_evaluator(int threads) {
