@@ -1,11 +1,15 @@
 #!/usr/bin/python3
 """Figures and report.md for an experiment written by `qdmeta experiment`.
 
-Usage: /usr/bin/python3 tools/report.py DIR [--quiet]
+Usage: /usr/bin/python3 tools/report.py DIR [--quiet] [--supplementary]
 
 Reads DIR/experiment.toml and every finished run DIR/<condition>/seed-<r>/ (metrics.csv,
-meta.csv, archive.csv, adapt-*.csv, summary.json); writes DIR/figures/*.png, DIR/report.md and
-the small CSV summaries they are made from, DIR/data/runs.csv and DIR/data/curves.csv.
+meta.csv, archive.csv, adapt-*.csv, generalisation.csv, summary.json, config.toml); writes
+DIR/figures/*.png, DIR/report.md and the small CSV summaries they are made from,
+DIR/data/runs.csv, DIR/data/curves.csv and (when runs have generalisation.csv)
+DIR/data/generalisation.csv, the paper's Table 2. The paper's supplementary meta-fitness
+figures (S5: running average; S6: G against meta-fitness) are drawn for RHex experiments, or for
+any experiment with --supplementary.
 Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
 point), since meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
@@ -45,6 +49,15 @@ def read_csv(path):
         return {}
     header, body = rows[0], rows[1:]
     return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
+
+
+def read_rows(path):
+    """Rows of a CSV file as dicts of strings ([] if the file is missing): for files with text
+    columns, such as generalisation.csv's group, which read_csv cannot turn into floats."""
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
 
 
 def mean_se(samples):
@@ -99,6 +112,21 @@ class Run:
 
     def archive(self):
         return read_csv(os.path.join(self.path, "archive.csv"))
+
+    def config(self):
+        """The run's resolved config.toml (every key in force, written by `qdmeta run`); {} if absent.
+        Parsed once: several tables and figures ask."""
+        if not hasattr(self, "_config"):
+            path = os.path.join(self.path, "config.toml")
+            self._config = {}
+            if os.path.exists(path):
+                with open(path, "rb") as f:
+                    self._config = tomllib.load(f)
+        return self._config
+
+    def generalisation(self):
+        """generalisation.csv as {group: mean over the archive's solutions and the group's environments}."""
+        return {row["group"]: float(row["mean"]) for row in read_rows(os.path.join(self.path, "generalisation.csv"))}
 
 
 def load(directory):
@@ -218,29 +246,253 @@ def figure_meta(conditions, out):
     return out
 
 
+# A test entry that is a table, not a recovery curve: `qdmeta experiment` writes generalisation.csv
+# for it (no adapt-generalisation.csv), reported as the paper's Table 2.
+GENERALISATION = "generalisation"
+
+
+def curve_tests(tests):
+    """The experiment's tests that have recovery curves (adapt-<test>.csv)."""
+    return [t for t in tests if t != GENERALISATION]
+
+
+def continued_curves(curves):
+    """Curves as rows of one array, each continued with its last value up to the longest's length:
+    a random search over an archive with fewer solutions than the test's budget stops early, and
+    the paper continues such lines "for comparability" (Fig 7) rather than cutting every curve to
+    the shortest. Curves of equal length are unchanged."""
+    length = max(len(c) for c in curves)
+    out = np.empty((len(curves), length))
+    for i, c in enumerate(curves):
+        out[i, : len(c)] = c
+        out[i, len(c):] = c[-1]
+    return out
+
+
+def adaptation_curves(runs, test):
+    """The test's best-so-far curves of `runs`, continued to a common length (continued_curves)."""
+    return continued_curves([r.adapt[test]["best_mean"] for r in runs])
+
+
+def archive_exhausted(runs, test):
+    """Whether some run's curve was continued past the end of its archive: shorter than the
+    longest curve (continued here), or longer than its archive has solutions (continued by
+    qdmeta's writer, which keeps the best once every solution has been tried)."""
+    length = max(len(r.adapt[test]["best_mean"]) for r in runs)
+    return any(len(r.adapt[test]["best_mean"]) < length or
+               ("num_elites" in r.summary and float(r.summary["num_elites"]) < length) for r in runs)
+
+
+CONTINUED_NOTE = ("For comparability, a line is continued with its last value once an archive is exhausted "
+                  "(fewer solutions than evaluations), though no further evaluations are made.")
+
+
+def adaptation_runs(conditions, test):
+    """[(condition, runs with the test's curve)] of the conditions that have one."""
+    return [(c, runs) for c in conditions for runs in [[r for r in c["runs"] if r.adapt.get(test)]] if runs]
+
+
 def figure_adaptation(conditions, test, out):
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    drawn = False
-    for c in conditions:
-        runs = [r for r in c["runs"] if r.adapt.get(test)]
-        if not runs:
-            continue
-        length = min(len(r.adapt[test]["best_mean"]) for r in runs)
-        mean, se = mean_se([r.adapt[test]["best_mean"][:length] for r in runs])
-        x = np.arange(1, length + 1)
+    shown = adaptation_runs(conditions, test)
+    for c, runs in shown:
+        mean, se = mean_se(adaptation_curves(runs, test))
+        x = np.arange(1, len(mean) + 1)
         plot_band(ax, x, mean, se, f'{c["name"]} (n={len(runs)})')
-        drawn = True
-    if not drawn:
+    if not shown:
         plt.close(fig)
         return None
     ax.set_xlabel("evaluations (random search over the archive)")
     ax.set_ylabel("best score so far, mean over test functions")
-    ax.set_title(f"Test phase: {test} (mean ± SE over replicates)")
+    title = f"Test phase: {test} (mean ± SE over replicates)"
+    if any(archive_exhausted(runs, test) for _, runs in shown):
+        title += "\nlines continued with their last value once an archive is exhausted"
+    ax.set_title(title, fontsize=10 if "\n" in title else None)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
     return out
+
+
+def meta_fitness_kind(run):
+    """The [meta_fitness] kind a QD-Meta run evolved for (its config.toml), None for the others."""
+    config = run.config()
+    if config.get("algorithm") != "qd-meta" or not isinstance(config.get("meta_fitness"), dict):
+        return None
+    return config["meta_fitness"].get("kind", "damage")  # qdmeta's RHex default when the key is left out
+
+
+def meta_conditions(conditions):
+    """[(condition, its runs with meta.csv)] of the QD-Meta conditions."""
+    return [(c, runs) for c in conditions for runs in [[r for r in c["runs"] if r.meta]] if runs]
+
+
+def replicate_matrix(series):
+    """Per-replicate series of different lengths (runs make different numbers of meta-generations
+    within one budget) as rows of one array, NaN past each one's end: the mean at a meta-generation
+    is over the replicates that reached it."""
+    out = np.full((len(series), max(len(v) for v in series)), np.nan)
+    for i, v in enumerate(series):
+        out[i, : len(v)] = v
+    return out
+
+
+def figure_meta_running_average(conditions, out):
+    """The paper's Fig S5: meta-fitness per meta-generation (thin, faint) and its trailing mean
+    over G_WINDOW meta-generations (thick, with the SE band over replicates), mean over
+    replicates. One column per meta-fitness kind, as the kinds' scales differ (RHex: obstacle
+    courses against damages); rows: the best map of the meta-population, and the mean over it
+    (the paper's y-axis)."""
+    meta = meta_conditions(conditions)
+    if not meta:
+        return None
+    kinds = {}
+    for c, runs in meta:
+        kinds.setdefault(meta_fitness_kind(runs[0]) or "meta-fitness", []).append((c, runs))
+    rows = [("meta_fitness_best", "best of the meta-population"), ("meta_fitness_mean", "mean over the meta-population")]
+    fig, axes = plt.subplots(len(rows), len(kinds), figsize=(6.5 * len(kinds), 4 * len(rows)), squeeze=False)
+    for col, (kind, members) in enumerate(kinds.items()):
+        for row, (column, label) in enumerate(rows):
+            ax = axes[row][col]
+            for i, (c, runs) in enumerate(members):
+                colour = f"C{i}"
+                raw = replicate_matrix([r.meta[column] for r in runs])
+                smooth = replicate_matrix([trailing_mean(r.meta[column], G_WINDOW) for r in runs])
+                x = np.arange(1, raw.shape[1] + 1)
+                ax.plot(x, np.nanmean(raw, axis=0), color=colour, linewidth=0.5, alpha=0.35)
+                mean, se = mean_se(smooth)
+                ax.plot(x, mean, color=colour, linewidth=2, label=f'{c["name"]} (n={len(runs)})')
+                ax.fill_between(x, mean - se, mean + se, color=colour, alpha=0.2)
+            ax.set_xlabel("meta-generation")
+            ax.set_ylabel(f"meta-fitness ({label})", fontsize=9)
+            ax.set_title(f"meta-fitness kind: {kind}", fontsize=10)
+            ax.legend(fontsize=8)
+    fig.suptitle(f"Meta-fitness per meta-generation (faint) and its running average over the last {G_WINDOW} "
+                 "(thick, mean ± SE over replicates)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def controls_generations(runs):
+    """Whether G varies in these runs: [control] kind = "sarsa" in their config (or, without a
+    config, G not constant in meta.csv). A static control fixes G, so S6 has nothing to show."""
+    config = runs[0].config()
+    if config:
+        return config.get("control", {}).get("kind") == "sarsa"
+    return any(len(np.unique(r.meta["generations"])) > 1 for r in runs)
+
+
+def figure_generations_and_meta_fitness(conditions, out):
+    """The paper's Fig S6: for each QD-Meta condition with SARSA control of G, one panel per run
+    (row: condition; column: replicate) with the meta-fitness (mean over the meta-population,
+    the paper's top panels; left axis) and G, drawn and as its running average over G_WINDOW
+    meta-generations (right axis), over meta-generations."""
+    shown = [(c, runs) for c, runs in meta_conditions(conditions) if controls_generations(runs)]
+    if not shown:
+        return None
+    columns = max(len(runs) for _, runs in shown)
+    fig, axes = plt.subplots(len(shown), columns, figsize=(4.6 * columns, 3.4 * len(shown)), squeeze=False)
+    for row, (c, runs) in zip(axes, shown):
+        for ax in row[len(runs):]:
+            ax.axis("off")
+        for ax, r in zip(row, runs):
+            x = r.meta["meta_generation"]
+            ax.plot(x, r.meta["meta_fitness_mean"], color="C0", linewidth=1)
+            ax.set_xlabel("meta-generation")
+            ax.set_ylabel("meta-fitness (mean over the meta-population)", color="C0", fontsize=8)
+            ax.tick_params(axis="y", labelcolor="C0")
+            g = ax.twinx()
+            g.plot(x, r.meta["generations"], color="C1", linewidth=0.5, alpha=0.3)
+            g.plot(x, trailing_mean(r.meta["generations"], G_WINDOW), color="C1", linewidth=2)
+            g.set_ylabel(f"G (faint: drawn; thick: mean of the last {G_WINDOW})", color="C1", fontsize=8)
+            g.tick_params(axis="y", labelcolor="C1")
+            ax.set_title(f'{c["name"]}, seed {os.path.basename(r.path).split("-")[-1]}', fontsize=9)
+    fig.suptitle("Generations per meta-generation (G, SARSA control) and meta-fitness, per run")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
+def supplementary_figures(conditions):
+    """Whether to draw S5 and S6: the paper shows them for its RHex study only, and the Rastrigin
+    reports stay as they were (--supplementary draws them for any experiment)."""
+    return any(r.config().get("task", {}).get("name") == "rhex" for c in conditions for r in c["runs"][:1])
+
+
+# Table 2's rows: generalisation.csv's groups in the paper's order, with its names.
+GENERALISATION_GROUPS = [("damage-training", "Training-Damages"), ("obstacle-training", "Training-Obstacles"),
+                         ("damage", "Test-Damages"), ("obstacle", "Test-Obstacles")]
+
+
+def trained_groups(runs):
+    """The generalisation groups a condition met during meta-evolution: a QD-Meta run of meta-fitness
+    kind K evaluates its maps on K's training environments, the group "K-training"; baselines
+    (no meta-fitness) met none. Read from the runs' saved config.toml."""
+    return {f"{kind}-training" for r in runs for kind in [meta_fitness_kind(r)] if kind}
+
+
+def generalisation_rows(conditions):
+    """One row per (condition, group) for Table 2: the replicates' generalisation means (each the mean
+    over the archive's solutions and the group's environments), their mean and sample SD (the
+    paper's Table 2 gives mean ± SD, not SE; NaN SD for one replicate), whether it is trained."""
+    rows = []
+    for c in conditions:
+        values = [r.generalisation() for r in c["runs"]]
+        runs = [r for r, v in zip(c["runs"], values) if v]
+        values = [v for v in values if v]
+        if not runs:
+            continue
+        trained = trained_groups(runs)
+        known = [g for g, _ in GENERALISATION_GROUPS]
+        others = sorted({g for v in values for g in v} - set(known))
+        for group in known + others:
+            v = np.array([x[group] for x in values if group in x])
+            if v.size == 0:
+                continue
+            sd = float(np.std(v, ddof=1)) if v.size > 1 else float("nan")
+            rows.append({"condition": c["name"], "group": group, "n": int(v.size), "mean": float(np.mean(v)),
+                         "sd": sd, "trained": group in trained})
+    return rows
+
+
+def generalisation_table(rows):
+    """Table 2 in markdown: rows = environment groups, columns = conditions, cells mean ± SD over
+    replicates; bold = the highest mean of the row; underlined = the group the condition was
+    trained on (met during meta-evolution)."""
+    if not rows:
+        return ""
+    names = list(dict.fromkeys(r["condition"] for r in rows))
+    labels = dict(GENERALISATION_GROUPS)
+    groups = list(dict.fromkeys(r["group"] for r in sorted(rows, key=lambda r: group_order(r["group"]))))
+    cell = {(r["condition"], r["group"]): r for r in rows}
+    n = {name: sorted({r["n"] for r in rows if r["condition"] == name}) for name in names}
+    lines = ["| environment | " + " | ".join(f'{name} (n={"/".join(map(str, n[name]))})' for name in names) + " |",
+             "|---|" + "---|" * len(names)]
+    for group in groups:
+        best = max(cell[name, group]["mean"] for name in names if (name, group) in cell)
+        cells = []
+        for name in names:
+            r = cell.get((name, group))
+            if r is None:
+                cells.append("n/a")
+                continue
+            text = f'{r["mean"]:.4g} ± ' + ("n/a" if math.isnan(r["sd"]) else f'{r["sd"]:.2g}')
+            if r["mean"] == best:
+                text = f"**{text}**"
+            if r["trained"]:
+                text = f"<u>{text}</u>"
+            cells.append(text)
+        lines.append(f"| {labels.get(group, group)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def group_order(group):
+    known = [g for g, _ in GENERALISATION_GROUPS]
+    return (known.index(group), "") if group in known else (len(known), group)
 
 
 def figure_archives(conditions, out):
@@ -346,18 +598,18 @@ def meta_table(conditions):
 def test_table(conditions, tests):
     lines = []
     for test in tests:
-        lines += [f"**{test}** (best score so far, mean over test functions; mean ± SE over replicates)", "",
-                  "| condition | n | after 1 | after 10 | at the end |", "|---|---|---|---|---|"]
-        for c in conditions:
-            runs = [r for r in c["runs"] if r.adapt.get(test)]
-            if not runs:
-                continue
-            cells = []
-            for at in (0, 9, -1):
-                values = [r.adapt[test]["best_mean"][at] for r in runs if len(r.adapt[test]["best_mean"]) > max(at, 0)]
-                cells.append(fmt(*stat(values)))
-            end = int(min(len(r.adapt[test]["best_mean"]) for r in runs))
-            lines.append(f'| {c["name"]} | {len(runs)} | ' + " | ".join(cells[:2]) + f" | {cells[2]} ({end} evaluations) |")
+        shown = adaptation_runs(conditions, test)
+        caption = f"**{test}** (best score so far, mean over test functions; mean ± SE over replicates)"
+        if any(archive_exhausted(runs, test) for _, runs in shown):
+            caption += " " + CONTINUED_NOTE
+        lines += [caption, "", "| condition | n | after 1 | after 10 | at the end |", "|---|---|---|---|---|"]
+        for c, runs in shown:
+            curves = adaptation_curves(runs, test)
+            cells = [fmt(*stat(curves[:, at])) for at in (0, 9, -1) if at < curves.shape[1]]
+            if len(cells) < 3:  # a test budget under 10: "after 10" does not exist
+                cells.insert(1, "n/a")
+            lines.append(f'| {c["name"]} | {len(runs)} | ' + " | ".join(cells[:2])
+                         + f" | {cells[2]} ({curves.shape[1]} evaluations) |")
         lines.append("")
     return "\n".join(lines)
 
@@ -456,10 +708,15 @@ def write_data(directory, conditions, tests):
         for test in tests:
             have = [r for r in c["runs"] if r.adapt.get(test)]
             if have:
-                length = min(len(r.adapt[test]["best_mean"]) for r in have)
-                mean, se = mean_se([r.adapt[test]["best_mean"][:length] for r in have])
+                mean, se = mean_se(adaptation_curves(have, test))
                 curves += [[c["name"], "test", test, k + 1, m, e, len(have)] for k, (m, e) in enumerate(zip(mean, se))]
     write_csv(os.path.join(data_dir, "curves.csv"), ["condition", "view", "statistic", "evals", "mean", "se", "n"], curves)
+
+    table2 = generalisation_rows(conditions)
+    if table2:
+        write_csv(os.path.join(data_dir, "generalisation.csv"), ["condition", "group", "n", "mean", "sd", "trained"],
+                  [[r["condition"], r["group"], r["n"], r["mean"], "" if math.isnan(r["sd"]) else r["sd"], int(r["trained"])]
+                   for r in table2])
 
 
 def main(argv):
@@ -471,12 +728,26 @@ def main(argv):
     spec, conditions = load(directory)
     figures_dir = os.path.join(directory, "figures")
     os.makedirs(figures_dir, exist_ok=True)
-    tests = list(spec.get("tests", []))
-    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, os.path.join(figures_dir, "qd-statistics.png"))),
-               ("Meta-fitness and generations per meta-generation", figure_meta(conditions, os.path.join(figures_dir, "meta-fitness.png")))]
+    tests = curve_tests(spec.get("tests", []))  # "generalisation" is Table 2, not a curve
+    # (title, figure or None, caption or "")
+    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, os.path.join(figures_dir, "qd-statistics.png")), ""),
+               ("Meta-fitness and generations per meta-generation", figure_meta(conditions, os.path.join(figures_dir, "meta-fitness.png")), "")]
+    if "--supplementary" in argv[2:] or supplementary_figures(conditions):
+        figures.append(("Meta-fitness with its running average (Fig S5)",
+                        figure_meta_running_average(conditions, os.path.join(figures_dir, "meta-fitness-running-average.png")),
+                        "Each QD-Meta condition's meta-fitness per meta-generation (faint: mean over replicates) and its "
+                        f"trailing mean over the last {G_WINDOW} meta-generations (thick: mean ± SE over replicates); one "
+                        "column per meta-fitness kind; top: the best map of the meta-population, bottom: the mean over it."))
+        figures.append(("Generations per meta-generation and meta-fitness (Fig S6)",
+                        figure_generations_and_meta_fitness(conditions, os.path.join(figures_dir, "generations-and-meta-fitness.png")),
+                        "One panel per run of each QD-Meta condition whose G is chosen by SARSA: the meta-fitness (mean "
+                        "over the meta-population, left axis) and G (faint: as drawn; thick: the mean of the last "
+                        f"{G_WINDOW}; right axis) over meta-generations."))
     for test in tests:
-        figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, os.path.join(figures_dir, f"adaptation-{test}.png"))))
-    figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, os.path.join(figures_dir, "archives.png"))))
+        shown = adaptation_runs(conditions, test)
+        figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, os.path.join(figures_dir, f"adaptation-{test}.png")),
+                        CONTINUED_NOTE if any(archive_exhausted(runs, test) for _, runs in shown) else ""))
+    figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, os.path.join(figures_dir, "archives.png")), ""))
 
     write_data(directory, conditions, tests)
 
@@ -497,6 +768,14 @@ def main(argv):
     meta = meta_table(conditions)
     if meta:
         md += ["## Meta-evolution", "", meta, ""]
+    table2 = generalisation_table(generalisation_rows(conditions))
+    if table2:
+        md += ["## Generalisation test (Table 2)", "",
+               "Each archive's mean score over its solutions and the group's environments (RHex: forward distance), "
+               "then mean ± SD (sample standard deviation, not SE) over replicates; n per condition in the header. "
+               "**Bold**: the best condition of the row. <u>Underlined</u>: the environments the condition met during "
+               "meta-evolution (a QD-Meta run's meta-fitness kind, from its config.toml). For QD-Meta the archive is "
+               "the best map of the last meta-generation. Data: data/generalisation.csv.", "", table2, ""]
     if tests:
         md += ["## Test phase", "", test_table(conditions, tests)]
     pairwise = comparisons(conditions, tests)
@@ -507,9 +786,9 @@ def main(argv):
                "With few replicates no difference can reach significance (2 against 2: the smallest exact p is "
                "1/3).", "", pairwise]
     md += ["## Figures", ""]
-    for title, path in figures:
+    for title, path, caption in figures:
         if path:
-            md += [f"### {title}", "", f"![{title}](figures/{os.path.basename(path)})", ""]
+            md += [f"### {title}", ""] + ([caption, ""] if caption else []) + [f"![{title}](figures/{os.path.basename(path)})", ""]
     claim_rows = claims_table(spec, conditions)
     if claim_rows:
         budget = experiment_budget(spec, conditions)
@@ -521,7 +800,7 @@ def main(argv):
         f.write("\n".join(md) + "\n")
     os.replace(os.path.join(directory, "report.md.tmp"), os.path.join(directory, "report.md"))
     if not quiet:
-        print(f"report: {os.path.join(directory, 'report.md')} with {sum(1 for _, p in figures if p)} figures in {figures_dir}")
+        print(f"report: {os.path.join(directory, 'report.md')} with {sum(1 for _, p, _ in figures if p)} figures in {figures_dir}")
     return 0
 
 
