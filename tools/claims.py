@@ -9,6 +9,8 @@ what was measured and a verdict. Measures, one value per finished replicate:
                        algorithm without a meta-population, summary.json's <stat>
   meta:<column>        meta.csv's last row (e.g. meta:meta_fitness_best)
   test:<test>@<k>      the test phase's best score after k evaluations (or its last, when shorter)
+  generalisation:<g>   the generalisation test's mean score in group <g> (generalisation.csv;
+                       RHex: damage-training, obstacle-training, damage, obstacle)
 
 Kinds and verdicts:
 
@@ -29,7 +31,9 @@ what the claim allows: more evaluations cannot bring it back, so that is "not re
 testable in this experiment"; an "order" claim whose replicates are too few for any p below ALPHA
 is "not testable with these replicates".
 """
+import csv
 import math
+import os
 
 import numpy as np
 
@@ -41,6 +45,18 @@ NOT_REPRODUCED = "not reproduced"
 NOT_AT_BUDGET = "not testable at this budget"
 NOT_IN_EXPERIMENT = "not testable in this experiment"
 TOO_FEW = "not testable with these replicates"
+
+
+def generalisation_mean(run_path, group):
+    """The mean of `group` in the run's generalisation.csv, or None without one."""
+    path = os.path.join(run_path, "generalisation.csv")
+    if not os.path.exists(path):
+        return None
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row["group"] == group:
+                return float(row["mean"])
+    return None
 
 
 def measure_values(runs, measure):
@@ -59,8 +75,10 @@ def measure_values(runs, measure):
             test, _, at = name.partition("@")
             curve = r.adapt.get(test, {}).get("best_mean")
             v = curve[min(int(at), len(curve)) - 1] if curve is not None and len(curve) else None
+        elif family == "generalisation":
+            v = generalisation_mean(r.path, name)
         else:
-            raise ValueError(f"unknown measure '{measure}' (families: final, population, meta, test)")
+            raise ValueError(f"unknown measure '{measure}' (families: final, population, meta, test, generalisation)")
         if v is not None:
             values.append(float(v))
     return values

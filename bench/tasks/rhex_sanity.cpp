@@ -2,7 +2,7 @@
 // controllers die (turn over or never settle), how far they tilt, and how far they walk, under
 // a chosen leg model, course and episode length. Not a micro-benchmark: a plain program.
 //   rhex_sanity [count=200] [seed=2] [legs=rigid|compliant] [course=flat|stairs|...] [seconds=5]
-//               [threads=2] [turnover_from=2]
+//               [threads=2] [turnover_from=2] [offset=paper|authors] [collision=bullet|dart|fcl]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,13 +28,14 @@ double quantile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args{{"count", "200"}, {"seed", "2"},    {"legs", "rigid"}, {"course", "flat"},
-                                          {"seconds", "5"}, {"threads", "2"}, {"turnover_from", "2"}};
+                                          {"seconds", "5"}, {"threads", "2"}, {"turnover_from", "2"},
+                                          {"offset", "paper"}, {"collision", "bullet"}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto eq = a.find('=');
     if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
       fmt::print(stderr, "rhex_sanity: bad argument '{}' (key=value, keys: count seed legs course seconds threads "
-                         "turnover_from)\n", a);
+                         "turnover_from offset collision)\n", a);
       return 2;
     }
     args[a.substr(0, eq)] = a.substr(eq + 1);
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
     p.episode.legs = enum_from_string(rhex::kLegModelNames, "legs", args["legs"]);
     p.episode.duration = std::stod(args["seconds"]);
     p.episode.turnover_from = std::stod(args["turnover_from"]);
+    p.stance_offset = enum_from_string(rhex::kStanceOffsetNames, "offset", args["offset"]);
+    p.episode.collision = enum_from_string(rhex::kCollisionKindNames, "collision", args["collision"]);
     const auto course = enum_from_string(rhex::kObstacleCourseNames, "course", args["course"]);
     const RhexTask task(p);
     Rng rng(std::stoull(args["seed"]));
@@ -71,8 +74,13 @@ int main(int argc, char** argv) {
     }
     double mean = 0.0;
     for (double d : distances) mean += d / static_cast<double>(std::max<std::size_t>(1, distances.size()));
-    fmt::print("{} random controllers, seed {}, legs {}, course {}, {} s, turnover checked from {} s:\n", count,
-               args["seed"], args["legs"], args["course"], args["seconds"], args["turnover_from"]);
+    const auto tripod = rhex::tripod_genes();
+    const rhex::EpisodeResult reference = task.episode(tripod.data(), rhex::RhexEnvironment::obstacle(course));
+    fmt::print("{} random controllers, seed {}, legs {}, stance offset {}, collision {}, course {}, {} s, turnover "
+               "checked from {} s:\n", count, args["seed"], args["legs"], args["offset"], args["collision"],
+               args["course"], args["seconds"], args["turnover_from"]);
+    fmt::print("  tripod gait: {} m{}, max tilt {:.1f} deg\n", reference.fitness, reference.dead ? " (dead)" : "",
+               reference.max_tilt * 180.0 / 3.141592653589793);
     fmt::print("  dead {} ({} turned over, {} never settled)\n", turned + unsettled, turned, unsettled);
     fmt::print("  max tilt (deg): median {:.1f}, 90% {:.1f}, 99% {:.1f}, max {:.1f}; >=45: {}, >=60: {}, >=80: {}\n",
                quantile(tilts, 0.5), quantile(tilts, 0.9), quantile(tilts, 0.99), quantile(tilts, 1.0), tilt45, tilt60,

@@ -83,7 +83,10 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
     return std::string("no error");
   };
   fs::path f = write("typo", "replicate = 2\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, condition, claim)");
+  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, "
+                                      "generalisation_solutions, condition, claim)");
+  f = write("sample", "generalisation_solutions = 0\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": generalisation_solutions must be an integer of at least 1");
   f = write("none", "replicates = 2\n");
   EXPECT_EQ(error_of(f), f.string() + ": no [[condition]] tables: an experiment needs at least one");
   f = write("missing", "[[condition]]\nname = \"a\"\nconfig = \"nowhere.toml\"\n");

@@ -55,6 +55,26 @@ TEST(BuehlerClock, DecodesGenesAsSpecified) {
   EXPECT_DOUBLE_EQ(decode_gait(half_genes().data()).period, 1.0 - 0.67 * 0.5);
 }
 
+TEST(BuehlerClock, TheAuthorsStanceOffsetIsSixTimesThePapers) {
+  auto g = half_genes();
+  g[13] = 0.0;   // leg 0: the lowest offset
+  g[14] = 1.0;   // leg 1: the highest
+  g[15] = 0.75;  // leg 2
+  const GaitParams paper = decode_gait(g.data(), StanceOffset::kPaper);
+  const GaitParams authors = decode_gait(g.data(), StanceOffset::kAuthors);
+  EXPECT_DOUBLE_EQ(paper.stance_offset[0], -pi / 4);
+  EXPECT_DOUBLE_EQ(paper.stance_offset[1], pi / 4);
+  EXPECT_DOUBLE_EQ(authors.stance_offset[0], -1.5 * pi);  // the stance window anywhere on the circle
+  EXPECT_DOUBLE_EQ(authors.stance_offset[1], 1.5 * pi);
+  EXPECT_DOUBLE_EQ(authors.stance_offset[2], 6.0 * 0.25 * pi / 2);
+  EXPECT_DOUBLE_EQ(authors.stance_offset[3], 0.0);  // gene 0.5: no offset under either
+  // Nothing else changes, and the target moves by the offset alone.
+  EXPECT_EQ(paper.period, authors.period);
+  EXPECT_EQ(paper.stance_angle, authors.stance_angle);
+  EXPECT_EQ(paper.phase_offset, authors.phase_offset);
+  EXPECT_NEAR(target_angle(authors, 1, 0.2) - target_angle(paper, 1, 0.2), 1.25 * pi, 1e-12);
+}
+
 TEST(BuehlerClock, StanceAndSwingAtHandComputedTimes) {
   const GaitParams p = unit_period_gait();
   EXPECT_NEAR(target_angle(p, 0, 0.0), -pi / 4, 1e-12);

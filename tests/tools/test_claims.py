@@ -32,6 +32,18 @@ def test_measures_read_the_files_a_run_writes():
     assert claims.measure_values([qd_meta], "test:dimension@100") == [-2.0]  # shorter curve: its last value
 
 
+def test_generalisation_measures_read_generalisation_csv(tmp_path):
+    run = FakeRun({})
+    run.path = str(tmp_path)
+    (tmp_path / "generalisation.csv").write_text("group,environments,solutions,mean,se\n"
+                                                 "damage-training,12,40,4.25,0.5\nobstacle,4,40,2.5,0.25\n")
+    other = FakeRun({})
+    other.path = str(tmp_path / "missing")  # a run without the test
+    assert claims.measure_values([run, other], "generalisation:damage-training") == [4.25]
+    assert claims.measure_values([run], "generalisation:obstacle") == [2.5]
+    assert claims.measure_values([run], "generalisation:damage") == []
+
+
 def test_near_and_below_judge_the_mean_and_know_the_budget():
     table = {"A": {"m": [9500, 10400]}, "B": {"m": [6000, 7000]}}
     near = {"text": "about 10,000", "kind": "near", "measure": "m", "conditions": ["A"], "value": 10000,

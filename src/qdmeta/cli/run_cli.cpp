@@ -166,6 +166,7 @@ struct AdaptArgs {
   std::string run;
   std::string test;
   std::optional<std::int64_t> budget;
+  std::optional<std::int64_t> solutions;
   std::optional<std::uint64_t> seed;
   int threads = 0;
   bool quiet = false;
@@ -177,16 +178,19 @@ int command_adapt(const AdaptArgs& a) {
   auto evaluator = make_evaluator(a.threads);
   if (a.test == "generalisation") {
     if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
-    const GeneralisationReport g = generalise_run(a.run, a.seed, *evaluator);
+    const GeneralisationReport g =
+        generalise_run(a.run, a.seed, *evaluator, a.solutions ? std::optional<Index>(*a.solutions) : std::nullopt);
     if (!a.quiet) {
-      fmt::print("test 'generalisation': {} archive solutions, mean score per group (+- SE over environments):\n",
-                 g.archive_size);
+      const Index scored = g.rows.empty() ? g.archive_size : g.rows.front().solutions;
+      fmt::print("test 'generalisation': {} of {} archive solutions, mean score per group (+- SE over environments):\n",
+                 scored, g.archive_size);
       for (const auto& row : g.rows)
         fmt::print("  {:<18} {:>3} environments: {:.6g} +- {:.3g}\n", row.group, row.environments, row.mean, row.se);
       fmt::print("results: {}\n", g.file.string());
     }
     return 0;
   }
+  if (a.solutions) throw InputError("--solutions applies to --test generalisation only");
   const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
                                        *evaluator);
   if (!a.quiet)
@@ -380,6 +384,9 @@ int parse_and_run(int argc, char** argv) {
       ->required();
   adapt_cmd->add_option("--budget", adapt.budget,
                         "Evaluations per test function (default: the test family's, 100 on Rastrigin, 50 on RHex)")
+      ->check(CLI::PositiveNumber);
+  adapt_cmd->add_option("--solutions", adapt.solutions,
+                        "Generalisation test: score this many archive solutions, drawn from the seed (default: all)")
       ->check(CLI::PositiveNumber);
   adapt_cmd->add_option("--seed", adapt.seed, "Seed of the search orders and test draws (default: the run's seed)");
   adapt_cmd->add_option("--threads", adapt.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);

@@ -69,7 +69,7 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
                                std::optional<std::int64_t> evaluations) {
   const toml::table t = load_toml(file);
   const std::string where = file.string();
-  only_keys(t, {"name", "replicates", "evaluations", "tests", "condition", "claim"}, where);
+  only_keys(t, {"name", "replicates", "evaluations", "tests", "generalisation_solutions", "condition", "claim"}, where);
   ExperimentSpec spec;
   spec.name = t["name"].value_or<std::string>(file.stem().string());
   spec.replicates = replicates ? *replicates : static_cast<int>(t["replicates"].value_or<std::int64_t>(1));
@@ -79,6 +79,12 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
   else if (auto e = t["evaluations"].value<std::int64_t>()) spec.evaluations = *e;
   if (spec.evaluations && *spec.evaluations < 1)
     throw InputError(fmt::format("{}: evaluations = {} must be at least 1", where, *spec.evaluations));
+  if (t.contains("generalisation_solutions")) {
+    const auto n = t["generalisation_solutions"].value<std::int64_t>();
+    if (!n || *n < 1)
+      throw InputError(fmt::format("{}: generalisation_solutions must be an integer of at least 1", where));
+    spec.generalisation_solutions = static_cast<Index>(*n);
+  }
   if (const auto* tests = t["tests"].as_array()) {
     for (const auto& v : *tests) {
       if (!v.is_string()) throw InputError(fmt::format("{}: tests must be a list of strings", where));
@@ -136,6 +142,7 @@ void write_spec(const ExperimentSpec& spec, const fs::path& out) {
   toml::array tests;
   for (const auto& s : spec.tests) tests.push_back(s);
   t.insert("tests", std::move(tests));
+  if (spec.generalisation_solutions) t.insert("generalisation_solutions", static_cast<std::int64_t>(*spec.generalisation_solutions));
   toml::array conditions;
   for (const auto& c : spec.conditions) {
     toml::table entry{{"name", c.name}, {"slug", c.slug}, {"config", c.config.string()}};
@@ -250,7 +257,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         p.phase = "test " + test;
         p.wall_seconds = wall();
         if (progress) progress(p);
-        if (generalisation) generalise_run(dir, std::nullopt, *evaluator);
+        if (generalisation) generalise_run(dir, std::nullopt, *evaluator, spec.generalisation_solutions);
         else adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
         ++result.tests_done;
       }

@@ -31,6 +31,7 @@ struct ExperimentSpec {
   int replicates = 1;
   std::optional<std::int64_t> evaluations;  // overrides every condition's budget
   std::vector<std::string> tests;           // test families run on every archive
+  std::optional<Index> generalisation_solutions;  // score this many archive solutions (default: all)
   std::vector<ExperimentCondition> conditions;
   // The [[claim]] tables (what a paper says the conditions show), passed to the run's
   // experiment.toml for `qdmeta report`, which checks each (tools/report.py; docs/config.md).

@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
@@ -14,6 +16,9 @@
 namespace fs = std::filesystem;
 
 namespace qdmeta {
+namespace {
+constexpr std::uint64_t kGeneralisationDraw = 0x6E4E;  // salt of the generalisation test's sample
+}  // namespace
 
 const std::vector<std::string>& run_files() {
   static const std::vector<std::string> files = {"config.toml", "metrics.csv", "archive.csv",
@@ -87,14 +92,28 @@ toml::table finished_run_config(const fs::path& dir) {
 
 }  // namespace
 
-GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint64_t> seed, Evaluator& evaluator) {
+GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint64_t> seed, Evaluator& evaluator,
+                                    std::optional<Index> solutions) {
+  if (solutions && *solutions < 1)
+    throw InputError(fmt::format("generalisation: solutions = {} must be at least 1", *solutions));
   const toml::table config = finished_run_config(dir);
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
   const auto groups = build_generalisation_groups(config, (dir / "config.toml").string(), s);
   const EliteTable elites = read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive);
   GeneralisationReport r;
   r.archive_size = elites.size();
-  for (const auto& g : groups) r.rows.push_back(whole_archive_mean(elites.solutions, *g, evaluator));
+  RowMatrix scored = elites.solutions;
+  if (solutions && *solutions < scored.rows()) {  // every group scores the same drawn solutions
+    std::vector<Index> rows(static_cast<std::size_t>(scored.rows()));
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<Index>(i);
+    Rng rng = Rng::stream(s, {key(StreamKey::kTest), kGeneralisationDraw});
+    choose_without_replacement(rows, static_cast<std::size_t>(*solutions), rng);
+    std::sort(rows.begin(), rows.end());  // archive order: the draw picks which, not the order
+    RowMatrix drawn(*solutions, scored.cols());
+    for (Index i = 0; i < *solutions; ++i) drawn.row(i) = scored.row(rows[static_cast<std::size_t>(i)]);
+    scored = std::move(drawn);
+  }
+  for (const auto& g : groups) r.rows.push_back(whole_archive_mean(scored, *g, evaluator));
   r.file = dir / "generalisation.csv";
   write_generalisation_csv(r.file, r.rows);
   return r;

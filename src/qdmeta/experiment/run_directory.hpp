@@ -54,8 +54,9 @@ struct GeneralisationReport {
 };
 
 // The generalisation test on the finished run in `dir` (`qdmeta adapt --test generalisation`):
-// the mean score of its whole archive.csv over each of the task's generalisation groups.
+// the mean score of its whole archive.csv over each of the task's generalisation groups, or of
+// `solutions` of them drawn without replacement from the seed (a small experiment's budget).
 GeneralisationReport generalise_run(const std::filesystem::path& dir, std::optional<std::uint64_t> seed,
-                                    Evaluator& evaluator);
+                                    Evaluator& evaluator, std::optional<Index> solutions = std::nullopt);
 
 }  // namespace qdmeta

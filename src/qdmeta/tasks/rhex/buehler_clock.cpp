@@ -23,13 +23,13 @@ double discretise_gene(double gene, double step) {
   return std::clamp(std::round(gene * steps) / steps, 0.0, 1.0);
 }
 
-GaitParams decode_gait(const double* g) {
+GaitParams decode_gait(const double* g, StanceOffset offset) {
   GaitParams p;
   p.period = 1.0 - 0.67 * g[0];
   for (int i = 0; i < kLegs; ++i) {
     p.duty[i] = g[1 + i];
     p.stance_angle[i] = pi * g[7 + i];
-    p.stance_offset[i] = (g[13 + i] - 0.5) * pi / 2.0;
+    p.stance_offset[i] = stance_offset_factor(offset) * (g[13 + i] - 0.5) * pi / 2.0;
     p.phase_offset[i] = i == 0 ? 0.0 : g[18 + i] * p.period / 2.0;
   }
   return p;

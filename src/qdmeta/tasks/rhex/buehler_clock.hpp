@@ -4,6 +4,7 @@
 // against hand-computed values without a simulator.
 #include <array>
 
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta::rhex {
@@ -11,12 +12,20 @@ namespace qdmeta::rhex {
 inline constexpr int kLegs = 6;
 inline constexpr int kGenes = 24;
 
+// How far a stance offset gene moves the stance window (docs/fidelity.md, "Stance offset"):
+// the paper's (g - 0.5) pi / 2, in [-pi/4, pi/4], or the authors' code, which added it once per
+// leg inside a loop over the six legs: 6 (g - 0.5) pi / 2, in [-1.5 pi, 1.5 pi].
+enum class StanceOffset { kPaper, kAuthors };
+inline constexpr EnumNames<StanceOffset, 2> kStanceOffsetNames{
+    {{StanceOffset::kPaper, "paper"}, {StanceOffset::kAuthors, "authors"}}};
+inline constexpr double stance_offset_factor(StanceOffset s) { return s == StanceOffset::kAuthors ? 6.0 : 1.0; }
+
 // The clock parameters decoded from 24 genes in [0, 1].
 struct GaitParams {
   double period = 1.0;                      // T = 1 - 0.67 g0, in [0.33, 1] s
   std::array<double, kLegs> duty{};         // d_i = g_{1+i}
   std::array<double, kLegs> stance_angle{}; // phi_s = pi g_{7+i}
-  std::array<double, kLegs> stance_offset{};// (g_{13+i} - 0.5) pi / 2, added once
+  std::array<double, kLegs> stance_offset{};// (g_{13+i} - 0.5) pi / 2 x stance_offset_factor
   std::array<double, kLegs> phase_offset{}; // 0 for leg 0, g_{18+i} T / 2 for legs 1..5
 };
 
@@ -29,7 +38,7 @@ std::array<Real, kGenes> tripod_genes(Real period_gene = 0.5f);
 double discretise_gene(double gene, double step);
 
 // Decodes genes (already discretised by the caller if wanted).
-GaitParams decode_gait(const double* genes);
+GaitParams decode_gait(const double* genes, StanceOffset offset = StanceOffset::kPaper);
 
 // Target hip angle of `leg` at time t (s): stance sweeps [-phi_s/2, phi_s/2] in d T, swing the
 // remaining 2 pi - phi_s in (1 - d) T, plus one full turn per elapsed period, plus the offset.

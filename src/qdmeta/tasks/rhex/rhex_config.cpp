@@ -24,9 +24,11 @@ Task read_rhex_task(ConfigReader& t) {
   p.episode.time_step = t.number("time_step", p.episode.time_step, 0.0, 0.1, Open::kLower);
   p.episode.settle_steps = static_cast<int>(t.integer("settle_steps", p.episode.settle_steps, 0, 1'000'000));
   p.gene_step = t.number("gene_step", p.gene_step, 0.0, 1.0, Open::kLower);
+  p.stance_offset = t.choice("stance_offset", p.stance_offset, rhex::kStanceOffsetNames);
   p.episode.legs = t.choice("legs", p.episode.legs, rhex::kLegModelNames);
   p.episode.collision = t.choice("collision", p.episode.collision, rhex::kCollisionKindNames);
   p.episode.lcp = t.choice("lcp", p.episode.lcp, rhex::kLcpSolverNames);
+  p.episode.plate_joint_limits = t.boolean("plate_joint_limits", p.episode.plate_joint_limits);
   p.environment.damage = t.choice("damage", p.environment.damage, rhex::kDamageTypeNames);
   p.environment.leg = static_cast<int>(t.integer("damaged_leg", p.environment.leg, 0, 5));
   p.environment.course = t.choice("course", p.environment.course, rhex::kObstacleCourseNames);

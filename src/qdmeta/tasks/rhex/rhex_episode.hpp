@@ -36,6 +36,9 @@ struct EpisodeSettings {
   CollisionKind collision = CollisionKind::kBullet;
   LegModel legs = LegModel::kRigid;
   LcpSolver lcp = LcpSolver::kDantzig;  // DART's contact solver (Dantzig, PGS as its fallback)
+  // Compliant legs: enforce the plate joints' limits [0, pi/64]. Their rest angle lies exactly on
+  // the lower limit, so every plate joint is then a constraint row of every step's LCP.
+  bool plate_joint_limits = true;
   bool record_poses = false;      // keep every step's body pose (gait export, tests)
   int steps() const { return static_cast<int>(duration / time_step + 0.5); }
   void validate() const;

@@ -1,5 +1,6 @@
-// The RHex robot built programmatically (docs/specification.md, RHex): a box body on a free joint and six
-// half-circle legs of 8 plates on revolute hips about the lateral (y) axis.
+// The RHex robot built programmatically from the facts of the authors' model (docs/fidelity.md, "The
+// RHex model"): a box body with two side spacers on a free joint, raised above six revolute hips
+// about the lateral (y) axis, each driving a half-circle leg of 8 plates that bulges backward.
 #include <dart/dynamics/BodyNode.hpp>
 #include <dart/dynamics/BoxShape.hpp>
 #include <dart/dynamics/FreeJoint.hpp>
@@ -25,8 +26,6 @@ using std::numbers::pi;
 
 constexpr double kHipDamping = 0.1;
 constexpr double kPlateJointDamping = 0.1;
-constexpr double kPlateJointUpper = 0.049;
-constexpr double kStiffnessAtHip = 202672.0, kStiffnessAtTip = 152000.0;
 constexpr double kPlateArc = pi / kPlates;  // each plate spans pi / 8 of the half circle
 
 Eigen::Isometry3d rotation_y(double angle) {
@@ -35,14 +34,16 @@ Eigen::Isometry3d rotation_y(double angle) {
   return t;
 }
 
-// Frame of plate k in the hip frame: origin at the plate's start on the arc, x along its chord.
-// The half circle of diameter D hangs below the hip: point(a) = (r sin a, 0, r cos a - r), bulging
-// forward at hip angle 0; a positive hip angle swings the foot backward (stance pushes forward).
+// Frame of plate k in the hip frame: origin at the plate's start on the arc, x along its chord
+// away from the hip. The half circle of diameter D hangs below the hip:
+// point(a) = (-r sin a, 0, r cos a - r), bulging backward at hip angle 0 (as the authors' model);
+// a positive hip angle swings the foot backward (stance pushes forward). The chord from point(a)
+// to point(a + arc) points along (-cos m, 0, -sin m), m = a + arc / 2, which is x rotated by pi - m.
 Eigen::Isometry3d plate_frame(int k) {
   const double r = kLegDiameter / 2.0;
   const double a = k * kPlateArc;
-  Eigen::Isometry3d t = rotation_y(a + kPlateArc / 2.0);
-  t.translation() = Eigen::Vector3d(r * std::sin(a), 0.0, r * std::cos(a) - r);
+  Eigen::Isometry3d t = rotation_y(pi - (a + kPlateArc / 2.0));
+  t.translation() = Eigen::Vector3d(-r * std::sin(a), 0.0, r * std::cos(a) - r);
   return t;
 }
 
@@ -55,18 +56,24 @@ Eigen::Isometry3d plate_shape_offset() {
   return t;
 }
 
-void add_plate_shape(BodyNode* node, const Eigen::Isometry3d& where) {
-  auto box = std::make_shared<BoxShape>(Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness));
+void add_box_shape(BodyNode* node, const Eigen::Vector3d& size, const Eigen::Isometry3d& where) {
+  auto box = std::make_shared<BoxShape>(size);
   auto* shape = node->createShapeNodeWith<VisualAspect, CollisionAspect, DynamicsAspect>(box);
   shape->setRelativeTransform(where);
   shape->getDynamicsAspect()->setFrictionCoeff(1.0);
   shape->getDynamicsAspect()->setRestitutionCoeff(0.0);
 }
 
-// Inertia of plates placed at `frames` (in the body frame), by the parallel-axis theorem.
+void add_plate_shape(BodyNode* node, const Eigen::Isometry3d& where) {
+  add_box_shape(node, Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness), where);
+}
+
+Eigen::Matrix3d diagonal(const std::array<double, 3>& d) { return Eigen::Vector3d(d[0], d[1], d[2]).asDiagonal(); }
+
+// Inertia of plates placed at `frames` (in the body frame), by the parallel-axis theorem. Each
+// plate's own inertia is the authors' (about 6x a uniform box of its size).
 dart::dynamics::Inertia plates_inertia(const std::vector<Eigen::Isometry3d>& frames) {
-  const Eigen::Matrix3d own =
-      BoxShape::computeInertia(Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness), kPlateMass);
+  const Eigen::Matrix3d own = diagonal(kPlateInertia);
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
   for (const auto& f : frames) com += f.translation();
   com /= static_cast<double>(frames.size());
@@ -85,12 +92,13 @@ template <class JointType>
 typename JointType::Properties hip_properties(int leg, const Eigen::Isometry3d& plate0) {
   typename JointType::Properties props;
   props.mName = "hip_" + std::to_string(leg);
-  props.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(kHipX[leg], kHipY[leg], 0.0);
+  props.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(kHipX[leg], kHipY[leg], -kBodyAboveHips);
   props.mT_ChildBodyToJoint = plate0.inverse();
   return props;
 }
 
-void build_leg(int leg, DamageType damage, LegModel model, BodyNode* body, RhexWorld& out) {
+void build_leg(int leg, DamageType damage, const EpisodeSettings& settings, BodyNode* body, RhexWorld& out) {
+  const LegModel model = settings.legs;
   const int plates = damage == DamageType::kLegShortening ? kShortenedPlates : kPlates;
   dart::dynamics::BodyNode::Properties leg_props;
   leg_props.mName = "leg_" + std::to_string(leg);
@@ -139,13 +147,12 @@ void build_leg(int leg, DamageType damage, LegModel model, BodyNode* body, RhexW
       props.mName = "plate_" + std::to_string(leg) + "_" + std::to_string(k);
       props.mAxis = Eigen::Vector3d::UnitY();
       props.mT_ParentBodyToJoint = plate_frame(k - 1).inverse() * plate_frame(k);
-      const double stiffness = kStiffnessAtHip + (kStiffnessAtTip - kStiffnessAtHip) * (k - 1) / (kPlates - 2);
-      props.mSpringStiffnesses[0] = stiffness;
+      props.mSpringStiffnesses[0] = k == 1 || k == kPlates - 1 ? kStiffnessAtEnds : kStiffnessBetween;
       props.mRestPositions[0] = 0.0;
       props.mDampingCoefficients[0] = kPlateJointDamping;
       props.mPositionLowerLimits[0] = 0.0;
       props.mPositionUpperLimits[0] = kPlateJointUpper;
-      props.mIsPositionLimitEnforced = true;
+      props.mIsPositionLimitEnforced = settings.plate_joint_limits;
       props.mActuatorType = dart::dynamics::Joint::PASSIVE;
       dart::dynamics::BodyNode::Properties plate_props;
       plate_props.mName = "leg_" + std::to_string(leg) + "_plate_" + std::to_string(k);
@@ -169,11 +176,19 @@ void build_robot(const EpisodeSettings& settings, const RhexEnvironment& environ
   dart::dynamics::BodyNode::Properties body_props;
   body_props.mName = "body";
   BodyNode* body = out.robot->createJointAndBodyNodePair<dart::dynamics::FreeJoint>(nullptr, free_props, body_props).second;
-  auto box = std::make_shared<BoxShape>(Eigen::Vector3d(kBodyLength, kBodyWidth, kBodyHeight));
-  auto* shape = body->createShapeNodeWith<VisualAspect, CollisionAspect, DynamicsAspect>(box);
-  shape->getDynamicsAspect()->setFrictionCoeff(1.0);
-  shape->getDynamicsAspect()->setRestitutionCoeff(0.0);
-  body->setInertia(dart::dynamics::Inertia(kBodyMass, Eigen::Vector3d::Zero(), box->computeInertia(kBodyMass)));
+  add_box_shape(body, Eigen::Vector3d(kBodyLength, kBodyWidth, kBodyHeight), Eigen::Isometry3d::Identity());
+  // The spacers are welded to the body in the authors' model: here they are shapes of the body,
+  // their masses and inertias added to its own (the same dynamics, two bodies fewer).
+  Eigen::Matrix3d moment = diagonal(kBodyInertia);
+  for (const double side : {1.0, -1.0}) {
+    Eigen::Isometry3d where = Eigen::Isometry3d::Identity();
+    where.translation() = Eigen::Vector3d(0.0, side * kSpacerY, 0.0);
+    add_box_shape(body, Eigen::Vector3d(kSpacerLength, kSpacerWidth, kBodyHeight), where);
+    const Eigen::Vector3d c = where.translation();
+    moment += kSpacerInertia * Eigen::Matrix3d::Identity() +
+              kSpacerMass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  }
+  body->setInertia(dart::dynamics::Inertia(kBodyMass + 2.0 * kSpacerMass, Eigen::Vector3d::Zero(), moment));
   out.body = body;
 
   for (int leg = 0; leg < kLegs; ++leg) {
@@ -183,7 +198,7 @@ void build_robot(const EpisodeSettings& settings, const RhexEnvironment& environ
       out.actuated[leg] = false;
       continue;
     }
-    build_leg(leg, damage, settings.legs, body, out);
+    build_leg(leg, damage, settings, body, out);
   }
 
   Eigen::Isometry3d start = Eigen::Isometry3d::Identity();

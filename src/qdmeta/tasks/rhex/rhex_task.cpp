@@ -21,7 +21,7 @@ Index RhexTask::base_feature_size() const {
 rhex::GaitParams RhexTask::gait(const Real* genes) const {
   std::array<double, rhex::kGenes> g{};
   for (int i = 0; i < rhex::kGenes; ++i) g[i] = rhex::discretise_gene(genes[i], params_.gene_step);
-  return rhex::decode_gait(g.data());
+  return rhex::decode_gait(g.data(), params_.stance_offset);
 }
 
 rhex::EpisodeResult RhexTask::episode(const Real* genes, const rhex::RhexEnvironment& environment) const {

@@ -16,6 +16,7 @@ inline constexpr EnumNames<RhexFeatures, 2> kRhexFeaturesNames{
 struct RhexParams {
   RhexFeatures features = RhexFeatures::kTrajectory;  // which base features the task writes
   double gene_step = 0.025;                           // genes are snapped to this grid, in (0, 1]
+  rhex::StanceOffset stance_offset = rhex::StanceOffset::kPaper;  // the paper's range, or the authors' 6x
   rhex::EpisodeSettings episode;                      // simulation settings
   rhex::RhexEnvironment environment;                  // where `evaluate` runs (default: flat, intact)
   void validate() const;

@@ -1,0 +1,130 @@
+// Are the rigid legs a stand-in for the authors' compliant ones? (docs/fidelity.md, "Rigid or
+// compliant legs"). The same random controllers walk on flat ground and under each damage type,
+// with each leg model, and the program prints, per environment and model, the mean distance, the
+// dead count and the episode cost, and per environment the paired differences against the
+// compliant model: mean and largest |difference|, the correlation of the distances, and how many
+// controllers die under one model but not the other. Not a micro-benchmark: a plain program.
+//   rhex_leg_models [count=50] [seed=3] [threads=2] [offset=paper|authors] [leg=1]
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/tasks/rhex/rhex_task.hpp"
+
+namespace {
+
+using namespace qdmeta;
+
+struct Model {
+  std::string name;
+  rhex::LegModel legs;
+  bool limits;
+};
+
+struct Outcome {
+  std::vector<double> distance;  // 0 when dead
+  std::vector<int> dead;
+  double seconds_per_episode = 0.0;
+};
+
+double correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  const auto n = static_cast<double>(a.size());
+  double ma = 0, mb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    sab += (a[i] - ma) * (b[i] - mb);
+    saa += (a[i] - ma) * (a[i] - ma);
+    sbb += (b[i] - mb) * (b[i] - mb);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::map<std::string, std::string> args{
+      {"count", "50"}, {"seed", "3"}, {"threads", "2"}, {"offset", "paper"}, {"leg", "1"}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
+      fmt::print(stderr, "rhex_leg_models: bad argument '{}' (key=value, keys: count seed threads offset leg)\n", a);
+      return 2;
+    }
+    args[a.substr(0, eq)] = a.substr(eq + 1);
+  }
+  try {
+    const Index count = std::stoll(args["count"]);
+    const int leg = std::stoi(args["leg"]);
+    const int threads = std::stoi(args["threads"]);
+    Rng rng(std::stoull(args["seed"]));
+    RowMatrix g(count, rhex::kGenes);
+    for (Index i = 0; i < g.size(); ++i) g.data()[i] = static_cast<Real>(rng.uniform());
+    const std::vector<Model> models{{"rigid", rhex::LegModel::kRigid, true},
+                                    {"compliant", rhex::LegModel::kCompliant, true},
+                                    {"compliant, free plate limits", rhex::LegModel::kCompliant, false}};
+    std::vector<std::pair<std::string, rhex::RhexEnvironment>> envs{{"flat", {}}};
+    for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
+                   rhex::DamageType::kPassiveHip})
+      envs.emplace_back(fmt::format("{} leg {}", enum_to_string(rhex::kDamageTypeNames, d), leg),
+                        rhex::RhexEnvironment::damaged(d, leg));
+    auto evaluator = make_evaluator(threads);
+    fmt::print("{} random controllers (seed {}), stance offset {}, {} threads; distance in m (dead = 0)\n", count,
+               args["seed"], args["offset"], threads);
+    for (const auto& [env_name, env] : envs) {
+      std::vector<Outcome> outcomes;
+      for (const auto& m : models) {
+        RhexParams p;
+        p.episode.legs = m.legs;
+        p.episode.plate_joint_limits = m.limits;
+        p.stance_offset = enum_from_string(rhex::kStanceOffsetNames, "offset", args["offset"]);
+        const RhexTask task(p);
+        Outcome o;
+        o.distance.resize(static_cast<std::size_t>(count));
+        o.dead.resize(static_cast<std::size_t>(count));
+        const auto start = std::chrono::steady_clock::now();
+        evaluator->parallel_for(count, [&](Index i) {
+          const rhex::EpisodeResult r = task.episode(g.row(i).data(), env);
+          o.distance[static_cast<std::size_t>(i)] = r.dead ? 0.0 : r.fitness;
+          o.dead[static_cast<std::size_t>(i)] = r.dead;
+        });
+        o.seconds_per_episode = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() *
+                                threads / static_cast<double>(count);
+        outcomes.push_back(std::move(o));
+      }
+      fmt::print("{}:\n", env_name);
+      const Outcome& reference = outcomes[1];
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        const Outcome& o = outcomes[k];
+        double mean = 0, abs_diff = 0, max_diff = 0;
+        int dead = 0, dead_disagree = 0;
+        for (Index i = 0; i < count; ++i) {
+          const auto j = static_cast<std::size_t>(i);
+          mean += o.distance[j] / static_cast<double>(count);
+          const double d = std::abs(o.distance[j] - reference.distance[j]);
+          abs_diff += d / static_cast<double>(count);
+          max_diff = std::max(max_diff, d);
+          dead += o.dead[j];
+          dead_disagree += o.dead[j] != reference.dead[j];
+        }
+        fmt::print("  {:30s} mean {:.3f}, dead {:3d}, {:.3f} s/episode/core", models[k].name, mean, dead,
+                   o.seconds_per_episode);
+        if (k != 1)
+          fmt::print("; vs compliant: mean |diff| {:.3f}, max {:.3f}, r = {:.3f}, dead disagree {}", abs_diff, max_diff,
+                     correlation(o.distance, reference.distance), dead_disagree);
+        fmt::print("\n");
+      }
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "rhex_leg_models: {}\n", e.what());
+    return 2;
+  }
+  return 0;
+}
