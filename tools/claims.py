@@ -47,16 +47,14 @@ NOT_IN_EXPERIMENT = "not testable in this experiment"
 TOO_FEW = "not testable with these replicates"
 
 
-def generalisation_mean(run_path, group):
-    """The mean of `group` in the run's generalisation.csv, or None without one."""
+def read_generalisation(run_path):
+    """The run's generalisation.csv as {group: mean over the archive's solutions and the group's
+    environments}; {} without one."""
     path = os.path.join(run_path, "generalisation.csv")
     if not os.path.exists(path):
-        return None
+        return {}
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            if row["group"] == group:
-                return float(row["mean"])
-    return None
+        return {row["group"]: float(row["mean"]) for row in csv.DictReader(f)}
 
 
 def measure_values(runs, measure):
@@ -76,7 +74,7 @@ def measure_values(runs, measure):
             curve = r.adapt.get(test, {}).get("best_mean")
             v = curve[min(int(at), len(curve)) - 1] if curve is not None and len(curve) else None
         elif family == "generalisation":
-            v = generalisation_mean(r.path, name)
+            v = read_generalisation(r.path).get(name)
         else:
             raise ValueError(f"unknown measure '{measure}' (families: final, population, meta, test, generalisation)")
         if v is not None:

@@ -51,15 +51,6 @@ def read_csv(path):
     return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
 
 
-def read_rows(path):
-    """Rows of a CSV file as dicts of strings ([] if the file is missing): for files with text
-    columns, such as generalisation.csv's group, which read_csv cannot turn into floats."""
-    if not os.path.exists(path):
-        return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
 def mean_se(samples):
     """Mean and standard error along axis 0 (SE 0 for one replicate); NaNs ignored."""
     a = np.asarray(samples, dtype=float)
@@ -125,8 +116,12 @@ class Run:
         return self._config
 
     def generalisation(self):
-        """generalisation.csv as {group: mean over the archive's solutions and the group's environments}."""
-        return {row["group"]: float(row["mean"]) for row in read_rows(os.path.join(self.path, "generalisation.csv"))}
+        return claims.read_generalisation(self.path)
+
+    @property
+    def seed(self):
+        """The replicate's seed, from its directory name (seed-<r>)."""
+        return os.path.basename(self.path).split("-")[-1]
 
 
 def load(directory):
@@ -176,6 +171,14 @@ def evaluation_grid(conditions):
     return np.linspace(0, budget, GRID_POINTS) if budget > 0 else None
 
 
+def save_figure(fig, out):
+    """Lays out, writes and closes a figure; returns its path for the report."""
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+    return out
+
+
 def figure_qd_statistics(conditions, out):
     """Two views side by side, as rows: QD-Meta's best map of each meta-generation (metrics.csv),
     and its whole meta-population (the mean over its maps, meta.csv), as the paper's figures
@@ -198,10 +201,7 @@ def figure_qd_statistics(conditions, out):
     axes[0][0].legend(fontsize=8)
     fig.suptitle("QD statistics over evaluations (mean ± SE over replicates). Top: QD-Meta's best map; "
                  "bottom: the mean over its meta-population")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 G_WINDOW = 50
@@ -240,10 +240,7 @@ def figure_meta(conditions, out):
             ax.set_ylabel(label, fontsize=9)
     axes[0].legend(fontsize=8)
     fig.suptitle("Meta-evolution (mean ± SE over replicates)")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 # A test entry that is a table, not a recovery curve: `qdmeta experiment` writes generalisation.csv
@@ -309,10 +306,7 @@ def figure_adaptation(conditions, test, out):
         title += "\nlines continued with their last value once an archive is exhausted"
     ax.set_title(title, fontsize=10 if "\n" in title else None)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 def meta_fitness_kind(run):
@@ -370,10 +364,7 @@ def figure_meta_running_average(conditions, out):
             ax.legend(fontsize=8)
     fig.suptitle(f"Meta-fitness per meta-generation (faint) and its running average over the last {G_WINDOW} "
                  "(thick, mean ± SE over replicates)")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 def controls_generations(runs):
@@ -409,12 +400,9 @@ def figure_generations_and_meta_fitness(conditions, out):
             g.plot(x, trailing_mean(r.meta["generations"], G_WINDOW), color="C1", linewidth=2)
             g.set_ylabel(f"G (faint: drawn; thick: mean of the last {G_WINDOW})", color="C1", fontsize=8)
             g.tick_params(axis="y", labelcolor="C1")
-            ax.set_title(f'{c["name"]}, seed {os.path.basename(r.path).split("-")[-1]}', fontsize=9)
+            ax.set_title(f'{c["name"]}, seed {r.seed}', fontsize=9)
     fig.suptitle("Generations per meta-generation (G, SARSA control) and meta-fitness, per run")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 def supplementary_figures(conditions):
@@ -508,14 +496,11 @@ def figure_archives(conditions, out):
             continue
         points = ax.scatter(a["measures_0"], a["measures_1"], c=a["objective"], s=2, cmap="viridis", linewidths=0)
         fig.colorbar(points, ax=ax, label="fitness")
-        ax.set_title(f'{c["name"]} (seed {os.path.basename(run.path).split("-")[-1]}, {len(a["objective"])} elites)',
+        ax.set_title(f'{c["name"]} (seed {run.seed}, {len(a["objective"])} elites)',
                      fontsize=9)
         ax.set_xlabel("measure 0")
         ax.set_ylabel("measure 1")
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out)
 
 
 def population_table(conditions):
@@ -680,7 +665,7 @@ def write_data(directory, conditions, tests):
     rows = []
     for c in conditions:
         for r in c["runs"]:
-            row = [c["name"], os.path.basename(r.path).split("-")[-1]] + [r.summary.get(k, "") for k in final_keys]
+            row = [c["name"], r.seed] + [r.summary.get(k, "") for k in final_keys]
             for measure in [f"population:{s}" for s in population]:
                 v = claims.measure_values([r], measure)
                 row.append(v[0] if v else "")

@@ -13,10 +13,8 @@ namespace qdmeta {
 namespace {
 
 
-void BM_RhexEpisode(benchmark::State& state) {
-  RhexParams params;
-  params.episode.collision = static_cast<rhex::CollisionKind>(state.range(0));
-  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+// Times the hand-set tripod gait's 5 s episode on flat ground under `params`; the last result.
+rhex::EpisodeResult time_tripod_episode(benchmark::State& state, const RhexParams& params) {
   const RhexTask task(params);
   const auto genes = rhex::tripod_genes();
   rhex::EpisodeResult result;
@@ -24,9 +22,17 @@ void BM_RhexEpisode(benchmark::State& state) {
     result = task.episode(genes.data(), {});
     benchmark::DoNotOptimize(result.fitness);
   }
+  state.counters["fitness_m"] = result.fitness;
+  return result;
+}
+
+void BM_RhexEpisode(benchmark::State& state) {
+  RhexParams params;
+  params.episode.collision = static_cast<rhex::CollisionKind>(state.range(0));
+  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+  const rhex::EpisodeResult result = time_tripod_episode(state, params);
   state.SetLabel(std::string(enum_to_string(rhex::kCollisionKindNames, params.episode.collision)) + "/" +
                  std::string(enum_to_string(rhex::kLegModelNames, params.episode.legs)));
-  state.counters["fitness_m"] = result.fitness;
   state.counters["dead"] = result.dead;
   state.counters["steps"] = result.walk_steps + result.settle_steps;
 }
@@ -44,14 +50,7 @@ void BM_RhexCompliantOptions(benchmark::State& state) {
   params.episode.legs = rhex::LegModel::kCompliant;
   params.episode.lcp = static_cast<rhex::LcpSolver>(state.range(0));
   params.episode.plate_joint_limits = state.range(1) != 0;
-  const RhexTask task(params);
-  const auto genes = rhex::tripod_genes();
-  rhex::EpisodeResult result;
-  for (auto _ : state) {
-    result = task.episode(genes.data(), {});
-    benchmark::DoNotOptimize(result.fitness);
-  }
-  state.counters["fitness_m"] = result.fitness;
+  const rhex::EpisodeResult result = time_tripod_episode(state, params);
   state.counters["contacts_per_step"] = static_cast<double>(result.contacts) / std::max(1, result.walk_steps);
 }
 BENCHMARK(BM_RhexCompliantOptions)
