@@ -1,5 +1,5 @@
-// Are the rigid legs a stand-in for the authors' compliant ones? (docs/fidelity.md, "Rigid or
-// compliant legs"). The same random controllers walk on flat ground and under each damage type,
+// Are the rigid legs a stand-in for the authors' compliant ones? (docs/fidelity.md, RHex hexapod:
+// "Rigid legs by default"). The same random controllers walk on flat ground and under each damage type,
 // with each leg model, and the program prints, per environment and model, the mean distance, the
 // dead count and the episode cost, and per environment the paired differences against the
 // compliant model: mean and largest |difference|, the correlation of the distances, and how many

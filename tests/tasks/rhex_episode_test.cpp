@@ -110,8 +110,9 @@ TEST(RhexEpisode, TripodGaitWalksForward) {
 }
 
 // Zero hip torque: the robot drops onto its legs, the unpowered C-legs roll under its weight and
-// fold until the body rests on the floor (measured: 0.21 m forward, no sideways drift, body
-// centre at 0.068 m = half its height). It must stay far from the 3 m of the tripod gait.
+// fold until the body rests on the floor (measured: 0.24 m backward, as the legs bulge backward,
+// no sideways drift, body centre at 0.0695 m = half its height). It must stay far from the 3.27 m
+// of the tripod gait.
 TEST(RhexEpisode, UncommandedRobotStaysRoughlyInPlace) {
   const rhex::EpisodeResult r = rhex::run_uncommanded_episode({}, {});
   ASSERT_FALSE(r.dead);
