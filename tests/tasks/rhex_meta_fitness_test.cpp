@@ -121,7 +121,7 @@ TEST(RhexConfig, BaselineConfigsBuildWithThePapersSettings) {
     if (std::string(name).find("cvt") != std::string::npos) {
       EXPECT_EQ(built.resolved["cvt"]["points"].value_or<std::string>(""), "random-descriptors") << name;
       EXPECT_EQ(built.resolved["cvt"]["centroids"].value_or<std::int64_t>(0), smoke ? 16 : 4096) << name;
-      EXPECT_EQ(built.resolved["cvt"]["samples"].value_or<std::int64_t>(0), smoke ? 256 : 100'000) << name;
+      EXPECT_EQ(built.resolved["cvt"]["samples"].value_or<std::int64_t>(0), smoke ? 64 : 100'000) << name;
     } else {
       EXPECT_EQ(built.resolved["aurora"]["latent_size"].value_or<std::int64_t>(0), 4) << name;
       EXPECT_EQ(built.resolved["aurora"]["target_size"].value_or<std::int64_t>(0), smoke ? 32 : 4096) << name;
