@@ -1,10 +1,14 @@
 // Are the rigid legs a stand-in for the authors' compliant ones? (docs/fidelity.md, RHex hexapod:
-// "Rigid legs by default"). The same random controllers walk on flat ground and under each damage type,
-// with each leg model, and the program prints, per environment and model, the mean distance, the
-// dead count and the episode cost, and per environment the paired differences against the
-// compliant model: mean and largest |difference|, the correlation of the distances, and how many
-// controllers die under one model but not the other. Not a micro-benchmark: a plain program.
+// "Rigid legs by default"). The same random controllers walk on flat ground and under each damage
+// type (or, with envs=courses, on each obstacle course) with each leg model, and the program
+// prints, per environment and model, the mean distance, the dead count and the episode cost, and
+// the paired differences against the compliant model: mean and largest |difference|, the
+// correlation of the distances, and how many controllers die under one model but not the other.
+// The extra models (compliant legs with free plate limits; rigid legs with DART's collision
+// detector, a control for how far one model drifts from itself) also give their correlation with
+// the rigid default. Not a micro-benchmark: a plain program.
 //   rhex_leg_models [count=50] [seed=3] [threads=2] [offset=paper|authors] [leg=1]
+//                   [envs=damages|courses] [free_limits=1|0] [detector_control=1|0]
 #include <fmt/format.h>
 
 #include <chrono>
@@ -25,6 +29,7 @@ struct Model {
   std::string name;
   rhex::LegModel legs;
   bool limits;
+  rhex::CollisionKind collision = rhex::CollisionKind::kBullet;
 };
 
 struct Outcome {
@@ -50,12 +55,14 @@ double correlation(const std::vector<double>& a, const std::vector<double>& b) {
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args{
-      {"count", "50"}, {"seed", "3"}, {"threads", "2"}, {"offset", "paper"}, {"leg", "1"}};
+      {"count", "50"}, {"seed", "3"},   {"threads", "2"},         {"offset", "paper"},
+      {"leg", "1"},    {"envs", "damages"}, {"free_limits", "1"}, {"detector_control", "1"}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto eq = a.find('=');
     if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
-      fmt::print(stderr, "rhex_leg_models: bad argument '{}' (key=value, keys: count seed threads offset leg)\n", a);
+      fmt::print(stderr, "rhex_leg_models: bad argument '{}' (key=value, keys: count seed threads offset leg envs "
+                         "free_limits detector_control)\n", a);
       return 2;
     }
     args[a.substr(0, eq)] = a.substr(eq + 1);
@@ -67,14 +74,24 @@ int main(int argc, char** argv) {
     Rng rng(std::stoull(args["seed"]));
     RowMatrix g(count, rhex::kGenes);
     for (Index i = 0; i < g.size(); ++i) g.data()[i] = static_cast<Real>(rng.uniform());
-    const std::vector<Model> models{{"rigid", rhex::LegModel::kRigid, true},
-                                    {"compliant", rhex::LegModel::kCompliant, true},
-                                    {"compliant, free plate limits", rhex::LegModel::kCompliant, false}};
+    std::vector<Model> models{{"rigid", rhex::LegModel::kRigid, true}, {"compliant", rhex::LegModel::kCompliant, true}};
+    if (args["free_limits"] != "0") models.push_back({"compliant, free plate limits", rhex::LegModel::kCompliant, false});
+    // The same rigid robot with another collision detector: how far two runs of one model drift
+    // apart in an environment, the floor under which a leg-model difference cannot be read.
+    if (args["detector_control"] != "0")
+      models.push_back({"rigid, DART's detector", rhex::LegModel::kRigid, true, rhex::CollisionKind::kDart});
     std::vector<std::pair<std::string, rhex::RhexEnvironment>> envs{{"flat", {}}};
-    for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
-                   rhex::DamageType::kPassiveHip})
-      envs.emplace_back(fmt::format("{} leg {}", enum_to_string(rhex::kDamageTypeNames, d), leg),
-                        rhex::RhexEnvironment::damaged(d, leg));
+    if (args["envs"] == "courses") {
+      for (const auto& [course, name] : rhex::kObstacleCourseNames)
+        if (course != rhex::ObstacleCourse::kFlat) envs.emplace_back(std::string(name), rhex::RhexEnvironment::obstacle(course));
+    } else if (args["envs"] == "damages") {
+      for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
+                     rhex::DamageType::kPassiveHip})
+        envs.emplace_back(fmt::format("{} leg {}", enum_to_string(rhex::kDamageTypeNames, d), leg),
+                          rhex::RhexEnvironment::damaged(d, leg));
+    } else {
+      throw InputError("envs must be damages or courses, not '" + args["envs"] + "'");
+    }
     auto evaluator = make_evaluator(threads);
     fmt::print("{} random controllers (seed {}), stance offset {}, {} threads; distance in m (dead = 0)\n", count,
                args["seed"], args["offset"], threads);
@@ -84,6 +101,7 @@ int main(int argc, char** argv) {
         RhexParams p;
         p.episode.legs = m.legs;
         p.episode.plate_joint_limits = m.limits;
+        p.episode.collision = m.collision;
         p.stance_offset = enum_from_string(rhex::kStanceOffsetNames, "offset", args["offset"]);
         const RhexTask task(p);
         Outcome o;
@@ -119,6 +137,7 @@ int main(int argc, char** argv) {
         if (k != 1)
           fmt::print("; vs compliant: mean |diff| {:.3f}, max {:.3f}, r = {:.3f}, dead disagree {}", abs_diff, max_diff,
                      correlation(o.distance, reference.distance), dead_disagree);
+        if (k > 1) fmt::print("; vs rigid: r = {:.3f}", correlation(o.distance, outcomes[0].distance));
         fmt::print("\n");
       }
     }
