@@ -35,7 +35,7 @@ struct Outcome {
 Outcome spin_hips(const EpisodeSettings& settings, const RhexEnvironment& environment) {
   RhexWorld w = build_world(settings, environment);
   Outcome out;
-  const int steps = static_cast<int>(5.0 / settings.time_step + 0.5);
+  const int steps = settings.steps();  // the default 5 s episode
   for (int step = 0; step < steps; ++step) {
     const double target = 2.0 * std::numbers::pi * step * settings.time_step;
     for (int i = 0; i < kLegs; ++i)
