@@ -30,6 +30,24 @@ inline Outcome shell(const std::string& command_line) {
   return o;
 }
 
+// Runs `command` (a qdmeta run or experiment) with the test hook that makes it send itself
+// `signal` right after its `checkpoint`-th checkpoint (QDMETA_TEST_SIGNAL_AT_CHECKPOINT): the
+// moment is the program's own, never a race between a timer and the run.
+inline Outcome signalled_at_checkpoint(const std::string& command, int checkpoint, const std::string& signal) {
+  return shell("QDMETA_TEST_SIGNAL_AT_CHECKPOINT=" + std::to_string(checkpoint) + ":" + signal + " " + command);
+}
+
+// Starts `command` with the hook set to stop it (SIGSTOP) at its `checkpoint`-th checkpoint,
+// waits until it has stopped (at most a minute), runs `during` while it holds its directories,
+// then sends `signal`, lets it continue and waits for it. Returns the command's outcome.
+inline Outcome while_stopped_at_checkpoint(const std::string& command, int checkpoint, const std::string& during,
+                                           const std::string& signal) {
+  // `exec`, so that $! is the program itself, not a shell around it.
+  return shell("QDMETA_TEST_SIGNAL_AT_CHECKPOINT=" + std::to_string(checkpoint) + ":STOP exec " + command +
+               " & pid=$!; for i in $(seq 6000); do grep -q '^State:[[:space:]]*T' /proc/$pid/status && break; "
+               "sleep 0.01; done; " + during + "; kill -" + signal + " $pid; kill -CONT $pid; wait $pid");
+}
+
 // TMPDIR/qdmeta_<tag>_<pid>, made on first use.
 inline std::filesystem::path process_scratch(const std::string& tag) {
   const std::filesystem::path dir =
@@ -45,7 +63,8 @@ inline std::string slurp(const std::filesystem::path& path) {
   return s.str();
 }
 
-// A QD-Meta run of a few seconds (a small database) that checkpoints every `every_seconds`.
+// A QD-Meta run of a few seconds (a small database) that checkpoints every `every_seconds` (0:
+// after every step).
 inline std::string small_qd_meta_config(const std::string& evaluations, const std::string& every_seconds) {
   return "algorithm = \"qd-meta\"\n[budget]\nevaluations = " + evaluations + "\n[checkpoint]\nevery_seconds = " +
          every_seconds + "\n[qd_meta]\ndatabase_capacity = 100_000\n";

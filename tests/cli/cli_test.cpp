@@ -29,14 +29,7 @@ Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BI
 // and a sanitizer suite may run at once), so no two of them may share a path.
 fs::path scratch() { return cli_test::process_scratch("cli_test"); }
 
-// Starts `command` in the background, waits until `file` exists (at most a minute), lets it
-// run `extra_seconds` more, then sends `signal`. Returns the command's exit status.
-Outcome signal_after(const std::string& command, const fs::path& file, double extra_seconds, const char* signal) {
-  // `exec`, so that $! is the program itself, not a shell around it.
-  return shell("exec " + command + " & pid=$!; for i in $(seq 1200); do [ -e '" + file.string() +
-               "' ] && break; sleep 0.05; done; sleep " + std::to_string(extra_seconds) + "; kill -" + signal +
-               " $pid; wait $pid");
-}
+using cli_test::signalled_at_checkpoint;
 
 std::string config_path() { return std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml"; }
 
@@ -233,9 +226,9 @@ TEST(Cli, AdaptWritesTheTestPhaseCurveOfAFinishedRun) {
   EXPECT_NE(unfinished.output.find("has not finished"), std::string::npos) << unfinished.output;
 }
 
-// A small QD-Meta run (SARSA control) that checkpoints often and takes a few seconds.
+// A small QD-Meta run (SARSA control) that checkpoints after every step and takes a few seconds.
 fs::path checkpointing_config() {
-  return write_config("resume", cli_test::small_qd_meta_config("500_000", "0.1"));
+  return write_config("resume", cli_test::small_qd_meta_config("500_000", "0"));
 }
 
 using cli_test::expect_same_run;
@@ -244,9 +237,10 @@ TEST(Cli, AKilledRunResumesToTheSameBits) {
   const fs::path straight = fresh_dir("straight"), killed = fresh_dir("killed");
   const std::string config = checkpointing_config().string();
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
-  // SIGKILL: no chance to clean up; the last periodic checkpoint must carry the run.
-  signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + killed.string() + " --quiet --threads 1",
-               killed / "checkpoint.bin", 0.3, "KILL");
+  // SIGKILL: no chance to clean up; the last periodic checkpoint (the third) must carry the run.
+  signalled_at_checkpoint(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + killed.string() +
+                              " --quiet --threads 1",
+                          3, "KILL");
   ASSERT_TRUE(fs::exists(killed / "checkpoint.bin")) << "killed before its first checkpoint";
   ASSERT_FALSE(fs::exists(killed / "summary.json")) << "finished before it was killed: raise the budget";
   const Outcome adapt = qdmeta_cli("adapt --run " + killed.string() + " --test dimension");
@@ -264,8 +258,8 @@ TEST(Cli, AnInterruptedRunSaysHowToResumeAndDoes) {
   const fs::path straight = fresh_dir("straight2"), stopped = fresh_dir("interrupted");
   const std::string config = checkpointing_config().string();
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + straight.string() + " --quiet").status, 0);
-  const Outcome o = signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + stopped.string(),
-                                 stopped / "metrics.csv", 0.3, "INT");
+  const Outcome o =
+      signalled_at_checkpoint(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + stopped.string(), 2, "INT");
   ASSERT_EQ(o.status, 130) << o.output;  // interrupted
   EXPECT_NE(o.output.find("continue it with: qdmeta resume --out"), std::string::npos) << o.output;
   EXPECT_NE(slurp(stopped / "summary.json").find("\"interrupted\""), std::string::npos);
@@ -276,8 +270,8 @@ TEST(Cli, AnInterruptedRunSaysHowToResumeAndDoes) {
 TEST(Cli, ADamagedOrMismatchedCheckpointIsAClearError) {
   const fs::path dir = fresh_dir("damaged");
   const std::string config = checkpointing_config().string();
-  signal_after(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + dir.string() + " --quiet",
-               dir / "metrics.csv", 0.2, "INT");
+  signalled_at_checkpoint(std::string(QDMETA_BINARY) + " run --config " + config + " --out " + dir.string() + " --quiet",
+                          1, "INT");
   ASSERT_TRUE(fs::exists(dir / "checkpoint.bin"));
   const std::string good = slurp(dir / "checkpoint.bin");
   const auto expect_refused = [&](const std::string& why, const std::string& message) {
@@ -329,9 +323,10 @@ TEST(Cli, AKilledExperimentContinuesToTheSameResultsAndReports) {
   ASSERT_EQ(first.status, 0) << first.output;
   EXPECT_NE(first.output.find("4 runs finished now, 0 resumed, 0 already finished; 8 test phases"), std::string::npos)
       << first.output;
-  signal_after(std::string(QDMETA_BINARY) + " experiment --config " + config + " --out " + killed.string() +
-                   " --no-report --quiet",
-               killed / "qd-meta-sarsa/seed-1/checkpoint.bin", 0.2, "KILL");
+  // The first run's first checkpoint (QD-Meta, replicate 1, comes first).
+  signalled_at_checkpoint(std::string(QDMETA_BINARY) + " experiment --config " + config + " --out " + killed.string() +
+                              " --no-report --quiet",
+                          1, "KILL");
   ASSERT_TRUE(fs::exists(killed / "qd-meta-sarsa/seed-1/checkpoint.bin")) << "killed before the first checkpoint";
   const Outcome again = qdmeta_cli("experiment --config " + config + " --out " + killed.string());
   ASSERT_EQ(again.status, 0) << again.output;

@@ -115,6 +115,25 @@ TEST(Mpi, TheHeaderNamesTheRanksAndOnlyRankZeroWrites) {
   EXPECT_EQ(headers, 1u) << "one rank speaks: " << o.output;
 }
 
+// SIGTERM to rank 0 alone (a user's kill, not the launcher's): the workers are alive and were
+// never signalled, so none is named as crashed, and every one has exited when mpirun returns.
+TEST(Mpi, ASignalToRankZeroAloneEndsTheRunAndEveryWorkerWithIt) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + config() + " --evals 60000 --seed 3 --out ";
+  const fs::path straight = fresh_dir("straight-term"), stopped = fresh_dir("rank0-term");
+  ASSERT_EQ(qdmeta_cli(run + straight.string() + " --quiet --threads 2").status, 0);
+  // The hook reaches every rank; only rank 0 writes checkpoints, so only rank 0 signals itself.
+  const Outcome o = mpirun(3, run + stopped.string(), "QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:TERM");
+  EXPECT_EQ(o.status, 130) << o.output;  // interrupted, not a failed rank
+  EXPECT_EQ(o.output.find("stopped answering"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("continue it with: qdmeta resume --out " + stopped.string()), std::string::npos) << o.output;
+  EXPECT_FALSE(ranks_alive(stopped)) << "a worker outlived mpirun";
+  ASSERT_TRUE(fs::exists(stopped / "checkpoint.bin")) << o.output;
+  const Outcome r = qdmeta_cli("resume --quiet --out " + stopped.string() + " --threads 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  expect_same_files(straight, stopped);
+}
+
 TEST(Mpi, AKilledWorkerStopsTheRunWithACheckpointThatResumesToTheSameBits) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
   const std::string run = "run --config " + config() + " --evals 60000 --seed 3 --quiet --out ";

@@ -58,15 +58,8 @@ fs::path first_checkpoint_only_config() {
 
 using cli_test::expect_same_run;
 
-// Runs `command` in the background until `file` exists (at most a minute), waits
-// `extra_seconds`, runs `meanwhile` (its output and status go to scratch files), then sends
-// `signal` and waits. Returns the background command's outcome.
-Outcome meanwhile(const std::string& command, const fs::path& file, double extra_seconds, const std::string& during,
-                  const char* signal) {
-  return shell("exec " + command + " & pid=$!; for i in $(seq 1200); do [ -e " + quote(file.string()) +
-               " ] && break; sleep 0.05; done; sleep " + std::to_string(extra_seconds) + "; " + during + "; kill -" +
-               signal + " $pid; wait $pid");
-}
+using cli_test::signalled_at_checkpoint;
+using cli_test::while_stopped_at_checkpoint;
 
 // --- 1. The report is started with an argument vector, never through a shell.
 
@@ -120,7 +113,7 @@ TEST(Robustness, ASecondWriterOnARunDirectoryIsRefused) {
                              " --evals 20000 --seed 2 --overwrite" + into("run") + "; timeout 60 " + kBinary + " resume --out " +
                              d + into("resume") + "; " + kBinary + " adapt --run " + d + " --test dimension" +
                              into("adapt");
-  meanwhile(first, dir / "metrics.csv", 0.2, during, "INT");
+  while_stopped_at_checkpoint(first, 1, during, "INT");
   for (const char* who : {"run", "resume", "adapt"}) {
     const std::string output = slurp(log / who);
     EXPECT_EQ(slurp(log / (std::string(who) + ".status")), "2\n") << who << ": " << output;
@@ -147,9 +140,9 @@ TEST(Robustness, AnExperimentLocksItsDirectoryAndEachRun) {
       "timeout 60 " + kBinary + " experiment --config " + quote(experiment.string()) + " --out " + quote(out.string()) + " > " +
       quote((log / "experiment").string()) + " 2>&1; timeout 60 " + kBinary + " resume --out " + quote((out / "me/seed-1").string()) +
       " > " + quote((log / "resume").string()) + " 2>&1";
-  meanwhile(kBinary + " experiment --quiet --threads 1 --config " + quote(experiment.string()) + " --out " +
-                quote(out.string()),
-            out / "me/seed-1/metrics.csv", 0.2, during, "INT");
+  while_stopped_at_checkpoint(
+      kBinary + " experiment --quiet --threads 1 --config " + quote(experiment.string()) + " --out " + quote(out.string()),
+      1, during, "INT");
   EXPECT_NE(slurp(log / "experiment").find("is in use by another qdmeta process"), std::string::npos)
       << slurp(log / "experiment");
   EXPECT_NE(slurp(log / "resume").find("is in use by another qdmeta process"), std::string::npos) << slurp(log / "resume");
@@ -161,8 +154,8 @@ TEST(Robustness, ARunKilledBeforeItsFirstPeriodicCheckpointResumesToTheSameBits)
   const fs::path straight = fresh_dir("first-straight"), killed = fresh_dir("first-killed");
   const std::string config = quote(first_checkpoint_only_config().string());
   ASSERT_EQ(qdmeta_cli("run --config " + config + " --out " + quote(straight.string()) + " --quiet").status, 0);
-  meanwhile(kBinary + " run --config " + config + " --out " + quote(killed.string()) + " --quiet --threads 1",
-            killed / "checkpoint.bin", 0.3, "true", "KILL");
+  signalled_at_checkpoint(kBinary + " run --config " + config + " --out " + quote(killed.string()) + " --quiet --threads 1",
+                          1, "KILL");
   ASSERT_TRUE(fs::exists(killed / "checkpoint.bin"));
   ASSERT_FALSE(fs::exists(killed / "summary.json")) << "finished before it was killed: raise the budget";
   const std::string checkpoint = slurp(killed / "checkpoint.bin");
@@ -188,15 +181,14 @@ TEST(Robustness, ARunKilledBeforeItsFirstPeriodicCheckpointResumesToTheSameBits)
   const Outcome stray = qdmeta_cli("resume --out " + quote(straight.string()));
   EXPECT_EQ(stray.status, 2) << stray.output;
   EXPECT_NE(stray.output.find("already finished"), std::string::npos) << stray.output;
-  EXPECT_FALSE(fs::exists(straight / "checkpoint.bin")) << "the stray checkpoint stays";
+  EXPECT_TRUE(fs::exists(straight / "checkpoint.bin")) << "a refused resume removed the leftover checkpoint";
 }
 
 TEST(Robustness, ARefusedResumeChangesNothing) {
   const fs::path dir = fresh_dir("refused-resume");
-  const Outcome stopped =
-      meanwhile(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) + " --out " +
-                    quote(dir.string()) + " --quiet --threads 1",
-                dir / "checkpoint.bin", 0.2, "true", "INT");
+  const Outcome stopped = signalled_at_checkpoint(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) +
+                                                     " --out " + quote(dir.string()) + " --quiet --threads 1",
+                                                 1, "INT");
   ASSERT_EQ(stopped.status, 130) << stopped.output;
   ASSERT_TRUE(fs::exists(dir / "summary.json"));
   fs::remove(dir / "metrics.csv");
@@ -351,6 +343,197 @@ TEST(Robustness, KMeansOnACacheMissIsAnnounced) {
   const Outcome hit = run("kmeans-2");
   ASSERT_EQ(hit.status, 0) << hit.output;
   EXPECT_EQ(hit.output.find("k-means"), std::string::npos) << hit.output;
+}
+
+// --- 8. What stands in a run directory in place of a file: not a regular file, a planted link.
+
+// A QD-Meta run interrupted at its first checkpoint: config.toml, metrics.csv, meta.csv,
+// checkpoint.bin and summary.json ("interrupted") are all there.
+fs::path interrupted_run(const std::string& name) {
+  const fs::path dir = fresh_dir(name);
+  const Outcome o = signalled_at_checkpoint(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) +
+                                                " --out " + quote(dir.string()) + " --quiet --threads 1",
+                                            1, "INT");
+  EXPECT_EQ(o.status, 130) << o.output;
+  return dir;
+}
+
+// Replaces `file` by a FIFO, a link to /dev/zero or a directory.
+void replace_by(const fs::path& file, const std::string& kind) {
+  fs::remove(file);
+  if (kind == "fifo") {
+    ASSERT_EQ(shell("mkfifo " + quote(file.string())).status, 0);
+  }
+  if (kind == "device") fs::create_symlink("/dev/zero", file);
+  if (kind == "directory") fs::create_directories(file / "inside");
+}
+
+TEST(Robustness, AFileThatIsNotARegularFileIsRefusedInOneLineNeverWaitedOnOrReadWhole) {
+  const fs::path run = interrupted_run("not-regular-run");
+  const fs::path finished = fresh_dir("not-regular-finished");
+  ASSERT_EQ(qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(finished.string()) +
+                       " --evals 20000 --quiet").status, 0);
+  struct Case {
+    fs::path source;
+    std::string file, command;
+  };
+  std::vector<Case> cases;
+  for (const char* f : {"checkpoint.bin", "summary.json", "metrics.csv", "meta.csv", "config.toml"})
+    cases.push_back({run, f, "resume --quiet --out "});
+  for (const char* f : {"archive.csv", "summary.json", "config.toml"})
+    cases.push_back({finished, f, "adapt --test dimension --budget 5 --quiet --run "});
+  int i = 0;
+  for (const Case& c : cases)
+    for (const std::string kind : {"fifo", "device", "directory"}) {
+      const fs::path dir = fresh_dir("not-regular-" + std::to_string(i++));
+      fs::copy(c.source, dir, fs::copy_options::recursive);
+      replace_by(dir / c.file, kind);
+      // `timeout`: a FIFO used to hang resume and adapt forever.
+      const Outcome o = shell("timeout 60 " + kBinary + " " + c.command + quote(dir.string()));
+      EXPECT_EQ(o.status, 2) << c.file << " as " << kind << "\n" << o.output;
+      EXPECT_EQ(count_lines(o.output), 1) << c.file << " as " << kind << "\n" << o.output;
+      EXPECT_NE(o.output.find(c.file), std::string::npos) << c.file << " as " << kind << "\n" << o.output;
+      EXPECT_EQ(o.output.find("memory"), std::string::npos) << o.output;
+    }
+}
+
+TEST(Robustness, LinksPlantedInARunDirectoryAreReplacedNeverWrittenThrough) {
+  const fs::path victim = write_file("victim.txt", "keep me");
+  const auto expect_victim_kept = [&](const std::string& where) {
+    EXPECT_EQ(slurp(victim), "keep me") << "written through a link at " << where;
+  };
+  // Before the run: a link where a temporary file used to go, and dangling links where the logs go.
+  for (const std::string name : {"config.toml.tmp", "metrics.csv.tmp", "checkpoint.bin.tmp"}) {
+    const fs::path dir = fresh_dir("planted-" + name);
+    fs::create_directories(dir);
+    fs::create_symlink(victim, dir / name);
+    const Outcome o = qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) +
+                                 " --evals 20000 --quiet");
+    EXPECT_EQ(o.status, 0) << o.output;
+    expect_victim_kept(name);
+  }
+  for (const std::string name : {"metrics.csv", "meta.csv", "archive.csv", "summary.json", "checkpoint.bin"}) {
+    const fs::path dir = fresh_dir("dangling-" + name);
+    fs::create_directories(dir);
+    const fs::path elsewhere = scratch() / ("elsewhere-" + name);
+    fs::remove(elsewhere);
+    fs::create_symlink(elsewhere, dir / name);
+    const Outcome refused = qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) +
+                                       " --evals 20000 --quiet");
+    EXPECT_EQ(refused.status, 2) << name << ": a link there is a run file there\n" << refused.output;
+    EXPECT_NE(refused.output.find("already holds a run"), std::string::npos) << refused.output;
+    EXPECT_EQ(qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) +
+                         " --evals 20000 --quiet --overwrite").status, 0);
+    EXPECT_FALSE(fs::exists(elsewhere)) << "a run created " << name << " through a dangling link";
+    EXPECT_FALSE(fs::is_symlink(dir / name)) << name;
+  }
+  // During the run: links planted where its last files go, while it is stopped at a checkpoint.
+  const fs::path dir = fresh_dir("planted-during");
+  const std::string plant = "for f in archive.csv summary.json checkpoint.bin; do rm -f " + quote(dir.string()) +
+                            "/$f; ln -s " + quote(victim.string()) + " " + quote(dir.string()) + "/$f; done";
+  const Outcome o = while_stopped_at_checkpoint(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) +
+                                                    " --out " + quote(dir.string()) + " --quiet --threads 1",
+                                                1, plant, "INT");
+  EXPECT_EQ(o.status, 130) << o.output;
+  expect_victim_kept("archive.csv, summary.json or checkpoint.bin");
+  for (const char* f : {"archive.csv", "summary.json", "checkpoint.bin"}) EXPECT_FALSE(fs::is_symlink(dir / f)) << f;
+  ASSERT_EQ(qdmeta_cli("resume --quiet --out " + quote(dir.string())).status, 0);
+  // The test phase's files.
+  for (const char* f : {"adapt-dimension.csv", "adapt-dimension.csv.tmp"}) fs::create_symlink(victim, dir / f);
+  const Outcome adapt = qdmeta_cli("adapt --run " + quote(dir.string()) + " --test dimension --budget 5 --quiet");
+  EXPECT_EQ(adapt.status, 0) << adapt.output;
+  expect_victim_kept("adapt-dimension.csv");
+  EXPECT_FALSE(fs::is_symlink(dir / "adapt-dimension.csv"));
+}
+
+// --- 9. Configs that the TOML parser alone would misread or crash on.
+
+TEST(Robustness, ANulByteOrKeysNestedTooDeepAreRefusedInOneLine) {
+  std::string header = "[a", dotted = "a";
+  for (int i = 0; i < 100'000; ++i) {
+    header += ".a";
+    dotted += ".a";
+  }
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"/proc/self/environ", "a NUL byte"},  // stopped at its first NUL, it used to run as "all defaults"
+      {write_file("nul.toml", std::string("seed = 2\n\0algorithm = \"aurora\"\n", 33)).string(), "nul.toml:2:1: a NUL byte"},
+      {write_file("deep-header.toml", header + "]\n").string(), "a key or table header of more than 32 parts"},
+      {write_file("deep-key.toml", dotted + " = 1\n").string(), "a key or table header of more than 32 parts"},
+      {write_file("deep-array.toml", "x = " + std::string(100'000, '[') + "\n").string(), "nested more than 32 deep"},
+  };
+  for (const auto& [config, says] : cases) {
+    for (const char* command : {"run --quiet --evals 1000 --out ", "experiment --out "}) {
+      const Outcome o = qdmeta_cli(std::string(command) + quote(fresh_dir("nul-out").string()) + " --config " +
+                                   quote(config));
+      EXPECT_EQ(o.status, 2) << config.substr(0, 80) << "\n" << o.output.substr(0, 500);
+      EXPECT_NE(o.output.find(says), std::string::npos) << o.output.substr(0, 500);
+      EXPECT_EQ(count_lines(o.output), 1) << o.output.substr(0, 500);
+    }
+  }
+}
+
+// --- 10. Late checks: a resume reads back every kept row; library text never reaches the user.
+
+TEST(Robustness, AResumeRefusesLogsChangedSinceTheCheckpointAndChangesNothing) {
+  const fs::path run = interrupted_run("changed-logs-run");
+  for (const char* file : {"metrics.csv", "meta.csv"}) {
+    const fs::path dir = fresh_dir(std::string("changed-") + file);
+    fs::copy(run, dir, fs::copy_options::recursive);
+    // One digit of a kept row changed: the file keeps its length, only its content differs.
+    std::string text = slurp(dir / file);
+    const std::size_t digit = text.find_first_of("123456789", text.find('\n') + 1);
+    ASSERT_NE(digit, std::string::npos) << text;
+    text[digit] = text[digit] == '9' ? '8' : static_cast<char>(text[digit] + 1);
+    std::ofstream(dir / file, std::ios::binary) << text;
+    const std::string checkpoint = slurp(dir / "checkpoint.bin");
+    const Outcome o = qdmeta_cli("resume --quiet --out " + quote(dir.string()));
+    EXPECT_EQ(o.status, 2) << file << "\n" << o.output;
+    EXPECT_NE(o.output.find(file), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("differ from those the checkpoint saw"), std::string::npos) << o.output;
+    EXPECT_EQ(count_lines(o.output), 1) << o.output;
+    EXPECT_EQ(slurp(dir / "checkpoint.bin"), checkpoint);
+    EXPECT_EQ(slurp(dir / file), text);
+    EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  }
+}
+
+TEST(Robustness, AnImpossibleTestBudgetIsRefusedInTheProgramsOwnWords) {
+  const fs::path dir = fresh_dir("huge-budget");
+  ASSERT_EQ(qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) + " --evals 20000 --quiet")
+                .status,
+            0);
+  for (const char* budget : {"9223372036854775807", "100000000"}) {
+    const Outcome o = qdmeta_cli("adapt --run " + quote(dir.string()) + " --test dimension --quiet --budget " + budget);
+    EXPECT_EQ(o.status, 2) << o.output;
+    EXPECT_NE(o.output.find(std::string("budget ") + budget + " is more than its curves can hold"), std::string::npos)
+        << o.output;
+    EXPECT_EQ(o.output.find("max_size"), std::string::npos) << o.output;
+    EXPECT_EQ(count_lines(o.output), 1) << o.output;
+  }
+}
+
+// --- 11. Runs side by side, as a SLURM array on a cold cache or two test phases of one run.
+
+TEST(Robustness, RunsAndTestPhasesSideBySideShareNoTemporaryFile) {
+  const fs::path cache = fresh_dir("shared-cache");
+  const fs::path config = write_file("cvt-shared.toml", "algorithm = \"cvt-map-elites\"\n[cvt]\ncentroids = 200\n"
+                                                        "samples = 20000\ncache_dir = \"" + cache.string() + "\"\n");
+  std::string together;
+  for (int i = 0; i < 4; ++i)
+    together += kBinary + " run --quiet --threads 1 --evals 2000 --config " + quote(config.string()) + " --out " +
+                quote(fresh_dir("side-by-side-" + std::to_string(i)).string()) + " > " +
+                quote((scratch() / ("side-" + std::to_string(i))).string()) + " 2>&1 & p" + std::to_string(i) + "=$!; ";
+  ASSERT_EQ(shell(together + "wait $p0 && wait $p1 && wait $p2 && wait $p3").status, 0)
+      << slurp(scratch() / "side-0") << slurp(scratch() / "side-1") << slurp(scratch() / "side-2")
+      << slurp(scratch() / "side-3");
+  const fs::path dir = fresh_dir("side-by-side-0");
+  ASSERT_EQ(qdmeta_cli("run --config " + map_elites_config() + " --out " + quote(dir.string()) + " --evals 20000 --quiet")
+                .status,
+            0);
+  const std::string adapt = kBinary + " adapt --quiet --test dimension --budget 50 --run " + quote(dir.string());
+  EXPECT_EQ(shell(adapt + " & p0=$!; " + adapt + " & p1=$!; " + adapt + " & p2=$!; wait $p0 && wait $p1 && wait $p2").status,
+            0);
+  EXPECT_EQ(count_lines(slurp(dir / "adapt-dimension.csv")), 51);
 }
 
 }  // namespace

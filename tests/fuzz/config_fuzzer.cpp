@@ -12,6 +12,7 @@
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/build.hpp"
+#include "qdmeta/experiment/toml_text.hpp"
 
 namespace qdmeta::fuzz {
 namespace {
@@ -97,6 +98,27 @@ std::string mutate_structure(const std::string& text, std::mt19937_64& rng) {
   return out.str();
 }
 
+// What toml++ alone would not refuse safely: a NUL byte (it stops reading there), table headers,
+// dotted keys and values nested thousands deep (its recursion exhausts the stack).
+std::string mutate_hostile(std::string text, std::mt19937_64& rng) {
+  const int depth = std::vector<int>{31, 32, 33, 100, 1'000, 100'000}[rng() % 6];
+  const auto repeat = [&](const std::string& first, const std::string& next) {
+    std::string s = first;
+    for (int i = 1; i < depth; ++i) s += next;
+    return s;
+  };
+  const std::size_t at = text.empty() ? 0 : rng() % text.size();
+  switch (rng() % 6) {
+    case 0: text.insert(at, 1, '\0'); break;
+    case 1: text += "\n[" + repeat("a", ".a") + "]\nx = 1\n"; break;
+    case 2: text += "\n[[" + repeat("a", " . a") + "]]\n"; break;
+    case 3: text = repeat("a", ".\"a\"") + " = 1\n" + text; break;
+    case 4: text = "x = " + repeat("[", "[") + std::string(static_cast<std::size_t>(depth), ']') + "\n" + text; break;
+    default: text = "x = " + repeat("{a=", "{a=") + "1" + std::string(static_cast<std::size_t>(depth), '}') + "\n" + text;
+  }
+  return text;
+}
+
 std::string mutate_bytes(std::string text, std::mt19937_64& rng) {
   static const std::string alphabet = "[]{}=\"'.,#\n 0123456789e+-_abcxyz\\";
   for (int m = 0, count = 1 + static_cast<int>(rng() % 3); m < count && !text.empty(); ++m) {
@@ -136,19 +158,15 @@ FuzzReport fuzz_configs(const std::vector<std::string>& seeds, std::uint64_t see
     const std::string& base = seeds[rng() % seeds.size()];
     std::string text;
     try {
-      text = rng() % 4 == 0 ? mutate_bytes(base, rng) : mutate_structure(base, rng);
+      const auto kind = rng() % 8;
+      text = kind < 2 ? mutate_bytes(base, rng) : kind == 2 ? mutate_hostile(base, rng) : mutate_structure(base, rng);
     } catch (const toml::parse_error&) {
       text = mutate_bytes(base, rng);
     }
     ++report.cases;
     const auto start = Clock::now();
     try {
-      toml::table config;
-      try {
-        config = toml::parse(text);
-      } catch (const toml::parse_error& e) {
-        throw InputError(fmt::format("generated:{}:{}: {}", e.source().begin.line, e.source().begin.column, e.description()));
-      }
+      const toml::table config = parse_toml_text(text, "generated");
       const BuiltRun tasks = build_run(config, "generated", {}, BuildScope::kTasksOnly);
       // Allocate only what is small: the estimate guards the rest (and is what is tested here).
       if (tasks.memory.total() < 32.0 * 1024 * 1024) {

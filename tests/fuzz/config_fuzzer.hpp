@@ -1,7 +1,8 @@
 #pragma once
 // A config fuzzer over the TOML reader and the run builder: shipped configs, mutated at random
 // (keys removed, values replaced by extreme, wrong-typed or malformed ones, unknown keys added,
-// bytes of the text flipped, inserted or deleted), each read and built in process. A case may be
+// bytes of the text flipped, inserted or deleted, NUL bytes, table headers, dotted keys and values
+// nested up to 100,000 deep), each read (as a config file is) and built in process. A case may be
 // accepted or refused with an InputError; anything else is a defect: another exception
 // (std::bad_alloc included), a crash (the sanitizers report it), or a case slower than the limit.
 #include <cstdint>

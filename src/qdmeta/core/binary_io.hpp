@@ -15,8 +15,10 @@
 
 namespace qdmeta {
 
-// FNV-1a, 64 bits: the checkpoint's checksum and the config fingerprint.
-std::uint64_t fnv1a64(std::string_view bytes);
+// FNV-1a, 64 bits: the checkpoint's checksum, the config fingerprint and the logs' prefixes.
+// `h` continues a hash: fnv1a64(b, fnv1a64(a)) == fnv1a64(a + b).
+inline constexpr std::uint64_t kFnv1a64Basis = 0xcbf29ce484222325ULL;
+std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = kFnv1a64Basis);
 
 class BinaryWriter {
  public:

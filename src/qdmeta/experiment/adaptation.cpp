@@ -20,6 +20,12 @@ AdaptationCurve random_search_adaptation(const RowMatrix& archive, const Adaptat
   if (budget < 1) throw InputError(fmt::format("test '{}': budget {} must be at least 1", tests.name(), budget));
   const Index functions = tests.count();
   if (functions < 1) throw InputError(fmt::format("test '{}' has no test functions", tests.name()));
+  // A best-so-far value per function and evaluation is kept: bound them before allocating.
+  constexpr Index kMaxCurveValues = 100'000'000;
+  if (budget > kMaxCurveValues / functions)
+    throw InputError(fmt::format("test '{}': budget {} is more than its curves can hold ({} functions x budget may be at "
+                                 "most 10^8; past the archive's {} solutions a curve only repeats its last value)",
+                                 tests.name(), budget, functions, archive.rows()));
   const Index tried = std::min(budget, archive.rows());
   const auto b = static_cast<std::size_t>(budget);
 

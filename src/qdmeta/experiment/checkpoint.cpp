@@ -3,12 +3,12 @@
 #include <fmt/format.h>
 #include <fmt/std.h>
 
-#include <fstream>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace qdmeta {
 
@@ -43,6 +43,8 @@ void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprin
   head.value(cursor.last_logged_generation);
   head.value(cursor.metrics_bytes);
   head.value(cursor.meta_bytes);
+  head.value(cursor.metrics_hash);
+  head.value(cursor.meta_hash);
   head.value(cursor.wall_seconds);
   head.value(cursor.checkpoints);
   BinaryWriter tail;
@@ -65,15 +67,15 @@ void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprin
   bytes.append(checksum.bytes());
 
   AtomicFile file(dir / kCheckpointFile);
-  file.stream().write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  file.write(bytes);
   file.commit();
 }
 
 RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, Algorithm& algorithm) {
   const std::filesystem::path path = dir / kCheckpointFile;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("no checkpoint in {} (a run writes one periodically and when stopped)", dir));
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!path_taken(path))
+    throw InputError(fmt::format("no checkpoint in {} (a run writes one periodically and when stopped)", dir));
+  const std::string bytes = read_regular_file(path, kMaxBinaryFileBytes);
   const std::string source = fmt::format("checkpoint {}", path);
   if (!std::string_view(bytes).starts_with(kMagic)) throw InputError(fmt::format("{} is not a qdmeta checkpoint", source));
   constexpr std::size_t kChecksumSize = sizeof(std::uint64_t);
@@ -111,6 +113,8 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   c.last_logged_generation = p.value<std::int64_t>("last logged generation");
   c.metrics_bytes = p.value<std::uint64_t>("metrics.csv length");
   c.meta_bytes = p.value<std::uint64_t>("meta.csv length");
+  c.metrics_hash = p.value<std::uint64_t>("metrics.csv hash");
+  c.meta_hash = p.value<std::uint64_t>("meta.csv hash");
   c.wall_seconds = p.value<double>("wall seconds");
   c.checkpoints = p.value<std::int64_t>("checkpoint count");
   algorithm.load(p);

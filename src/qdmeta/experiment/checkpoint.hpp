@@ -16,7 +16,7 @@ namespace qdmeta {
 
 // Format 2: the checksum covers the whole file (format 1 left the header outside it). Format 3:
 // QD-Meta's last meta-generation record carries its meta-population statistics.
-inline constexpr std::uint32_t kCheckpointFormat = 3;
+inline constexpr std::uint32_t kCheckpointFormat = 4;  // 4: the logs' hashes
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 
 // The run driver's own state between two generations.
@@ -25,6 +25,8 @@ struct RunCursor {
   std::int64_t last_logged_generation = -1;
   std::uint64_t metrics_bytes = 0;          // metrics.csv's length at the checkpoint
   std::uint64_t meta_bytes = 0;             // meta.csv's length (0: not started)
+  std::uint64_t metrics_hash = 0;           // FNV-1a of metrics.csv's first metrics_bytes bytes
+  std::uint64_t meta_hash = 0;              // and of meta.csv's first meta_bytes bytes
   double wall_seconds = 0.0;                // run time before the checkpoint
   std::int64_t checkpoints = 0;             // checkpoints written so far, this one included
   bool operator==(const RunCursor&) const = default;

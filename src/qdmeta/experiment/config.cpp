@@ -8,20 +8,17 @@
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/toml_text.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace qdmeta {
 
 toml::table load_toml(const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) throw InputError(fmt::format("config file {} does not exist", path.string()));
-  // toml++ reads a directory as an empty file, which would silently run every default.
+  if (!path_taken(path)) throw InputError(fmt::format("config file {} does not exist", path.string()));
+  // A directory, a FIFO or a device is refused, not read as an empty (all-defaults) config.
   if (!std::filesystem::is_regular_file(path))
     throw InputError(fmt::format("config file {} is not a regular file (a directory?): give a TOML file", path.string()));
-  try {
-    return toml::parse_file(path.string());
-  } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}:{}: {}", path.string(), e.source().begin.line, e.source().begin.column,
-                                 e.description()));
-  }
+  return parse_toml_text(read_regular_file(path, kMaxTextFileBytes), path.string());
 }
 
 namespace {

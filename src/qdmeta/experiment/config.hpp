@@ -16,7 +16,8 @@
 
 namespace qdmeta {
 
-// Parses a file; a missing file or a syntax error throws InputError naming file, line, column.
+// Parses a file; a missing or non-regular file, a NUL byte, keys nested too deep
+// (experiment/toml_text.hpp) or a syntax error throws InputError naming file, line, column.
 toml::table load_toml(const std::filesystem::path& path);
 
 // Every key a ConfigReader reads, with its type, default and range as the checks enforce them:

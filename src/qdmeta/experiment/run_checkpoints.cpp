@@ -2,7 +2,30 @@
 
 #include <fmt/format.h>
 
+#include <csignal>
+#include <cstdlib>
+#include <string>
+
 namespace qdmeta {
+namespace {
+
+// Test hook: QDMETA_TEST_SIGNAL_AT_CHECKPOINT="N:SIGNAL" makes the process send itself SIGNAL
+// (KILL, INT, TERM or STOP) right after it writes its N-th checkpoint of the run, so that a test
+// that kills or interrupts a run at a checkpoint needs no race between a timer and the run.
+void signal_self_at_checkpoint(std::int64_t checkpoints) {
+  static const auto hook = []() -> std::pair<std::int64_t, int> {
+    const char* spec = std::getenv("QDMETA_TEST_SIGNAL_AT_CHECKPOINT");
+    if (!spec) return {0, 0};
+    const std::string s = spec;
+    const auto colon = s.find(':');
+    const std::string name = colon == std::string::npos ? "" : s.substr(colon + 1);
+    const int signal = name == "KILL" ? SIGKILL : name == "INT" ? SIGINT : name == "TERM" ? SIGTERM : name == "STOP" ? SIGSTOP : 0;
+    return {std::atoll(s.c_str()), signal};
+  }();
+  if (hook.second != 0 && checkpoints == hook.first) std::raise(hook.second);
+}
+
+}  // namespace
 
 CheckpointWriter::CheckpointWriter(std::filesystem::path dir, std::uint64_t fingerprint)
     : dir_(std::move(dir)), fingerprint_(fingerprint) {}
@@ -30,6 +53,7 @@ void CheckpointWriter::write(const RunStatus& status) {
   status.cursor.wall_seconds = status.clock.seconds();
   ++status.cursor.checkpoints;
   write_checkpoint(dir_, fingerprint_, status.cursor, status.algorithm);
+  signal_self_at_checkpoint(status.cursor.checkpoints);
 }
 
 AbortCheckpoint::AbortCheckpoint(std::filesystem::path dir, std::uint64_t fingerprint)

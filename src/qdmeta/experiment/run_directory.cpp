@@ -12,6 +12,7 @@
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -28,8 +29,8 @@ const std::vector<std::string>& run_files() {
 
 void start_run_directory(const fs::path& out, const BuiltRun& built, const std::string& config_file, int threads,
                          bool overwrite) {
-  bool holds_run = false;
-  for (const auto& f : run_files()) holds_run = holds_run || fs::exists(out / f);
+  bool holds_run = false;  // a dangling link counts: it is not followed but replaced
+  for (const auto& f : run_files()) holds_run = holds_run || path_taken(out / f);
   if (holds_run && !overwrite)
     throw InputError(fmt::format("{} already holds a run: pass --overwrite to replace it, or continue it with "
                                  "qdmeta resume --out {}",
@@ -57,16 +58,18 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
 
 ResumableRun open_for_resume(const fs::path& dir) {
   const fs::path config_path = dir / "config.toml";
-  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
-  if (remove_stray_checkpoint(dir) || stop_reason_of(dir) == StopReason::kBudget)
+  if (!path_taken(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  // Refused as it stands: a refused resume changes nothing, a leftover checkpoint included.
+  if (stop_reason_of(dir) == StopReason::kBudget)
     throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
   ResumableRun r{build_run(load_toml(config_path), config_path.string(), {}), {}};
   if (!r.built.algorithm->checkpointable())
     throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
   r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
   // Everything is checked before anything changes: a refused resume leaves the directory as it was.
-  CsvAppender::check_continuable(dir / "metrics.csv", metrics_columns(), r.cursor.metrics_bytes);
-  if (r.cursor.meta_bytes > 0) CsvAppender::check_continuable(dir / "meta.csv", meta_columns(), r.cursor.meta_bytes);
+  CsvAppender::check_continuable(dir / "metrics.csv", metrics_columns(), r.cursor.metrics_bytes, r.cursor.metrics_hash);
+  if (r.cursor.meta_bytes > 0)
+    CsvAppender::check_continuable(dir / "meta.csv", meta_columns(), r.cursor.meta_bytes, r.cursor.meta_hash);
   fs::remove(dir / "summary.json");  // the run is unfinished again until it ends
   return r;
 }
@@ -83,7 +86,7 @@ namespace {
 // The config of the finished run in `dir`; InputError when there is none or it has not finished.
 toml::table finished_run_config(const fs::path& dir) {
   const fs::path config_path = dir / "config.toml";
-  if (!fs::exists(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  if (!path_taken(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
   if (stop_reason_of(dir) != StopReason::kBudget)
     throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
                                  dir.string(), dir.string()));

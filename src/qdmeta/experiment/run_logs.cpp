@@ -5,11 +5,12 @@
 namespace qdmeta {
 
 MetricsLogger::MetricsLogger(const std::filesystem::path& path, const RunCursor* resume)
-    : file_(resume ? CsvAppender(path, metrics_columns(), resume->metrics_bytes)
+    : file_(resume ? CsvAppender(path, metrics_columns(), resume->metrics_bytes, resume->metrics_hash)
                    : CsvAppender(path, metrics_columns())) {}
 
 RunVerdict MetricsLogger::on_start(const RunStatus& status) {
   status.cursor.metrics_bytes = file_.bytes();
+  status.cursor.metrics_hash = file_.hash();
   return RunVerdict::kContinue;
 }
 
@@ -27,12 +28,13 @@ void MetricsLogger::log(const RunStatus& status) {
   file_.row(metrics_table().row(run_point(status.algorithm, status.evals)));
   RunCursor& cursor = status.cursor;
   cursor.metrics_bytes = file_.bytes();
+  cursor.metrics_hash = file_.hash();
   cursor.last_logged_generation = status.algorithm.generation();
   while (cursor.next_log <= status.evals) cursor.next_log += status.settings.log_every;
 }
 
 MetaLogger::MetaLogger(std::filesystem::path path, const RunCursor* resume) : path_(std::move(path)) {
-  if (resume && resume->meta_bytes > 0) file_.emplace(path_, meta_columns(), resume->meta_bytes);
+  if (resume && resume->meta_bytes > 0) file_.emplace(path_, meta_columns(), resume->meta_bytes, resume->meta_hash);
 }
 
 RunVerdict MetaLogger::after_step(const RunStatus& status) {
@@ -40,6 +42,7 @@ RunVerdict MetaLogger::after_step(const RunStatus& status) {
     if (!file_) file_.emplace(path_, meta_columns());
     file_->row(meta_table().row(MetaPoint{*record, status.algorithm.counters(), status.evals}));
     status.cursor.meta_bytes = file_->bytes();
+    status.cursor.meta_hash = file_->hash();
   }
   return RunVerdict::kContinue;
 }

@@ -2,11 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_tables.hpp"
 
 namespace qdmeta {
@@ -61,10 +61,10 @@ void write_summary(const std::filesystem::path& path, const SummaryRecord& recor
 
 std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir) {
   const auto path = dir / "summary.json";
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
+  if (!path_taken(path)) return std::nullopt;
+  const std::string text = read_regular_file(path, kMaxTextFileBytes);
   try {
-    const auto j = nlohmann::json::parse(in);
+    const auto j = nlohmann::json::parse(text);
     return enum_from_string(kStopReasonNames, "stop_reason", j.at("stop_reason").get<std::string>());
   } catch (const std::exception& e) {
     throw InputError(fmt::format("{} is unreadable: {}", path.string(), e.what()));

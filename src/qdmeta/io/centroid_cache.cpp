@@ -6,11 +6,11 @@
 #include <bit>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace qdmeta {
 namespace {
@@ -20,11 +20,7 @@ static_assert(std::endian::native == std::endian::little, "centroid cache files 
 constexpr std::string_view kMagic = "qdmeta-centroids 1";
 
 // FNV-1a, 64 bits: enough to tell a truncated or damaged file from a whole one.
-std::uint64_t checksum(std::string_view bytes) {
-  std::uint64_t h = 0xCBF29CE484222325ULL;
-  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001B3ULL;
-  return h;
-}
+std::uint64_t checksum(std::string_view bytes) { return fnv1a64(bytes); }
 
 std::string header(const std::string& key, Index count, Index dimensions) {
   return fmt::format("{} {} {} {}\n", kMagic, key, count, dimensions);
@@ -51,9 +47,7 @@ std::string centroid_cache_key(Index dimensions, const KMeansParams& p) {
 
 RowMatrix read_centroid_file(const std::filesystem::path& path, const std::string& key, Index count,
                              Index dimensions) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("cannot read {}", path));
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_regular_file(path, kMaxBinaryFileBytes);
   const std::string head = header(key, count, dimensions);
   const auto data_size = static_cast<std::size_t>(count * dimensions) * sizeof(Real);
   if (bytes.compare(0, head.size(), head) != 0)
@@ -87,7 +81,7 @@ CachedCentroids load_or_make_centroids(Index dimensions, const KMeansParams& par
   if (!cache_dir.empty()) {
     out.path = cache_dir / (key + ".bin");
     out.outcome = CacheOutcome::kMiss;
-    if (std::filesystem::exists(out.path)) {
+    if (path_taken(out.path)) {
       try {
         out.centroids = read_centroid_file(out.path, key, params.centroids, dimensions);
         out.outcome = CacheOutcome::kHit;

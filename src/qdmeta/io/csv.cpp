@@ -1,16 +1,23 @@
 #include "qdmeta/io/csv.hpp"
 
+#include <unistd.h>
+
 #include <fmt/compile.h>
 #include <fmt/format.h>
 #include <fmt/std.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <type_traits>
+#include <cstring>
 #include <sstream>
+#include <type_traits>
+#include <utility>
 
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace qdmeta {
 
@@ -39,7 +46,7 @@ void write_elites_csv(const std::filesystem::path& path, const EliteTable& elite
     values(elites.base_features, i);
     buf.push_back('\n');
   }
-  file.stream().write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  file.write(std::string_view(buf.data(), buf.size()));
   file.commit();
 }
 
@@ -96,8 +103,7 @@ Real parse_value(const std::string& text, const CellPlace& at, CellRule rule) {
 }  // namespace
 
 EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot open {}", path));
+  std::istringstream in(read_regular_file(path, kMaxTableFileBytes));
   std::string line;
   if (!read_line(in, line)) throw InputError(fmt::format("{} is empty", path));
   const auto header = split(line);
@@ -158,47 +164,55 @@ std::string csv_line(const std::vector<std::string>& cells) {
 }
 
 CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header)
-    : path_(path), columns_(header.size()) {
-  out_.open(path, std::ios::trunc);
-  if (!out_) throw Error(fmt::format("cannot write {}", path));
+    : path_(path), fd_(create_file_replacing(path)), columns_(header.size()), hash_(kFnv1a64Basis) {
   row(header);
 }
 
 void CsvAppender::check_continuable(const std::filesystem::path& path, const std::vector<std::string>& header,
-                                    std::uint64_t keep_bytes) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size < keep_bytes)
+                                    std::uint64_t keep_bytes, std::uint64_t keep_hash) {
+  const std::string bytes = read_regular_file(path, kMaxTableFileBytes);
+  if (bytes.size() < keep_bytes)
     throw InputError(fmt::format("{} holds {} bytes but the checkpoint expects at least {}: it was changed or lost",
-                                 path, ec ? 0 : size, keep_bytes));
+                                 path, bytes.size(), keep_bytes));
   const std::string expected = csv_line(header);  // with its newline
-  std::ifstream in(path);
-  std::string first;
-  std::getline(in, first);
-  if (first + '\n' != expected || keep_bytes < expected.size())
+  if (!std::string_view(bytes).starts_with(expected) || keep_bytes < expected.size())
     throw InputError(fmt::format("{} does not start with the expected header: it was changed", path));
+  if (fnv1a64(std::string_view(bytes).substr(0, keep_bytes)) != keep_hash)
+    throw InputError(fmt::format("{}: its first {} bytes differ from those the checkpoint saw: the file was changed "
+                                 "since, so the run cannot continue it",
+                                 path, keep_bytes));
 }
 
 CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header,
-                         std::uint64_t keep_bytes)
-    : path_(path), columns_(header.size()) {
-  check_continuable(path, header, keep_bytes);
-  std::error_code ec;
-  std::filesystem::resize_file(path, keep_bytes, ec);
-  if (ec) throw Error(fmt::format("cannot cut {} to {} bytes: {}", path, keep_bytes, ec.message()));
-  out_.open(path, std::ios::app);
-  if (!out_) throw Error(fmt::format("cannot write {}", path));
-  bytes_ = keep_bytes;
+                         std::uint64_t keep_bytes, std::uint64_t keep_hash)
+    : path_(path), columns_(header.size()), bytes_(keep_bytes), hash_(keep_hash) {
+  check_continuable(path, header, keep_bytes, keep_hash);
+  fd_ = open_file_for_append(path);
+  if (::ftruncate(fd_, static_cast<off_t>(keep_bytes)) != 0) {
+    const int error = errno;
+    ::close(fd_);
+    throw Error(fmt::format("cannot cut {} to {} bytes: {}", path, keep_bytes, std::strerror(error)));
+  }
+}
+
+CsvAppender::CsvAppender(CsvAppender&& other) noexcept
+    : path_(std::move(other.path_)),
+      fd_(std::exchange(other.fd_, -1)),
+      columns_(other.columns_),
+      bytes_(other.bytes_),
+      hash_(other.hash_) {}
+
+CsvAppender::~CsvAppender() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 void CsvAppender::row(const std::vector<std::string>& cells) {
   if (cells.size() != columns_)
     throw Error(fmt::format("{}: row of {} cells, the header has {}", path_, cells.size(), columns_));
   const std::string line = csv_line(cells);
-  out_ << line;
-  out_.flush();
+  write_all(fd_, line, path_);
   bytes_ += line.size();
-  if (!out_) throw Error(fmt::format("writing {} failed", path_));
+  hash_ = fnv1a64(line, hash_);
 }
 
 }  // namespace qdmeta

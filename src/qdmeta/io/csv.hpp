@@ -2,7 +2,6 @@
 // CSV output. Floats are printed in their shortest form that reads back to the same bits.
 #include <filesystem>
 #include <cstdint>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -26,28 +25,36 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules 
 // One CSV line: the cells joined by commas, then a newline.
 std::string csv_line(const std::vector<std::string>& cells);
 
-// A CSV file appended to row by row, each row flushed whole, so a crash loses at most the
-// row being written.
+// A CSV file appended to row by row, each row written whole with one write(2), so a crash loses
+// at most the row being written. The file is never reached through a planted link. It keeps the
+// FNV-1a hash of its bytes, so a checkpoint can tell later whether they were changed.
 class CsvAppender {
  public:
-  // Starts the file anew with `header`.
+  // Starts the file anew with `header` (whatever stood at `path`, a link included, is replaced).
   CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header);
   // Continues a file (a resumed run): cut to its first `keep_bytes` bytes, which must hold at
-  // least the header, then appended to.
-  CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header, std::uint64_t keep_bytes);
-  // What the continuing constructor checks, changing nothing: the file exists, holds at least
-  // `keep_bytes` bytes and starts with `header`. InputError otherwise.
+  // least the header and hash to `keep_hash`, then appended to.
+  CsvAppender(const std::filesystem::path& path, const std::vector<std::string>& header, std::uint64_t keep_bytes,
+              std::uint64_t keep_hash);
+  CsvAppender(CsvAppender&& other) noexcept;
+  CsvAppender& operator=(CsvAppender&&) = delete;
+  ~CsvAppender();
+  // What the continuing constructor checks, changing nothing: the file is a regular file that
+  // holds at least `keep_bytes` bytes, starts with `header`, and its first `keep_bytes` bytes
+  // hash to `keep_hash` (rows changed since the checkpoint are found). InputError otherwise.
   static void check_continuable(const std::filesystem::path& path, const std::vector<std::string>& header,
-                                std::uint64_t keep_bytes);
+                                std::uint64_t keep_bytes, std::uint64_t keep_hash);
   void row(const std::vector<std::string>& cells);
-  // Bytes in the file so far, header included.
+  // Bytes in the file so far, header included, and their hash.
   std::uint64_t bytes() const { return bytes_; }
+  std::uint64_t hash() const { return hash_; }
 
  private:
   std::filesystem::path path_;
-  std::ofstream out_;
+  int fd_ = -1;
   std::size_t columns_;
   std::uint64_t bytes_ = 0;
+  std::uint64_t hash_;
 };
 
 }  // namespace qdmeta

@@ -42,7 +42,10 @@ class MpiDistribution final : public Distribution {
     std::string who;
     if (session_.size() < 2) return who;
     const std::vector<int> silent = session_.silent_workers(std::chrono::milliseconds(300));
-    session_.abandon();  // some rank is gone or going: MPI_Finalize could wait for it forever
+    // Some rank is gone or going: MPI_Finalize could wait for it forever. Otherwise only rank 0
+    // was stopped (a signal to it alone): the workers are released and finalised as at a normal
+    // end, so that none outlives the job.
+    if (!silent.empty() || session_.any_farewell()) session_.abandon();
     for (int r : silent) who += fmt::format("{}{}", who.empty() ? "" : ", ", r);
     if (!who.empty())
       who = fmt::format("MPI rank{} {} stopped answering (crashed or killed); ", silent.size() > 1 ? "s" : "", who);

@@ -87,6 +87,18 @@ bool MpiSession::gone(int rank) const {
   return kill(static_cast<pid_t>(p.pid), 0) != 0 && errno == ESRCH;
 }
 
+bool MpiSession::alive_here(int rank) const {
+  const PeerIdentity& p = peers_[static_cast<std::size_t>(rank)];
+  if (p.pid <= 0 || !self_.same_machine_as(p)) return false;
+  return kill(static_cast<pid_t>(p.pid), 0) == 0 || errno != ESRCH;
+}
+
+bool MpiSession::any_farewell() const {
+  for (int r = 1; r < size_; ++r)
+    if (farewells_[static_cast<std::size_t>(r)]) return true;
+  return false;
+}
+
 std::vector<int> MpiSession::silent_workers(std::chrono::milliseconds grace) {
   std::vector<int> silent;
   if (!active_ || rank_ != 0) return silent;
@@ -109,7 +121,7 @@ std::vector<int> MpiSession::silent_workers(std::chrono::milliseconds grace) {
     }
     silent.clear();
     for (int r = 1; r < size_; ++r)
-      if (!farewells_[static_cast<std::size_t>(r)]) silent.push_back(r);
+      if (!farewells_[static_cast<std::size_t>(r)] && !alive_here(r)) silent.push_back(r);
     if (silent.empty() || Clock::now() >= until) return silent;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }

@@ -44,8 +44,11 @@ class MpiSession {
   void abandon() { abandoned_ = true; }
   // Rank 0: ranks that died (see mark_dead) or else those that did not announce that they were
   // stopped by a signal (a signalled worker says so before exiting, a killed one cannot), waiting
-  // up to `grace` for the announcements.
+  // up to `grace` for the announcements. A worker seen running on this machine is not silent:
+  // when only rank 0 was signalled, the workers are alive and were never told.
   std::vector<int> silent_workers(std::chrono::milliseconds grace);
+  // Rank 0: whether any worker said goodbye, i.e. the launcher is stopping the whole job.
+  bool any_farewell() const;
   // Rank 0, last: lets the workers that said goodbye exit (they wait for this, because mpirun
   // stops forwarding rank 0's output once every other rank has exited); after abandon(), tells
   // the other live workers to exit too, so that none waits for the launcher's signals.
@@ -58,6 +61,8 @@ class MpiSession {
   void meet(int rank, const PeerIdentity& peer);
   // True when `rank` runs on this machine and its process no longer exists.
   bool gone(int rank) const;
+  // True when `rank` runs on this machine and its process still exists.
+  bool alive_here(int rank) const;
   void mark_dead(int rank) { dead_[static_cast<std::size_t>(rank)] = true; }
   bool dead(int rank) const { return dead_[static_cast<std::size_t>(rank)]; }
 
