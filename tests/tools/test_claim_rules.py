@@ -1,6 +1,7 @@
 """tools/claim_rules.py: the shared cases (tests/data/claims/cases.toml, judged alike by qdmeta
 experiment) and every claim of the committed experiment files."""
 import pathlib
+import re
 import sys
 import tomllib
 
@@ -37,3 +38,10 @@ def test_every_committed_experiment_files_claims_are_accepted():
             claim_rules.validate(claim, [c["name"] for c in spec["condition"]], spec.get("tests", []))
             checked += 1
     assert checked >= 30  # 32 when written: the check must not pass by finding none
+
+
+def test_the_meta_measures_are_meta_csvs_columns():
+    """meta:<column> names a column of meta.csv as qdmeta writes it (src/qdmeta/io/run_tables.cpp,
+    whose list the C++ reader uses directly)."""
+    source = (ROOT / "src/qdmeta/io/run_tables.cpp").read_text().split("meta_table()")[1]
+    assert re.findall(r'\{"(\w+)", \[\]\(const MetaPoint&', source) == claim_rules.META_COLUMNS
