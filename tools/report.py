@@ -91,7 +91,8 @@ class Run:
         self.adapt = {}
         for name in list_dir(path):
             if name.startswith("adapt-") and name.endswith(".csv"):
-                self.adapt[name[len("adapt-"):-len(".csv")]] = experiment_files.read_adaptation(os.path.join(path, name))
+                test = name[len("adapt-"):-len(".csv")]
+                self.adapt[test] = experiment_files.read_adaptation(os.path.join(path, name))
         self._config = experiment_files.read_config(os.path.join(path, "config.toml"))
         self._generalisation = claims.read_generalisation(path)
         self._archive = None
