@@ -98,6 +98,14 @@ def test_a_damaged_summary_names_the_file_line_and_column(tmp_path, capsys):
                                                "finite number"])
 
 
+def test_a_damaged_generalisation_table_names_the_line_column_and_rule(tmp_path, capsys):
+    run = make_experiment(tmp_path)
+    (run / "generalisation.csv").write_text("group,environments,solutions,mean,se\ndamage,6,30,4.5,0.1\n"
+                                            "obstacle,6,30,,0.1\n")
+    assert report_of(tmp_path, capsys) == (2, [f"report.py: error: {run / 'generalisation.csv'}:3:4: mean '' is not "
+                                               "a number"])
+
+
 def test_a_malformed_claim_in_the_experiment_file_is_one_line(tmp_path, capsys):
     make_experiment(tmp_path)
     spec = (tmp_path / "experiment.toml").read_text()
