@@ -31,12 +31,12 @@ what the claim allows: more evaluations cannot bring it back, so that is "not re
 testable in this experiment"; an "order" claim whose replicates are too few for any p below ALPHA
 is "not testable with these replicates".
 """
-import csv
 import math
 import os
 
 import numpy as np
 
+import experiment_files
 import significance
 
 ALPHA = 0.05
@@ -49,12 +49,8 @@ TOO_FEW = "not testable with these replicates"
 
 def read_generalisation(run_path):
     """The run's generalisation.csv as {group: mean over the archive's solutions and the group's
-    environments}; {} without one."""
-    path = os.path.join(run_path, "generalisation.csv")
-    if not os.path.exists(path):
-        return {}
-    with open(path, newline="") as f:
-        return {row["group"]: float(row["mean"]) for row in csv.DictReader(f)}
+    environments}; {} without one. A damaged file is an InputError (experiment_files)."""
+    return experiment_files.read_generalisation(os.path.join(run_path, "generalisation.csv"))
 
 
 def measure_values(runs, measure):

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """One-off reference measurement for tests/meta/cma_es_test.cpp (not part of the build).
 
-Runs pycma (the `cma` package from PyPI) on the three 10-D test functions with the same
-x0, sigma0 and population size as the C++ tests, stops at f < 1e-8, and prints the median
+Runs pycma (the `cma` package from the Python package index) on the three 10-D test functions
+with the same x0, sigma0 and population size as the C++ tests, stops at f < 1e-8, and prints the median
 number of evaluations over several seeds.
 
     python3 -m venv /tmp/pycma && /tmp/pycma/bin/pip install cma numpy

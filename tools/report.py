@@ -17,18 +17,20 @@ Mann-Whitney U test (Holm-adjusted per table) with the A12 effect size (tools/si
 Needs only Debian's python3-matplotlib and numpy.
 """
 import csv
-import json
+import io
 import warnings
 import math
 import os
 import sys
-import tomllib
 
 import matplotlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import claims  # noqa: E402  (tools/claims.py)
+import experiment_files  # noqa: E402  (tools/experiment_files.py: every input, read and checked)
 import significance  # noqa: E402  (tools/significance.py)
+from output_files import OutputDir  # noqa: E402  (tools/output_files.py: writes that follow no planted link)
+from run_files import InputError, list_dir  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -37,18 +39,6 @@ import numpy as np  # noqa: E402
 GRID_POINTS = 101
 warnings.filterwarnings("ignore", message="Mean of empty slice")
 warnings.filterwarnings("ignore", message="Degrees of freedom <= 0")
-
-
-def read_csv(path):
-    """Columns of a CSV file as float arrays (empty dict if the file is missing)."""
-    if not os.path.exists(path):
-        return {}
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if len(rows) < 2:
-        return {}
-    header, body = rows[0], rows[1:]
-    return {name: np.array([float(r[i]) for r in body]) for i, name in enumerate(header)}
 
 
 def mean_se(samples):
@@ -90,33 +80,34 @@ def fmt(mean, se, digits=4):
 
 
 class Run:
-    def __init__(self, path):
+    """A finished run's files, every one read and checked when the run is loaded (a damaged file
+    stops the report before it writes anything); the archive is read when first asked for."""
+
+    def __init__(self, path, summary):
         self.path = path
-        self.metrics = read_csv(os.path.join(path, "metrics.csv"))
-        self.meta = read_csv(os.path.join(path, "meta.csv"))
-        with open(os.path.join(path, "summary.json")) as f:
-            self.summary = json.load(f)
+        self.summary = summary
+        self.metrics = experiment_files.read_metrics(os.path.join(path, "metrics.csv"))
+        self.meta = experiment_files.read_meta(os.path.join(path, "meta.csv"))
         self.adapt = {}
-        for name in sorted(os.listdir(path)):
+        for name in list_dir(path):
             if name.startswith("adapt-") and name.endswith(".csv"):
-                self.adapt[name[len("adapt-"):-len(".csv")]] = read_csv(os.path.join(path, name))
+                test = name[len("adapt-"):-len(".csv")]
+                self.adapt[test] = experiment_files.read_adaptation(os.path.join(path, name))
+        self._config = experiment_files.read_config(os.path.join(path, "config.toml"))
+        self._generalisation = claims.read_generalisation(path)
+        self._archive = None
 
     def archive(self):
-        return read_csv(os.path.join(self.path, "archive.csv"))
+        if self._archive is None:
+            self._archive = experiment_files.read_archive(os.path.join(self.path, "archive.csv"))
+        return self._archive
 
     def config(self):
-        """The run's resolved config.toml (every key in force, written by `qdmeta run`); {} if absent.
-        Parsed once: several tables and figures ask."""
-        if not hasattr(self, "_config"):
-            path = os.path.join(self.path, "config.toml")
-            self._config = {}
-            if os.path.exists(path):
-                with open(path, "rb") as f:
-                    self._config = tomllib.load(f)
+        """The run's resolved config.toml (every key in force, written by `qdmeta run`); {} if absent."""
         return self._config
 
     def generalisation(self):
-        return claims.read_generalisation(self.path)
+        return self._generalisation
 
     @property
     def seed(self):
@@ -125,21 +116,22 @@ class Run:
 
 
 def load(directory):
-    with open(os.path.join(directory, "experiment.toml"), "rb") as f:
-        spec = tomllib.load(f)
+    """The experiment in force and its conditions' finished and unfinished runs; every file the
+    report reads is checked here (InputError), the archives it draws included."""
+    spec = experiment_files.read_experiment(os.path.join(directory, "experiment.toml"))
     conditions = []
-    for c in spec.get("condition", []):
-        slug = c.get("slug") or c["name"].lower().replace(" ", "-")
+    for c in spec["condition"]:
         runs, unfinished = [], []
-        for r in range(1, int(spec.get("replicates", 1)) + 1):
-            path = os.path.join(directory, slug, f"seed-{r}")
-            summary = os.path.join(path, "summary.json")
-            finished = False
-            if os.path.exists(summary):
-                with open(summary) as f:
-                    finished = json.load(f).get("stop_reason") == "budget"
-            (runs if finished else unfinished).append(Run(path) if finished else path)
-        conditions.append({"name": c["name"], "slug": slug, "runs": runs, "unfinished": unfinished})
+        for r in range(1, spec["replicates"] + 1):
+            path = experiment_files.run_directory(directory, c["slug"], r)
+            summary = experiment_files.read_summary(os.path.join(path, "summary.json"))
+            if summary is not None and summary.get("stop_reason") == "budget":
+                runs.append(Run(path, summary))
+            else:
+                unfinished.append(path)
+        if runs:
+            runs[0].archive()  # the one figure_archives draws
+        conditions.append({"name": c["name"], "slug": c["slug"], "runs": runs, "unfinished": unfinished})
     return spec, conditions
 
 
@@ -172,11 +164,13 @@ def evaluation_grid(conditions):
 
 
 def save_figure(fig, out):
-    """Lays out, writes and closes a figure; returns its path for the report."""
+    """Lays out, writes and closes a figure; `out` is (OutputDir, file name). Returns its path."""
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    png = io.BytesIO()
+    fig.savefig(png, format="png", dpi=110)
     plt.close(fig)
-    return out
+    directory, name = out
+    return directory.write(name, png.getvalue())
 
 
 def figure_qd_statistics(conditions, out):
@@ -641,20 +635,19 @@ def comparisons(conditions, tests):
     return "\n".join(t for t in tables if t)
 
 
-def write_csv(path, header, rows):
-    with open(path + ".tmp", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
-    os.replace(path + ".tmp", path)
+def write_csv(directory, name, header, rows):
+    text = io.StringIO(newline="")
+    w = csv.writer(text)
+    w.writerow(header)
+    w.writerows(rows)
+    directory.write(name, text.getvalue())
 
 
-def write_data(directory, conditions, tests):
-    """The small CSV summaries every table and figure is made from, in DIR/data/: runs.csv (one
-    row per finished run: its final values and test-phase scores) and curves.csv (the plotted
-    means and SEs over replicates). They are small enough to commit beside report.md."""
-    data_dir = os.path.join(directory, "data")
-    os.makedirs(data_dir, exist_ok=True)
+def write_data(data_dir, conditions, tests):
+    """The small CSV summaries every table and figure is made from, in DIR/data/ (`data_dir`, an
+    OutputDir): runs.csv (one row per finished run: its final values and test-phase scores) and
+    curves.csv (the plotted means and SEs over replicates). They are small enough to commit
+    beside report.md."""
     final_keys = ["evals", "evals_bottom", "evals_meta", "wall_seconds", "num_elites", "coverage", "obj_mean", "obj_max",
                   "qd_score"]
     population = [s for s, _, _ in POPULATION_COLUMNS]
@@ -678,7 +671,7 @@ def write_data(directory, conditions, tests):
                 v = claims.measure_values([r], f"test:{t}@{at}")
                 row.append(v[0] if v else "")
             rows.append(row)
-    write_csv(os.path.join(data_dir, "runs.csv"), header, rows)
+    write_csv(data_dir, "runs.csv", header, rows)
 
     curves = []
     grid = evaluation_grid(conditions)
@@ -695,46 +688,56 @@ def write_data(directory, conditions, tests):
             if have:
                 mean, se = mean_se(adaptation_curves(have, test))
                 curves += [[c["name"], "test", test, k + 1, m, e, len(have)] for k, (m, e) in enumerate(zip(mean, se))]
-    write_csv(os.path.join(data_dir, "curves.csv"), ["condition", "view", "statistic", "evals", "mean", "se", "n"], curves)
+    write_csv(data_dir, "curves.csv", ["condition", "view", "statistic", "evals", "mean", "se", "n"], curves)
 
     table2 = generalisation_rows(conditions)
     if table2:
-        write_csv(os.path.join(data_dir, "generalisation.csv"), ["condition", "group", "n", "mean", "sd", "trained"],
+        write_csv(data_dir, "generalisation.csv", ["condition", "group", "n", "mean", "sd", "trained"],
                   [[r["condition"], r["group"], r["n"], r["mean"], "" if math.isnan(r["sd"]) else r["sd"], int(r["trained"])]
                    for r in table2])
 
 
 def main(argv):
+    """The report, or one line on stderr and exit status 2 when an input is damaged or an output
+    cannot be written (qdmeta report relays that line as its own error)."""
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
-    directory = argv[1]
-    quiet = "--quiet" in argv[2:]
+    try:
+        return report(argv[1], "--quiet" in argv[2:], "--supplementary" in argv[2:])
+    except InputError as e:
+        # One line whatever the message holds (a directory name may hold a newline).
+        line = str(e).replace("\r", "\\r").replace("\n", "\\n")
+        print(f"report.py: error: {line}", file=sys.stderr)
+        return 2
+
+
+def report(directory, quiet, supplementary):
     spec, conditions = load(directory)
-    figures_dir = os.path.join(directory, "figures")
-    os.makedirs(figures_dir, exist_ok=True)
+    out = OutputDir.open(directory)
+    figures_dir = out.subdir("figures")
     tests = curve_tests(spec.get("tests", []))  # "generalisation" is Table 2, not a curve
     # (title, figure or None, caption or "")
-    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, os.path.join(figures_dir, "qd-statistics.png")), ""),
-               ("Meta-fitness and generations per meta-generation", figure_meta(conditions, os.path.join(figures_dir, "meta-fitness.png")), "")]
-    if "--supplementary" in argv[2:] or supplementary_figures(conditions):
+    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, (figures_dir, "qd-statistics.png")), ""),
+               ("Meta-fitness and generations per meta-generation", figure_meta(conditions, (figures_dir, "meta-fitness.png")), "")]
+    if supplementary or supplementary_figures(conditions):
         figures.append(("Meta-fitness with its running average (Fig S5)",
-                        figure_meta_running_average(conditions, os.path.join(figures_dir, "meta-fitness-running-average.png")),
+                        figure_meta_running_average(conditions, (figures_dir, "meta-fitness-running-average.png")),
                         "Each QD-Meta condition's meta-fitness per meta-generation (faint: mean over replicates) and its "
                         f"trailing mean over the last {G_WINDOW} meta-generations (thick: mean ± SE over replicates); one "
                         "column per meta-fitness kind; top: the best map of the meta-population, bottom: the mean over it."))
         figures.append(("Generations per meta-generation and meta-fitness (Fig S6)",
-                        figure_generations_and_meta_fitness(conditions, os.path.join(figures_dir, "generations-and-meta-fitness.png")),
+                        figure_generations_and_meta_fitness(conditions, (figures_dir, "generations-and-meta-fitness.png")),
                         "One panel per run of each QD-Meta condition whose G is chosen by SARSA: the meta-fitness (mean "
                         "over the meta-population, left axis) and G (faint: as drawn; thick: the mean of the last "
                         f"{G_WINDOW}; right axis) over meta-generations."))
     for test in tests:
         shown = adaptation_runs(conditions, test)
-        figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, os.path.join(figures_dir, f"adaptation-{test}.png")),
+        figures.append((f"Test phase: {test}", figure_adaptation(conditions, test, (figures_dir, f"adaptation-{test}.png")),
                         CONTINUED_NOTE if any(archive_exhausted(runs, test) for _, runs in shown) else ""))
-    figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, os.path.join(figures_dir, "archives.png")), ""))
+    figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, (figures_dir, "archives.png")), ""))
 
-    write_data(directory, conditions, tests)
+    write_data(out.subdir("data"), conditions, tests)
 
     md = [f'# {spec.get("name", "Experiment")}', ""]
     evals = spec.get("evaluations")
@@ -781,11 +784,9 @@ def main(argv):
                "Each claim of the experiment file, checked on the finished runs"
                + (f" ({budget:,} evaluations each)" if budget else "")
                + '. How each kind is judged: tools/claims.py and docs/config.md ("Claims").', "", claim_rows, ""]
-    with open(os.path.join(directory, "report.md.tmp"), "w") as f:
-        f.write("\n".join(md) + "\n")
-    os.replace(os.path.join(directory, "report.md.tmp"), os.path.join(directory, "report.md"))
+    written = out.write("report.md", "\n".join(md) + "\n")
     if not quiet:
-        print(f"report: {os.path.join(directory, 'report.md')} with {sum(1 for _, p, _ in figures if p)} figures in {figures_dir}")
+        print(f"report: {written} with {sum(1 for _, p, _ in figures if p)} figures in {figures_dir.path}")
     return 0
 
 

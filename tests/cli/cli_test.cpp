@@ -403,6 +403,21 @@ TEST(Cli, APlannedRunStartedOnItsOwnIsTheExperimentsRun) {
   EXPECT_EQ(slurp(planned / "qd-meta-sarsa/seed-1/meta.csv"), slurp(whole / "qd-meta-sarsa/seed-1/meta.csv"));
 }
 
+TEST(Cli, AMalformedClaimIsRefusedBeforeAnyRun) {
+  std::string text = slurp(small_experiment());
+  const auto at = text.find("kind = \"below\"");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.insert(at, "colour = \"red\"\n");  // a key no claim has
+  const fs::path config = write_config("bad-claim-experiment", text);
+  const fs::path out = fresh_dir("bad_claim");
+  const Outcome o = qdmeta_cli("experiment --config " + config.string() + " --out " + out.string() + " --evals 20000");
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_EQ(count_lines(o.output), 1) << o.output;
+  EXPECT_NE(o.output.find("qdmeta: error: " + config.string() + ":"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find(": [[claim]] 1: unknown key 'colour' for kind 'below'"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(out / "map-elites")) << "a run started before the claim was checked";
+}
+
 TEST(Cli, ReportNeedsAnExperiment) {
   const Outcome o = qdmeta_cli("report " + fresh_dir("no_experiment").string());
   EXPECT_EQ(o.status, 2);

@@ -95,6 +95,28 @@ TEST(Robustness, AFailedReportIsANonZeroExit) {
   EXPECT_NE(missing.output.find("cannot start /no/such/python"), std::string::npos) << missing.output;
 }
 
+// The report's own error (a damaged input) is the one line the user sees; a crash of the script
+// is shown whole, then the CLI's line.
+TEST(Robustness, TheReportsOwnErrorIsTheOnlyLine) {
+  const fs::path dir = fresh_dir("report-error");
+  fs::create_directories(dir);
+  std::ofstream(dir / "experiment.toml") << "name = \"x\"\nreplicates = 1\n[[condition]]\nname = 3\n";
+  const Outcome damaged = qdmeta_cli("report " + quote(dir.string()));
+  EXPECT_EQ(damaged.status, 2) << damaged.output;
+  EXPECT_EQ(damaged.output, "qdmeta: error: " + (dir / "experiment.toml").string() +
+                                ": [[condition]] 1: name must be a non-empty string\n");
+  const fs::path tools = fresh_dir("crashing-tools");
+  fs::create_directories(tools);
+  std::ofstream(tools / "report.py") << "raise RuntimeError('a bug in the report')\n";
+  const Outcome crashed =
+      shell("QDMETA_TOOLS_DIR=" + quote(tools.string()) + " " + kBinary + " report " + quote(dir.string()));
+  EXPECT_EQ(crashed.status, 2) << crashed.output;
+  EXPECT_NE(crashed.output.find("Traceback (most recent call last)"), std::string::npos) << crashed.output;
+  EXPECT_NE(crashed.output.find("RuntimeError: a bug in the report\nqdmeta: error: the report script"),
+            std::string::npos)
+      << crashed.output;
+}
+
 // --- 2. One writer per run directory.
 
 TEST(Robustness, ASecondWriterOnARunDirectoryIsRefused) {

@@ -98,7 +98,13 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
   f = write("claim", "claim = 3\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
   EXPECT_EQ(error_of(f), f.string() + ": claim must be a list of [[claim]] tables");
   f = write("claimless", "[[claim]]\ntext = \"x\"\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": every [[claim]] needs a text and a kind");
+  EXPECT_EQ(error_of(f), f.string() + ":1:1: [[claim]] 1: missing key 'kind'");
+  // A claim is checked against the conditions, wherever they come in the file; the message
+  // points at the value that breaks the rule.
+  f = write("unknown-condition", "tests = [\"dimension\"]\n[[claim]]\ntext = \"x\"\nkind = \"top\"\n"
+                                 "measure = \"test:dimension@10\"\nconditions = [\"a\", \"b\"]\ntop = \"a\"\n"
+                                 "[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ":6:14: [[claim]] 1: unknown condition 'b' (conditions: a)");
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
@@ -228,6 +229,17 @@ fs::path tools_dir() {
   return g_tools_dir;
 }
 
+// The report script's own error, when it gave one: exit status 2 and a single stderr line
+// "report.py: error: MESSAGE" (a damaged input, an output it may not write). Anything else (a
+// traceback, a signal) is a fault of the script, shown as it is.
+std::optional<std::string> report_error(const ProgramOutcome& r) {
+  constexpr std::string_view kPrefix = "report.py: error: ";
+  const std::string& e = r.error_output;
+  if (r.status != kExitBadInput || !e.starts_with(kPrefix) || !e.ends_with('\n')) return std::nullopt;
+  if (e.find('\n') != e.size() - 1) return std::nullopt;
+  return e.substr(kPrefix.size(), e.size() - kPrefix.size() - 1);
+}
+
 // Figures and report.md from the runs under `dir`, by tools/report.py with Debian's Python
 // (matplotlib); $QDMETA_PYTHON overrides the interpreter.
 int command_report(const std::string& dir, bool quiet) {
@@ -241,9 +253,12 @@ int command_report(const std::string& dir, bool quiet) {
   std::vector<std::string> argv{python, script.string(), dir};
   if (quiet) argv.emplace_back("--quiet");
   std::fflush(stdout);  // our lines first, then the script's
-  const int status = run_program(argv);
-  if (status != 0)
-    throw Error(fmt::format("the report script {} failed (exit status {}) on {}", script.string(), status, dir));
+  const ProgramOutcome r = run_program_capturing_stderr(argv, 64 * 1024);
+  // The user sees one line for a damaged input: the script's, as ours.
+  if (const std::optional<std::string> message = report_error(r)) throw InputError(*message);
+  std::fputs(r.error_output.c_str(), stderr);  // warnings, or a traceback worth reading whole
+  if (r.status != 0)
+    throw Error(fmt::format("the report script {} failed (exit status {}) on {}", script.string(), r.status, dir));
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/claim_rules.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
@@ -93,13 +94,10 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
   } else if (t.contains("tests")) {
     throw InputError(fmt::format("{}: tests must be a list of strings", where));
   }
+  const toml::array* claims = t["claim"].as_array();  // checked below, once the conditions are known
   if (t.contains("claim")) {
-    const auto* claims = t["claim"].as_array();
     if (!claims || !claims->is_array_of_tables())
       throw InputError(fmt::format("{}: claim must be a list of [[claim]] tables", where));
-    for (const auto& c : *claims)
-      if (!c.as_table()->contains("text") || !c.as_table()->contains("kind"))
-        throw InputError(fmt::format("{}: every [[claim]] needs a text and a kind", where));
     spec.claims = *claims;
   }
   const auto* conditions = t["condition"].as_array();
@@ -129,6 +127,10 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
                                    cond.config.string()));
     spec.conditions.push_back(std::move(cond));
   }
+  // A malformed claim would fail only in the report, after every run: refuse it now.
+  std::vector<std::string> names;
+  for (const auto& c : spec.conditions) names.push_back(c.name);
+  if (claims) check_claims(*claims, names, spec.tests, where);  // the file's nodes: a copy has no positions
   return spec;
 }
 
