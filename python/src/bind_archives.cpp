@@ -75,7 +75,7 @@ EliteTable members(const UnstructuredArchive& a) {
 }
 
 py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
-  py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(s.size()));
+  py::array_t<std::uint8_t> out = new_array<std::uint8_t>({static_cast<py::ssize_t>(s.size())});
   for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
   return out;
 }
@@ -159,7 +159,7 @@ numbered in row-major order as pyribs's GridArchive.)doc");
   bind_elite_archive<GridArchive>(grid);
   grid.def("index_of", [](const GridArchive& a, py::handle measures) {
     const FloatArray v = float_rows(measures, -1, a.dimensions(), "measures");
-    py::array_t<std::int64_t> out(v.shape(0));
+    py::array_t<std::int64_t> out = new_array<std::int64_t>({v.shape(0)});
     for (py::ssize_t i = 0; i < v.shape(0); ++i) out.mutable_data()[i] = a.index_of(v.data() + i * a.dimensions());
     return out;
   }, py::arg("measures"), "The cell index of each row of measures");

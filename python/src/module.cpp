@@ -44,6 +44,8 @@ PYBIND11_MODULE(_qdmeta, m) {
   build["mpi"] = false;  // MPI runs go through the CLI (mpirun ... qdmeta run)
   build["native"] = QDMETA_PYTHON_NATIVE != 0;
   build["build_type"] = QDMETA_PYTHON_BUILD_TYPE;
+  build["pybind11"] = std::to_string(PYBIND11_VERSION_MAJOR) + "." + std::to_string(PYBIND11_VERSION_MINOR) + "." +
+                      std::to_string(PYBIND11_VERSION_PATCH);
   m.attr("build_info") = build;
 
   qdmeta::python::bind_tasks(m);
