@@ -108,3 +108,15 @@ def test_unstructured_archive_adds_far_points_and_rejects_near_ones():
         assert list(a.as_pandas().columns)[:4] == ["index", "objective", "measures_0", "measures_1"]
     with pytest.raises(ValueError, match="threshold"):
         a.add(far, np.zeros(3), far, threshold=0.0)
+
+
+def test_a_range_too_narrow_to_bin_is_refused_at_construction():
+    # Its bins' width underflows: index_of once gave -9223372036854775808 for a measure at lower.
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.GridArchive(solution_dim=1, dims=[10], lower=0.0, upper=1e-320)
+    assert str(info.value).startswith("archive range [0, 1e-320] is too narrow: upper - lower = 1e-320 is below")
+    with pytest.raises(qdmeta.InputError, match="too wide"):
+        qdmeta.GridArchive(solution_dim=1, dims=[10], lower=-1e308, upper=1e308)
+    # A narrow range that can be binned is kept (1e-301 is 0 as a float32 measure: bin 0).
+    narrow = qdmeta.GridArchive(solution_dim=1, dims=[10], lower=0.0, upper=1e-300)
+    assert narrow.index_of(np.array([[0.0], [1e-301], [1.0]])).tolist() == [0, 0, 9]
