@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "python_interrupt.hpp"
 #include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
@@ -27,6 +28,8 @@ PYBIND11_MODULE(_qdmeta, m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const qdmeta::python::PythonInterrupt& e) {
+      e.restore();  // the KeyboardInterrupt itself, after the step was undone
     } catch (const qdmeta::InputError& e) {
       PyErr_SetString(input_error, e.what());
     } catch (const qdmeta::Error& e) {
