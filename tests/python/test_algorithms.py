@@ -264,3 +264,33 @@ def test_a_step_whose_meta_objective_raises_is_undone():
     for _ in range(3):
         reference.step()
     assert_same_run(algo, reference)
+
+
+def test_config_dicts_that_contain_themselves_or_nest_too_deep_are_refused():
+    looped = dict(ME)
+    looped["archive"] = {"bins": [20, 20]}
+    looped["archive"]["again"] = looped
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'archive\.again' contains itself$"):
+        qdmeta.Algorithm(looped, task=numpy_rastrigin())
+    listed = [1, 2]
+    listed.append(listed)
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'archive\.bins' contains itself$"):
+        qdmeta.Algorithm(dict(ME, archive={"bins": listed}), task=numpy_rastrigin())
+    deep = {}
+    for _ in range(100_000):
+        deep = {"a": deep}
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'a\.a\.a.*\.\.\.' is nested more than 64 levels deep$"):
+        qdmeta.Algorithm(deep)
+    row = [20]  # the same list twice side by side is no loop: the reader judges it
+    with pytest.raises(qdmeta.InputError, match="archive.bins") as info:
+        qdmeta.Algorithm(dict(ME, archive={"bins": [row, row]}), task=numpy_rastrigin())
+    assert "contains itself" not in str(info.value)
+
+
+def test_an_integer_too_large_for_the_config_is_named_with_its_range():
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.Algorithm(dict(ME, seed=2**70), task=numpy_rastrigin())
+    assert str(info.value) == (f"config: seed = {2**70} is out of range: a config integer must be in "
+                               "[-9223372036854775808, 9223372036854775807]")
+    with pytest.raises(qdmeta.InputError, match=r"seed = -1 is out of range"):
+        qdmeta.Algorithm(dict(ME, seed=-1), task=numpy_rastrigin())

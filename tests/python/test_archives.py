@@ -120,3 +120,13 @@ def test_a_range_too_narrow_to_bin_is_refused_at_construction():
     # A narrow range that can be binned is kept (1e-301 is 0 as a float32 measure: bin 0).
     narrow = qdmeta.GridArchive(solution_dim=1, dims=[10], lower=0.0, upper=1e-300)
     assert narrow.index_of(np.array([[0.0], [1e-301], [1.0]])).tolist() == [0, 0, 9]
+
+
+def test_a_seed_out_of_range_is_named_with_its_range(tmp_path):
+    for seed in (2**70, -1):
+        with pytest.raises(qdmeta.InputError) as info:
+            qdmeta.cvt_centroids(2, cells=4, samples=100, seed=seed, cache_dir=tmp_path)
+        assert str(info.value) == f"seed = {seed} is out of range: must be in [0, 9223372036854775807]"
+    with pytest.raises(TypeError, match="^seed must be an integer, got <class 'float'>$"):
+        qdmeta.cvt_centroids(2, cells=4, samples=100, seed=1.5, cache_dir=tmp_path)
+    assert qdmeta.cvt_centroids(2, cells=4, samples=100, seed=np.int64(3), cache_dir=tmp_path).shape == (4, 2)
