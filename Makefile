@@ -33,9 +33,11 @@ test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	JOBS=$(JOBS) bash scripts/test-installed-package.sh $(BUILD)
 
-# pip install . into a fresh virtual environment, then the Python suite (needs the Python package index).
-test-pip: deps
+# pip install . into a fresh virtual environment, then the Python suite; and the suite against
+# build/python under numpy 2 (both need the Python package index).
+test-pip: build
 	bash scripts/test-pip-install.sh
+	bash scripts/test-numpy2.sh $(BUILD)
 
 $(ASAN_BUILD)/build.ninja:
 	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DQDMETA_SANITIZE=ON -DQDMETA_BUILD_BENCH=OFF $(CMAKE_FLAGS)

@@ -34,6 +34,12 @@ from ._qdmeta import (  # noqa: F401  (the public names)
     tasks,
 )
 
+import numpy as _numpy
+
+from . import _numpy_check, _qdmeta
+
+_numpy_check.check(_qdmeta, _numpy)
+
 __all__ = [
     "Algorithm",
     "ArchiveStats",

@@ -6,7 +6,10 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cstdint>
+#include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "bindings.hpp"
@@ -75,9 +78,26 @@ EliteTable members(const UnstructuredArchive& a) {
 }
 
 py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
-  py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(s.size()));
+  py::array_t<std::uint8_t> out = new_array<std::uint8_t>({static_cast<py::ssize_t>(s.size())});
   for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
   return out;
+}
+
+// A seed argument: any Python integer (numpy's too) in the config's range [0, 2^63 - 1], else a
+// one-line error naming it (pybind11's own would list every overload).
+std::uint64_t seed_argument(py::handle value) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(
+        fmt::format("seed must be an integer, got {}", py::str(py::type::handle_of(value)).cast<std::string>()));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < 0)
+    throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
+                                 std::numeric_limits<std::int64_t>::max()));
+  return static_cast<std::uint64_t>(v);
 }
 
 const char* kAddDoc =
@@ -159,7 +179,7 @@ numbered in row-major order as pyribs's GridArchive.)doc");
   bind_elite_archive<GridArchive>(grid);
   grid.def("index_of", [](const GridArchive& a, py::handle measures) {
     const FloatArray v = float_rows(measures, -1, a.dimensions(), "measures");
-    py::array_t<std::int64_t> out(v.shape(0));
+    py::array_t<std::int64_t> out = new_array<std::int64_t>({v.shape(0)});
     for (py::ssize_t i = 0; i < v.shape(0); ++i) out.mutable_data()[i] = a.index_of(v.data() + i * a.dimensions());
     return out;
   }, py::arg("measures"), "The cell index of each row of measures");
@@ -184,12 +204,12 @@ the lower index).)doc");
 
   m.def(
       "cvt_centroids",
-      [](Index dimensions, Index cells, Index samples, std::uint64_t seed, std::optional<std::filesystem::path> cache_dir) {
+      [](Index dimensions, Index cells, Index samples, py::handle seed, std::optional<std::filesystem::path> cache_dir) {
         KMeansParams p;
         p.centroids = cells;
         p.samples = samples;
         p.init_samples = std::min(p.init_samples, samples);
-        p.seed = seed;
+        p.seed = seed_argument(seed);
         p.validate();
         const std::filesystem::path dir = cache_dir ? *cache_dir : default_centroid_cache_dir();
         CachedCentroids made;

@@ -35,7 +35,7 @@ py::tuple evaluate(const Task& task, const py::handle& genotypes) {
     const py::gil_scoped_release release;
     task.evaluate({g.data(), n, task.genotype_size()}, out.view());
   }
-  py::array_t<bool> valid(static_cast<py::ssize_t>(n));
+  py::array_t<bool> valid = new_array<bool>({static_cast<py::ssize_t>(n)});
   for (Index i = 0; i < n; ++i) valid.mutable_data()[i] = out.valid[static_cast<std::size_t>(i)] != 0;
   return py::make_tuple(rows_copy(out.fitness.data(), n, -1),
                         rows_copy(out.base_features.data(), n, task.base_feature_size()), valid);

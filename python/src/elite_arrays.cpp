@@ -11,7 +11,7 @@ namespace qdmeta::python {
 // pyribs's column names: index, objective, measures_0.., solution_0.. (+ base_features_0..).
 py::dict elite_table_data(const EliteTable& t) {
   py::dict d;
-  py::array_t<std::int64_t> index(static_cast<py::ssize_t>(t.size()));
+  py::array_t<std::int64_t> index = new_array<std::int64_t>({static_cast<py::ssize_t>(t.size())});
   std::copy(t.index.begin(), t.index.end(), index.mutable_data());
   d["index"] = index;
   d["objective"] = rows_copy(t.objective.data(), t.size(), -1);

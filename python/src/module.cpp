@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "python_interrupt.hpp"
 #include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
@@ -27,6 +28,8 @@ PYBIND11_MODULE(_qdmeta, m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const qdmeta::python::PythonInterrupt& e) {
+      e.restore();  // the KeyboardInterrupt itself, after the step was undone
     } catch (const qdmeta::InputError& e) {
       PyErr_SetString(input_error, e.what());
     } catch (const qdmeta::Error& e) {
@@ -44,6 +47,8 @@ PYBIND11_MODULE(_qdmeta, m) {
   build["mpi"] = false;  // MPI runs go through the CLI (mpirun ... qdmeta run)
   build["native"] = QDMETA_PYTHON_NATIVE != 0;
   build["build_type"] = QDMETA_PYTHON_BUILD_TYPE;
+  build["pybind11"] = std::to_string(PYBIND11_VERSION_MAJOR) + "." + std::to_string(PYBIND11_VERSION_MINOR) + "." +
+                      std::to_string(PYBIND11_VERSION_PATCH);
   m.attr("build_info") = build;
 
   qdmeta::python::bind_tasks(m);

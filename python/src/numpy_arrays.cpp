@@ -11,7 +11,7 @@ namespace qdmeta::python {
 py::array_t<Real> rows_copy(const Real* data, Index rows, Index cols) {
   std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(rows)};
   if (cols >= 0) shape.push_back(static_cast<py::ssize_t>(cols));
-  py::array_t<Real> out(shape);
+  py::array_t<Real> out = new_array<Real>(std::move(shape));
   std::copy_n(data, rows * std::max<Index>(cols, 1), out.mutable_data());
   return out;
 }
@@ -59,7 +59,7 @@ ByteArray flags(py::handle value, Index rows, const std::string& what) {
   check_shape(a, rows, -1, what);
   if (a.dtype().kind() == 'b') return ByteArray::ensure(a);
   // Integers: nonzero is true, whatever the width.
-  ByteArray out(static_cast<py::ssize_t>(rows < 0 ? a.shape(0) : rows));
+  ByteArray out = new_array<std::uint8_t, py::array::c_style | py::array::forcecast>({a.shape(0)});
   const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> wide = a;
   for (py::ssize_t i = 0; i < out.shape(0); ++i) out.mutable_data()[i] = wide.data()[i] != 0 ? 1 : 0;
   return out;

@@ -16,6 +16,20 @@ namespace qdmeta::python {
 using FloatArray = pybind11::array_t<Real, pybind11::array::c_style | pybind11::array::forcecast>;
 using ByteArray = pybind11::array_t<std::uint8_t, pybind11::array::c_style | pybind11::array::forcecast>;
 
+// A new C-contiguous array of `shape`. Its strides are given, from sizeof(T): pybind11 before
+// 2.12 would take them from the dtype's itemsize, which it reads at numpy 1's offset in the
+// dtype struct, and under numpy 2 gets 0 (every element then reads as the first).
+template <class T, int Flags = pybind11::array::forcecast>
+pybind11::array_t<T, Flags> new_array(std::vector<pybind11::ssize_t> shape) {
+  std::vector<pybind11::ssize_t> strides(shape.size());
+  pybind11::ssize_t stride = sizeof(T);
+  for (std::size_t d = shape.size(); d-- > 0;) {
+    strides[d] = stride;
+    stride *= shape[d];
+  }
+  return pybind11::array_t<T, Flags>(std::move(shape), std::move(strides));
+}
+
 // A copy, as a new (rows x cols) float32 array; cols < 0 makes a vector of `rows`.
 pybind11::array_t<Real> rows_copy(const Real* data, Index rows, Index cols);
 

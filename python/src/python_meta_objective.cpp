@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "numpy_arrays.hpp"
+#include "python_interrupt.hpp"
 
 namespace py = pybind11;
 
@@ -21,7 +22,8 @@ MetaPlan PythonMetaObjective::plan(const RowMatrix& elites, Rng& rng) const {
   // 63 bits, so that numpy.random.default_rng(seed) takes it as it is.
   const auto seed = static_cast<std::int64_t>(rng() >> 1);
   const py::gil_scoped_acquire gil;
-  const py::object result = function_.get()(rows_copy(elites.data(), elites.rows(), elites.cols()), seed);
+  const py::object result =
+      call_python([&] { return function_.get()(rows_copy(elites.data(), elites.rows(), elites.cols()), seed); });
   const std::string who = fmt::format("meta-objective '{}'", name_);
   MetaFitnessResult r;
   try {

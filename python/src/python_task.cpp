@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "numpy_arrays.hpp"
+#include "python_interrupt.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace py = pybind11;
@@ -27,7 +28,8 @@ void PythonTask::evaluate(GenotypeView genotypes, EvaluationView out) const {
   const Index n = genotypes.count;
   // A fresh array, not a view of qdmeta's buffer: a function may keep what it is given (a log
   // of genotypes), and the copy costs far less than the call.
-  const py::object result = function_.get()(rows_copy(genotypes.data, n, genotypes.genotype_size));
+  const py::object result =
+      call_python([&] { return function_.get()(rows_copy(genotypes.data, n, genotypes.genotype_size)); });
   const std::string who = fmt::format("task '{}'", name_);
   if (!py::isinstance<py::tuple>(result) && !py::isinstance<py::list>(result))
     throw py::type_error(fmt::format("{} must return (fitness, base_features) or (fitness, base_features, valid), "

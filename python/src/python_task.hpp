@@ -24,7 +24,8 @@ class PythonTask {
   // One instance serves every thread: calls take the GIL, so they run one at a time.
   bool shareable() const { return true; }
   // Takes the GIL. A Python exception raised by the function propagates as
-  // pybind11::error_already_set (its traceback kept); a bad result is a pybind11::value_error.
+  // pybind11::error_already_set (its traceback kept), a KeyboardInterrupt as PythonInterrupt
+  // (python_interrupt.hpp); a bad result is a pybind11::value_error.
   void evaluate(GenotypeView genotypes, EvaluationView out) const;
 
   const pybind11::object& function() const { return function_.get(); }

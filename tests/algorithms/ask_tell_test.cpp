@@ -1,12 +1,16 @@
 // The ask/tell protocol of every algorithm: driving a step by hand (evaluating the jobs with
 // their tasks) gives the same bits as step() with a serial and a thread evaluator; QD-Meta's
 // request sequence has the documented shape; out-of-order calls and mis-shaped results are
-// refused with their documented messages; checkpoints round-trip between hand-driven steps.
+// refused with their documented messages; checkpoints round-trip between hand-driven steps; a
+// step that throws midway is undone, so stepping on gives the bits of a run it never failed in.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <set>
+#include <stdexcept>
 #include <string>
 
 #include "qdmeta/algorithms/aurora.hpp"
@@ -14,6 +18,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/control/controller.hpp"
+#include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
@@ -116,7 +121,8 @@ Aurora make_aurora() {
   return Aurora(p, rastrigin(kDims), {}, 6);
 }
 
-QdMeta make_qd_meta(std::unique_ptr<MetaObjective> objective, Task task = rastrigin(kDims), int generations = 2) {
+QdMeta make_qd_meta(std::unique_ptr<MetaObjective> objective, Task task = rastrigin(kDims), int generations = 2,
+                    std::unique_ptr<GenerationController> controller = nullptr) {
   QdMetaParams p;
   p.meta_population = 3;
   p.batch_size = 40;
@@ -124,7 +130,8 @@ QdMeta make_qd_meta(std::unique_ptr<MetaObjective> objective, Task task = rastri
   p.database_capacity = 2000;
   GridArchiveParams grid;
   grid.bins = {10, 10};
-  return QdMeta(p, std::move(task), std::move(objective), grid, {}, std::make_unique<StaticControl>(generations), 8);
+  if (!controller) controller = std::make_unique<StaticControl>(generations);
+  return QdMeta(p, std::move(task), std::move(objective), grid, {}, std::move(controller), 8);
 }
 
 std::unique_ptr<MetaObjective> translation() {
@@ -375,6 +382,112 @@ TEST(AskTell, MetaObjectiveEvaluateIsPlanThenScore) {
   wrong.batches[1].task = 2;
   EXPECT_EQ(message_of([&] { check_meta_plan(meta, wrong, tasks); }),
             "meta-objective 'simulating': batch 1 names task 2, but tasks() lists 2");
+}
+
+
+// A task that crashes now and then: evaluate() throws on its chosen calls (counted from 1).
+class FlakyEvaluator final : public Evaluator {
+ public:
+  explicit FlakyEvaluator(std::set<int> failing) : failing_(std::move(failing)) {}
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    if (failing_.contains(++calls_)) throw std::runtime_error("the simulator crashed");
+    task.evaluate(genotypes, out);
+  }
+  int workers() const override { return 1; }
+
+ private:
+  std::set<int> failing_;
+  int calls_ = 0;
+};
+
+// `steps` steps with a flaky evaluator, each failed step stepped again, against the same steps
+// that never failed.
+void expect_failed_steps_undone(const std::function<std::unique_ptr<Algorithm>()>& make, int steps,
+                                std::set<int> failing) {
+  auto straight = make();
+  SerialEvaluator serial;
+  for (int s = 0; s < steps; ++s) straight->step(serial);
+  auto flaky = make();
+  FlakyEvaluator evaluator(failing);
+  std::size_t failures = 0;
+  for (int s = 0; s < steps; ++s) {
+    for (;;) {
+      try {
+        flaky->step(evaluator);
+        break;
+      } catch (const std::runtime_error& e) {
+        ASSERT_STREQ(e.what(), "the simulator crashed");
+        ASSERT_FALSE(flaky->step_in_progress());
+        ASSERT_EQ(flaky->generation(), s);
+        ++failures;
+      }
+    }
+  }
+  EXPECT_EQ(failures, failing.size());
+  expect_same(*straight, *flaky);
+}
+
+TEST(StepUndo, AFailedMapElitesStepIsUndone) {
+  // The initial population's call fails, then one call twice running.
+  expect_failed_steps_undone([] { return std::make_unique<MapElites>(make_map_elites()); }, 8, {1, 4, 5});
+}
+
+TEST(StepUndo, AFailedCvtMapElitesStepIsUndone) {
+  expect_failed_steps_undone([] { return std::make_unique<CvtMapElites>(make_cvt()); }, 8, {1, 4, 5});
+}
+
+TEST(StepUndo, AFailedAuroraStepIsUndone) {
+  expect_failed_steps_undone([] { return std::make_unique<Aurora>(make_aurora()); }, 8, {1, 4, 5});
+}
+
+TEST(StepUndo, AFailedQdMetaStepIsUndoneAtAnyRequest) {
+  // A step: the seeds (first step only), 2 generations of 3 maps, then the meta-objective's
+  // batches; calls 3 and 9 fail after the seeds went into the database, later ones in later
+  // meta-generations, after CMA-ES's ask and the controller's choice.
+  const std::set<int> failing = {2, 3, 9, 15, 16, 30};
+  expect_failed_steps_undone([] { return std::make_unique<QdMeta>(make_qd_meta(std::make_unique<SimulatingMeta>(kDims))); },
+                             5, failing);
+  // SARSA learns inside its choice of G: that too is undone.
+  expect_failed_steps_undone(
+      [] {
+        return std::make_unique<QdMeta>(make_qd_meta(std::make_unique<SimulatingMeta>(kDims), rastrigin(kDims), 2,
+                                                     std::make_unique<SarsaControl>(SarsaParams{})));
+      },
+      5, failing);
+}
+
+// A meta-objective that fails once, in plan(): QD-Meta's step then throws from its last tell().
+class FailingOnceMeta final : public MetaObjective {
+ public:
+  explicit FailingOnceMeta(int fail_at) : inner_(kDims), fail_at_(fail_at) {}
+  std::string name() const override { return "failing-once"; }
+  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override {
+    if (++(*calls_) == fail_at_) throw std::runtime_error("the simulator crashed");
+    return inner_.plan(elites, rng);
+  }
+  MetaFitnessResult score(const RowMatrix& e, const MetaPlan& p, std::span<const EvaluationBatch> r) const override {
+    return inner_.score(e, p, r);
+  }
+  std::vector<Task> tasks() const override { return inner_.tasks(); }
+
+ private:
+  SimulatingMeta inner_;
+  int fail_at_;
+  std::shared_ptr<std::atomic<int>> calls_ = std::make_shared<std::atomic<int>>(0);
+};
+
+TEST(StepUndo, AQdMetaStepWhoseMetaObjectiveFailsIsUndone) {
+  QdMeta straight = make_qd_meta(std::make_unique<SimulatingMeta>(kDims));
+  QdMeta failing = make_qd_meta(std::make_unique<FailingOnceMeta>(5));  // map 2 of meta-generation 2
+  SerialEvaluator serial;
+  for (int t = 0; t < 3; ++t) straight.step(serial);
+  failing.step(serial);
+  EXPECT_THROW(failing.step(serial), std::runtime_error);
+  EXPECT_EQ(failing.generation(), 1);
+  for (int t = 0; t < 2; ++t) failing.step(serial);
+  expect_same(failing, straight);
+  EXPECT_EQ(failing.meta_fitness(), straight.meta_fitness());
+  EXPECT_TRUE(failing.database() == straight.database());
 }
 
 }  // namespace

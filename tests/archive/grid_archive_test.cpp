@@ -275,6 +275,25 @@ TEST(GridArchive, ParamsValidateMessages) {
   EXPECT_THROW(GridArchive{params({10, 0})}, InputError);
 }
 
+// A range whose width underflows (1 / width overflows) used to give index_of = INT64_MIN for
+// a measure at lower (0 * inf); one whose width overflows put everything in cell 0.
+TEST(GridArchive, RangesTooNarrowOrTooWideAreRefused) {
+  const std::string narrow = message_of(params({10}, 2, 0.0, 1e-320));
+  EXPECT_TRUE(contains(narrow, "archive range [0, 1e-320] is too narrow")) << narrow;
+  EXPECT_TRUE(contains(narrow, "smallest normal double")) << narrow;
+  EXPECT_TRUE(contains(message_of(params({10}, 2, 1.0, std::nextafter(1.0, 2.0))), "(no exception)"));
+  EXPECT_TRUE(contains(message_of(params({10}, 2, 0.0, 3e-308)), "(no exception)"));
+  const double big = std::numeric_limits<double>::max();
+  const std::string wide = message_of(params({10}, 2, -big, big));
+  EXPECT_TRUE(contains(wide, "is too wide: upper - lower overflows")) << wide;
+  EXPECT_THROW(GridArchive{params({10}, 2, 0.0, 1e-320)}, InputError);
+  // The narrowest range allowed still bins: the lower edge in cell 0, the upper in the last.
+  const GridArchive a(params({10}, 2, 0.0, 3e-308));
+  const Real lo[1] = {0.0f}, hi[1] = {1.0f};
+  EXPECT_EQ(a.index_of(lo), 0);
+  EXPECT_EQ(a.index_of(hi), 9);
+}
+
 TEST(GridArchive, SampleCellOnlyReturnsFilledCells) {
   GridArchive a(params({10, 10}));
   const Real s[2] = {0.0f, 0.0f};

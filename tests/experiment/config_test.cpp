@@ -374,6 +374,7 @@ TEST(BuildRun, OtherBadConfigs) {
       {"[archive]\nbins = [10, 10]\nmeasures = [0, 25]\n", "archive.measures holds 25, out of range"},
       {"[archive]\nbins = [10, 10]\nmeasures = [0]\n", "archive.measures has 1 entries"},
       {"[archive]\nlower = 1.0\nupper = 0.0\n", "lower must be below upper"},
+      {"[archive]\nlower = 0.0\nupper = 1e-320\n", "archive range [0, 1e-320] is too narrow"},
       {"[task]\nname = \"rhex\"\n", "task.name = \"rhex\" is not a valid choice: use one of \"rastrigin\""},
       {"[task]\ndimensions = 0\n", "task.dimensions = 0 is out of range"},
       {"[map_elites]\nbatch_size = 0\n", "map_elites.batch_size = 0 is out of range"},

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/io/csv.hpp"
@@ -211,6 +213,53 @@ TEST(RunObservers, AnAbortedStepLeavesTheCheckpointOfTheLastFinishedStep) {
   EXPECT_EQ(cursor.metrics_bytes, fs::file_size(dir / "metrics.csv"));
   EXPECT_EQ(cursor.checkpoints, 2);  // the one after the first step, then this one
   EXPECT_FALSE(fs::exists(dir / "summary.json")) << "an aborted run must not look finished";
+}
+
+// An evaluator whose n-th batch is stopped by the user midway (Ctrl-C inside a Python task).
+class InterruptingEvaluator : public Evaluator {
+ public:
+  explicit InterruptingEvaluator(int interrupt_at) : interrupt_at_(interrupt_at) {}
+  void evaluate(const Task& task, GenotypeView genotypes, EvaluationView out) override {
+    if (++calls_ == interrupt_at_) throw StepInterrupted("Ctrl-C");
+    serial_.evaluate(task, genotypes, out);
+  }
+  int workers() const override { return 1; }
+
+ private:
+  SerialEvaluator serial_;
+  int interrupt_at_;
+  int calls_ = 0;
+};
+
+TEST(RunObservers, AStepInterruptedMidwayEndsTheRunAtTheLastBoundaryWithItsFilesThenResumesToTheSameBits) {
+  const fs::path straight = fresh_dir("step_interrupted_straight"), dir = fresh_dir("step_interrupted");
+  {
+    BuiltRun built = small_run(6'000, 1000);
+    SerialEvaluator evaluator;
+    run_to_budget(*built.algorithm, evaluator, built.settings, straight);
+  }
+  BuiltRun built = small_run(6'000, 1000);
+  InterruptingEvaluator evaluator(4);  // steps 1-3 finish, the 4th is stopped midway
+  EXPECT_THROW(run_to_budget(*built.algorithm, evaluator, built.settings, dir), StepInterrupted);
+  EXPECT_EQ(built.algorithm->generation(), 3);
+  EXPECT_FALSE(built.algorithm->step_in_progress());
+  std::ifstream summary_file(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["stop_reason"], "interrupted");
+  EXPECT_EQ(summary["evals"], 2800);
+  EXPECT_EQ(read_elites_csv(dir / "archive.csv").size(), built.algorithm->stats().num_elites);
+  BuiltRun again = small_run(6'000, 1000);
+  const RunCursor cursor = read_checkpoint(dir, again.settings.fingerprint, *again.algorithm);
+  EXPECT_EQ(again.algorithm->generation(), 3);
+  SerialEvaluator serial;
+  RunOptions options;
+  options.resume = &cursor;
+  EXPECT_EQ(run_to_budget(*again.algorithm, serial, again.settings, dir, options).reason, StopReason::kBudget);
+  for (const char* f : {"archive.csv", "metrics.csv"}) {
+    std::ifstream a(dir / f), b(straight / f);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}), std::string(std::istreambuf_iterator<char>(b), {}))
+        << f;
+  }
 }
 
 TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {

@@ -197,3 +197,100 @@ def test_the_rhex_robot_is_there_from_python():
     assert fitness.shape == (3,) and features.shape == (3, rhex.base_feature_size)
     again = rhex.evaluate(x)
     assert np.array_equal(fitness, again[0]) and np.array_equal(features, again[1])
+
+
+def raising_once(at, exception=TaskFailure):
+    """numpy Rastrigin whose `at`-th call raises `exception` instead."""
+    calls = [0]
+
+    def f(x):
+        calls[0] += 1
+        if calls[0] == at:
+            raise exception(f"call {at} failed")
+        return rastrigin(x)
+    return qdmeta.Task(f, genotype_size=20, base_feature_size=20, name="numpy-rastrigin")
+
+
+def assert_same_run(a, b):
+    assert a.generation == b.generation and a.evaluations == b.evaluations
+    x, y = a.data(), b.data()
+    assert np.array_equal(x["index"], y["index"]) and np.array_equal(x["solution"], y["solution"])
+    assert np.array_equal(x["objective"], y["objective"])
+
+
+@pytest.mark.parametrize("config,steps,at", [(ME, 6, 1), (ME, 6, 4), (QD, 4, 2), (QD, 4, 9), (QD, 4, 20)],
+                         ids=["me-first", "me-later", "qd-after-seeds", "qd-second", "qd-later"])
+def test_a_step_that_raises_is_undone_and_stepping_on_gives_the_same_bits(config, steps, at):
+    # QD-Meta's steps: the seeds (first step only), then 2 generations of 3 maps, one call each.
+    def objective():
+        return qdmeta.MetaObjective(lambda e, s: float(np.mean(e[:, 0])), "first-gene") if config is QD else None
+    reference = qdmeta.Algorithm(config, task=numpy_rastrigin(), meta_objective=objective())
+    algo = qdmeta.Algorithm(config, task=raising_once(at), meta_objective=objective())
+    failures = 0
+    while algo.generation < steps:
+        before = algo.generation
+        try:
+            algo.step(threads=2)
+        except TaskFailure:
+            failures += 1
+            assert not algo.step_in_progress and algo.generation == before
+    assert failures == 1
+    for _ in range(steps):
+        reference.step(threads=2)
+    assert_same_run(algo, reference)
+    jobs = algo.ask_jobs()  # and ask/tell work on
+    algo.tell_jobs([task.evaluate(x) for task, x in jobs])
+
+
+def test_a_step_whose_meta_objective_raises_is_undone():
+    calls = [0]
+
+    def spread(elites, seed):
+        calls[0] += 1
+        if calls[0] == 5:
+            raise TaskFailure("the meta-objective failed")
+        return float(np.std(elites[:, 0])) + seed % 7
+
+    def make():
+        return qdmeta.Algorithm(QD, task=numpy_rastrigin(), meta_objective=qdmeta.MetaObjective(spread, "spread"))
+    algo = make()
+    algo.step()
+    with pytest.raises(TaskFailure, match="the meta-objective failed"):
+        algo.step()
+    assert algo.generation == 1 and not algo.step_in_progress
+    algo.step()
+    algo.step()
+    reference = make()
+    for _ in range(3):
+        reference.step()
+    assert_same_run(algo, reference)
+
+
+def test_config_dicts_that_contain_themselves_or_nest_too_deep_are_refused():
+    looped = dict(ME)
+    looped["archive"] = {"bins": [20, 20]}
+    looped["archive"]["again"] = looped
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'archive\.again' contains itself$"):
+        qdmeta.Algorithm(looped, task=numpy_rastrigin())
+    listed = [1, 2]
+    listed.append(listed)
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'archive\.bins' contains itself$"):
+        qdmeta.Algorithm(dict(ME, archive={"bins": listed}), task=numpy_rastrigin())
+    deep = {}
+    for _ in range(100_000):
+        deep = {"a": deep}
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'a\.a\.a.*\.\.\.' is nested more than 64 levels deep$"):
+        qdmeta.Algorithm(deep)
+    row = [20]  # the same list twice side by side is no loop: the reader judges it
+    with pytest.raises(qdmeta.InputError, match="archive.bins") as info:
+        qdmeta.Algorithm(dict(ME, archive={"bins": [row, row]}), task=numpy_rastrigin())
+    assert "contains itself" not in str(info.value)
+
+
+def test_an_integer_too_large_for_the_config_is_named_with_its_range():
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.Algorithm(dict(ME, seed=2**70), task=numpy_rastrigin())
+    assert str(info.value) == (f"config: seed = {2**70} is out of range: a config integer must be in "
+                               "[-9223372036854775808, 9223372036854775807]")
+    with pytest.raises(qdmeta.InputError, match=r"seed = -1 is out of range"):
+        qdmeta.Algorithm(dict(ME, seed=-1), task=numpy_rastrigin())

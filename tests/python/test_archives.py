@@ -108,3 +108,25 @@ def test_unstructured_archive_adds_far_points_and_rejects_near_ones():
         assert list(a.as_pandas().columns)[:4] == ["index", "objective", "measures_0", "measures_1"]
     with pytest.raises(ValueError, match="threshold"):
         a.add(far, np.zeros(3), far, threshold=0.0)
+
+
+def test_a_range_too_narrow_to_bin_is_refused_at_construction():
+    # Its bins' width underflows: index_of once gave -9223372036854775808 for a measure at lower.
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.GridArchive(solution_dim=1, dims=[10], lower=0.0, upper=1e-320)
+    assert str(info.value).startswith("archive range [0, 1e-320] is too narrow: upper - lower = 1e-320 is below")
+    with pytest.raises(qdmeta.InputError, match="too wide"):
+        qdmeta.GridArchive(solution_dim=1, dims=[10], lower=-1e308, upper=1e308)
+    # A narrow range that can be binned is kept (1e-301 is 0 as a float32 measure: bin 0).
+    narrow = qdmeta.GridArchive(solution_dim=1, dims=[10], lower=0.0, upper=1e-300)
+    assert narrow.index_of(np.array([[0.0], [1e-301], [1.0]])).tolist() == [0, 0, 9]
+
+
+def test_a_seed_out_of_range_is_named_with_its_range(tmp_path):
+    for seed in (2**70, -1):
+        with pytest.raises(qdmeta.InputError) as info:
+            qdmeta.cvt_centroids(2, cells=4, samples=100, seed=seed, cache_dir=tmp_path)
+        assert str(info.value) == f"seed = {seed} is out of range: must be in [0, 9223372036854775807]"
+    with pytest.raises(TypeError, match="^seed must be an integer, got <class 'float'>$"):
+        qdmeta.cvt_centroids(2, cells=4, samples=100, seed=1.5, cache_dir=tmp_path)
+    assert qdmeta.cvt_centroids(2, cells=4, samples=100, seed=np.int64(3), cache_dir=tmp_path).shape == (4, 2)

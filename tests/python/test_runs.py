@@ -4,6 +4,7 @@ import json
 import os
 import signal
 import subprocess
+import traceback
 
 import numpy as np
 import pytest
@@ -134,3 +135,76 @@ def test_algorithm_run_in_memory_and_into_a_run_directory(tmp_path):
     reference = qdmeta.Algorithm(CONFIG, task=numpy_rastrigin())
     reference.run(budget=3000)
     assert np.array_equal(reference.data()["solution"], fresh.data()["solution"])
+
+
+def ctrl_c_at_call(at):
+    """numpy Rastrigin that is sent SIGINT (as Ctrl-C would) during its `at`-th call."""
+    calls = [0]
+
+    def f(x):
+        calls[0] += 1
+        if calls[0] == at:
+            os.kill(os.getpid(), signal.SIGINT)  # KeyboardInterrupt is raised here, inside the task
+        return rastrigin_parts(x)
+    return qdmeta.Task(f, 20, 20, name="numpy-rastrigin")
+
+
+def spread(elites, seed):
+    return float(np.std(elites[:, 0]))
+
+
+# (algorithm, the task's call that gets Ctrl-C, the generations finished before it): QD-Meta's
+# first step makes 7 calls (the seeds, then 2 generations of 3 maps), the next ones 6.
+@pytest.mark.parametrize("algorithm,at,finished", [("map-elites", 1, 0), ("map-elites", 7, 6), ("qd-meta", 3, 0),
+                                                   ("qd-meta", 12, 1)])
+def test_ctrl_c_inside_a_python_task_ends_the_run_with_its_files_and_resumes_to_the_same_bits(tmp_path, algorithm,
+                                                                                               at, finished):
+    config, objective = CONFIG, None
+    if algorithm == "qd-meta":
+        config = dict(QD, budget={"evaluations": 3000}, checkpoint={"every_seconds": 0.0})
+        objective = qdmeta.MetaObjective(spread, name="spread")
+    qdmeta.run(config, tmp_path / "straight", task=numpy_rastrigin(), meta_objective=objective, threads=1)
+    stopped = tmp_path / "stopped"
+    with pytest.raises(KeyboardInterrupt) as info:
+        qdmeta.run(config, stopped, task=ctrl_c_at_call(at), meta_objective=objective, threads=1)
+    assert "f" in [frame.name for frame in traceback.extract_tb(info.value.__traceback__)], "raised in the task"
+    summary = json.loads((stopped / "summary.json").read_text())
+    assert summary["stop_reason"] == "interrupted" and summary["generations"] == finished
+    assert (stopped / "archive.csv").exists() and (stopped / "checkpoint.bin").exists()
+    qdmeta.resume(stopped, task=numpy_rastrigin(), meta_objective=objective, threads=1)
+    for f in ("archive.csv", "metrics.csv") + (("meta.csv",) if algorithm == "qd-meta" else ()):
+        assert (stopped / f).read_bytes() == (tmp_path / "straight" / f).read_bytes(), f
+
+
+def test_ctrl_c_inside_a_python_meta_objective_ends_the_run_with_its_files(tmp_path):
+    calls = [0]
+
+    def interrupted_spread(elites, seed):
+        calls[0] += 1
+        if calls[0] == 4:  # map 1 of meta-generation 2
+            os.kill(os.getpid(), signal.SIGINT)
+        return spread(elites, seed)
+
+    config = dict(QD, budget={"evaluations": 3000}, checkpoint={"every_seconds": 0.0})
+    objective = qdmeta.MetaObjective(interrupted_spread, name="spread")
+    qdmeta.run(config, tmp_path / "straight", task=numpy_rastrigin(), meta_objective=qdmeta.MetaObjective(spread, "spread"),
+               threads=1)
+    with pytest.raises(KeyboardInterrupt):
+        qdmeta.run(config, tmp_path / "stopped", task=numpy_rastrigin(), meta_objective=objective, threads=1)
+    summary = json.loads((tmp_path / "stopped" / "summary.json").read_text())
+    assert summary["stop_reason"] == "interrupted" and summary["generations"] == 1
+    calls[0] = -10**9  # no more Ctrl-C
+    qdmeta.resume(tmp_path / "stopped", task=numpy_rastrigin(), meta_objective=objective, threads=1)
+    for f in ("archive.csv", "meta.csv"):
+        assert (tmp_path / "stopped" / f).read_bytes() == (tmp_path / "straight" / f).read_bytes(), f
+
+
+def test_ctrl_c_inside_a_python_task_leaves_an_in_memory_algorithm_usable():
+    algo = qdmeta.Algorithm(CONFIG, task=ctrl_c_at_call(5))
+    with pytest.raises(KeyboardInterrupt):
+        algo.run(budget=3000, threads=1)
+    assert algo.generation == 4 and not algo.step_in_progress
+    assert algo.run(budget=3000, threads=1)["evals"] == 3000
+    reference = qdmeta.Algorithm(CONFIG, task=numpy_rastrigin())
+    reference.run(budget=3000, threads=1)
+    assert np.array_equal(reference.data()["solution"], algo.data()["solution"])

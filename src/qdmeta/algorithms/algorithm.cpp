@@ -12,18 +12,51 @@ namespace qdmeta {
 // The ask/tell protocol, shared by every algorithm.
 void Algorithm::step(Evaluator& evaluator) {
   require_between_steps("step()");
-  before_step(evaluator);
-  const bool confine = parallel_inside();
-  do {
-    std::span<const EvaluationJob> jobs;
-    if (confine) evaluator.within_workers([&] { jobs = ask(); });
-    else jobs = ask();
-    // A single batch goes through evaluate(), which keeps per-thread task copies across calls.
-    if (jobs.size() == 1) evaluator.evaluate(*jobs[0].task, jobs[0].genotypes, jobs[0].out);
-    else evaluator.evaluate_jobs(jobs);
-    if (confine) evaluator.within_workers([&] { tell(); });
-    else tell();
-  } while (in_step_);
+  BinaryWriter undo;
+  save_undo(undo);
+  try {
+    before_step(evaluator);
+    const bool confine = parallel_inside();
+    do {
+      std::span<const EvaluationJob> jobs;
+      if (confine) evaluator.within_workers([&] { jobs = ask(); });
+      else jobs = ask();
+      // A single batch goes through evaluate(), which keeps per-thread task copies across calls.
+      if (jobs.size() == 1) evaluator.evaluate(*jobs[0].task, jobs[0].genotypes, jobs[0].out);
+      else evaluator.evaluate_jobs(jobs);
+      if (confine) evaluator.within_workers([&] { tell(); });
+      else tell();
+    } while (in_step_);
+  } catch (...) {
+    undo_step(undo.bytes());
+    throw;  // the step's own error, whether or not the undo worked
+  }
+}
+
+void Algorithm::undo_step(std::string_view undo) noexcept {
+  jobs_.clear();
+  pending_ = false;
+  in_step_ = false;
+  try {
+    BinaryReader in(undo, "the state before the step");
+    load_undo(in);
+  } catch (...) {
+    in_step_ = true;  // half undone: refuse to step on from here
+  }
+}
+
+void Algorithm::save_undo(BinaryWriter& out) const {
+  if (checkpointable()) save(out);
+}
+
+void Algorithm::load_undo(BinaryReader& in) {
+  if (!checkpointable()) throw Error(fmt::format("{}: cannot undo a failed step", name()));
+  load(in);
+}
+
+void Algorithm::load_generation_undo(BinaryReader& in) const {
+  if (in.value<std::int64_t>("generation") != generation())
+    throw Error(fmt::format("{}: the failed step had already changed the state", name()));
 }
 
 std::span<const EvaluationJob> Algorithm::ask() {

@@ -11,6 +11,11 @@
 // are shape-checked and copied in. After tell(), step_in_progress() says whether the step needs
 // more requests. step(evaluator) is exactly that loop, so a step driven by hand gives the same
 // bits as step(). Out-of-order calls throw Error; checkpoints (save()) only between steps.
+//
+// A step that throws (the evaluator, a task, a meta-objective) is undone: step() puts back the
+// state from before it, so the algorithm can step again and gives the bits it would have given
+// had the failed step never run. Each algorithm saves before a step only what its steps change
+// before their end (save_undo), by default its whole checkpoint state.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -55,7 +60,9 @@ class Algorithm {
   // One step: a generation (QD-Meta: a meta-generation; the first step also evaluates the
   // initial population), as ask(), the evaluator's
   // evaluation of the jobs, tell(), until the step is complete. Parallel work inside ask() and
-  // tell() (QD-Meta's rebuilds, CVT's cell lookups) runs on the evaluator's workers.
+  // tell() (QD-Meta's rebuilds, CVT's cell lookups) runs on the evaluator's workers. When it
+  // throws, the step is undone first (see above); an algorithm that cannot undo it (one that is
+  // not checkpointable) is left mid-step.
   void step(Evaluator& evaluator);
 
   // The next request (see the protocol above). Throws Error when a request is already pending.
@@ -101,7 +108,23 @@ class Algorithm {
   // Throws Error unless the algorithm is between steps; `what` names the refused operation.
   void require_between_steps(std::string_view what) const;
 
+  // Undoing a failed step. save_undo() runs before each step() and writes what the step may
+  // change before it ends; load_undo() reads it back after the step threw, once the request is
+  // dropped, and also resets the algorithm's own in-step state. The defaults are save() and
+  // load() (a non-checkpointable algorithm cannot undo); an algorithm overrides them with less.
+  virtual void save_undo(BinaryWriter& out) const;
+  virtual void load_undo(BinaryReader& in);
+  // For algorithms whose state changes only in the last tell() of a step: the undo is just the
+  // generation count, and load_generation_undo throws Error when the generation has moved on
+  // (the step failed after that tell() had taken the results).
+  void save_generation_undo(BinaryWriter& out) const { out.value(generation()); }
+  void load_generation_undo(BinaryReader& in) const;
+
  private:
+  // After a step threw: the request dropped and the state from `undo` back; when that fails
+  // too, the algorithm is left mid-step.
+  void undo_step(std::string_view undo) noexcept;
+
   std::vector<EvaluationJob> jobs_;
   bool pending_ = false;
   bool in_step_ = false;

@@ -76,6 +76,9 @@ class Aurora final : public Algorithm {
   // One request per step, one job; tell() trains, rebuilds and inserts on the calling thread.
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
+  // A step changes the state only in its one tell(): undoing it is dropping its request.
+  void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
+  void load_undo(BinaryReader& in) override { load_generation_undo(in); }
 
  private:
   void train(const RowMatrix& base_features);

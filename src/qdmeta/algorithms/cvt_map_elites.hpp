@@ -73,6 +73,9 @@ class CvtMapElites final : public Algorithm {
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
   void before_step(Evaluator& evaluator) override;
+  // A step changes the state only in its one tell(): undoing it is dropping its request.
+  void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
+  void load_undo(BinaryReader& in) override { load_generation_undo(in); }
   bool parallel_inside() const override { return true; }
 
  private:

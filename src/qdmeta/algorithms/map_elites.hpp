@@ -134,6 +134,9 @@ class BasicMapElites final : public Algorithm {
   // One request per step: the generation's genotypes, one job.
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
+  // A step changes the state only in its one tell(): undoing it is dropping its request.
+  void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
+  void load_undo(BinaryReader& in) override { load_generation_undo(in); }
 
  private:
   static GridArchiveParams complete_grid(GridArchiveParams p, const Task& task) {

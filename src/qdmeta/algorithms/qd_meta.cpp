@@ -385,6 +385,29 @@ void QdMeta::load(BinaryReader& in) {
   controller_->load(in);
 }
 
+void QdMeta::save_undo(BinaryWriter& out) const {
+  out.value(meta_generation_);
+  save_counters(out, counters_);
+  cma_.save(out);
+  controller_->save(out);
+  out.value(database_.total_inserted());
+  if (database_.total_inserted() == 0) database_.save(out);
+}
+
+void QdMeta::load_undo(BinaryReader& in) {
+  if (in.value<std::int64_t>("meta-generation") != meta_generation_)
+    throw Error("qd-meta: the failed step had already finished its meta-generation");
+  phase_ = Phase::kIdle;
+  next_generation_ = 0;
+  counters_ = load_counters(in);
+  cma_.load(in);
+  controller_->load(in);
+  const auto inserted = in.value<std::int64_t>("database rows inserted");
+  if (inserted == 0) database_.load(in);
+  else if (database_.total_inserted() != inserted)
+    throw Error("qd-meta: the failed step had already changed the database");
+}
+
 // Declared in core/meta_objective.hpp; defined here, where evaluators are known (core/ comes
 // before eval/).
 void check_meta_plan(const MetaObjective& objective, const MetaPlan& plan, std::span<const Task> tasks) {

@@ -78,6 +78,11 @@ class QdMeta final : public Algorithm {
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
   bool parallel_inside() const override { return true; }
+  // Before its last tell() (finish_meta_generation), a step changes the counters, CMA-ES (ask)
+  // and the controller (its choice), and on the first step the empty database (the seeds); the
+  // rest waits for the end. Those are saved, the database only while empty.
+  void save_undo(BinaryWriter& out) const override;
+  void load_undo(BinaryReader& in) override;
 
  private:
   // Where the meta-generation stands between requests.

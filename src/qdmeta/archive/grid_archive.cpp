@@ -24,6 +24,16 @@ void GridArchiveParams::validate() const {
                                  fmt::join(bins, ", "), cells));
   if (!(lower < upper) || !std::isfinite(lower) || !std::isfinite(upper))
     throw InputError(fmt::format("archive range [{}, {}] is invalid: lower must be below upper", lower, upper));
+  // Cells come from (m - lower) * (1 / width): a width whose reciprocal overflows (below the
+  // smallest normal double) makes that infinite, and 0 * inf a NaN cell; one that overflows
+  // itself makes every cell 0.
+  const double width = upper - lower;
+  if (!std::isfinite(width))
+    throw InputError(fmt::format("archive range [{}, {}] is too wide: upper - lower overflows a double", lower, upper));
+  if (width < std::numeric_limits<double>::min())
+    throw InputError(fmt::format("archive range [{}, {}] is too narrow: upper - lower = {} is below {}, the smallest "
+                                 "normal double",
+                                 lower, upper, width, std::numeric_limits<double>::min()));
   require_at_least("archive solution size", solution_size, Index{1});
   require_at_least("archive base-feature size", base_feature_size, Index{0});
   require_range("archive.epsilon", epsilon, 0.0, 0.5);

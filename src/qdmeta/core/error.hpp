@@ -25,4 +25,12 @@ class EvaluationAborted : public Error {
   explicit EvaluationAborted(const std::string& message) : Error(message) {}
 };
 
+// Raised from inside a step to stop it at the user's request (Ctrl-C while a task's own code
+// ran): step() undoes the step, and the run driver ends the run there as interrupted, its files
+// written, before passing the exception on.
+class StepInterrupted : public Error {
+ public:
+  explicit StepInterrupted(const std::string& message) : Error(message) {}
+};
+
 }  // namespace qdmeta

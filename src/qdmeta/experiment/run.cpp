@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <exception>
 #include <optional>
 #include <ranges>
 
@@ -20,6 +21,7 @@ RunResult drive_run(Algorithm& algorithm, Evaluator& evaluator, const RunSetting
   bool stop = false;  // every observer is told, whatever the others answer
   for (RunObserver* o : observers) stop = o->on_start(status) == RunVerdict::kStop || stop;
   RunResult result;
+  std::exception_ptr interrupted;  // a StepInterrupted, passed on once the run has ended
   while (status.evals < settings.budget) {
     if (stop) {
       result.reason = StopReason::kInterrupted;
@@ -31,6 +33,11 @@ RunResult drive_run(Algorithm& algorithm, Evaluator& evaluator, const RunSetting
     } catch (const EvaluationAborted& e) {
       for (RunObserver* o : observers) o->on_step_aborted(status, e);
       throw;
+    } catch (const StepInterrupted&) {
+      if (algorithm.step_in_progress()) throw;  // not undone: no boundary to end at
+      interrupted = std::current_exception();
+      result.reason = StopReason::kInterrupted;
+      break;
     }
     status.evals = settings.evals(algorithm.counters());
     for (RunObserver* o : observers) stop = o->after_step(status) == RunVerdict::kStop || stop;
@@ -45,6 +52,7 @@ RunResult drive_run(Algorithm& algorithm, Evaluator& evaluator, const RunSetting
                        ? fmt::format("reached the budget of {} evaluations ({} spent)", settings.budget, status.evals)
                        : fmt::format("interrupted after {} of {} evaluations", status.evals, settings.budget);
   for (RunObserver* o : std::views::reverse(observers)) o->on_end(status, result);
+  if (interrupted) std::rethrow_exception(interrupted);
   return result;
 }
 

@@ -23,7 +23,9 @@ namespace qdmeta {
 
 // Steps `algorithm` until the budget is reached or an observer answers kStop, telling
 // `observers` in order (on_end in reverse order). Writes nothing itself. `resume`: the cursor
-// a checkpoint restored (the algorithm already loaded from it).
+// a checkpoint restored (the algorithm already loaded from it). A step that throws
+// StepInterrupted (undone by step()) ends the run there as interrupted, every observer told,
+// and the exception is then passed on.
 RunResult drive_run(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
                     std::span<RunObserver* const> observers, const RunCursor* resume = nullptr);
 
@@ -35,8 +37,9 @@ struct RunOptions {
 };
 
 // Runs to the budget, writing metrics.csv (and meta.csv) as it goes and archive.csv +
-// summary.json at the end (atomically) into `out_dir`, which must exist. A stop (the flag, or an
-// observer's kStop) ends the run with reason kInterrupted; its files are written all the same.
+// summary.json at the end (atomically) into `out_dir`, which must exist. A stop (the flag, an
+// observer's kStop, or a step's StepInterrupted, passed on afterwards) ends the run with reason
+// kInterrupted; its files are written all the same.
 // A checkpointable algorithm also gets checkpoint.bin every `settings.checkpoint_every` seconds
 // and when interrupted; the file is removed when the budget is reached.
 RunResult run_to_budget(Algorithm& algorithm, Evaluator& evaluator, const RunSettings& settings,
