@@ -1,11 +1,10 @@
 #include "python_run.hpp"
 
-#include <fstream>
-#include <sstream>
 
 #include "python_evaluator.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_lock.hpp"
 
 namespace py = pybind11;
@@ -63,10 +62,7 @@ class PythonObserver final : public RunObserver {
 };
 
 py::dict read_summary(const fs::path& dir) {
-  std::ifstream in(dir / "summary.json");
-  std::stringstream text;
-  text << in.rdbuf();
-  return py::module_::import("json").attr("loads")(text.str());
+  return py::module_::import("json").attr("loads")(read_regular_file(dir / "summary.json", kMaxTextFileBytes));
 }
 
 // An in-memory run's result, with summary.json's keys where they apply.
