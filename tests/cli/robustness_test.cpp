@@ -471,6 +471,7 @@ TEST(Robustness, LinksPlantedInARunDirectoryAreReplacedNeverWrittenThrough) {
 // --- 9. Configs that the TOML parser alone would misread or crash on.
 
 TEST(Robustness, ANulByteOrKeysNestedTooDeepAreRefusedInOneLine) {
+  static constexpr char kNulConfig[] = "seed = 2\n\0algorithm = \"aurora\"\n";
   std::string header = "[a", dotted = "a";
   for (int i = 0; i < 100'000; ++i) {
     header += ".a";
@@ -478,7 +479,7 @@ TEST(Robustness, ANulByteOrKeysNestedTooDeepAreRefusedInOneLine) {
   }
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"/proc/self/environ", "a NUL byte"},  // stopped at its first NUL, it used to run as "all defaults"
-      {write_file("nul.toml", std::string("seed = 2\n\0algorithm = \"aurora\"\n", 33)).string(), "nul.toml:2:1: a NUL byte"},
+      {write_file("nul.toml", std::string(kNulConfig, sizeof kNulConfig - 1)).string(), "nul.toml:2:1: a NUL byte"},
       {write_file("deep-header.toml", header + "]\n").string(), "a key or table header of more than 32 parts"},
       {write_file("deep-key.toml", dotted + " = 1\n").string(), "a key or table header of more than 32 parts"},
       {write_file("deep-array.toml", "x = " + std::string(100'000, '[') + "\n").string(), "nested more than 32 deep"},
