@@ -75,8 +75,13 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 // Whether a qdmeta rank whose command line names `dir` is still running (mpirun's own command
 // line starts with mpirun, the shell's with sh, so the anchor leaves them out).
-bool ranks_alive(const fs::path& dir) {
-  return shell("pgrep -f -- '^" + std::string(QDMETA_BINARY) + " run .*" + dir.string() + "'").status == 0;
+std::string rank_pattern(const fs::path& dir) {
+  return "'^" + std::string(QDMETA_BINARY) + " run .*" + dir.string() + "'";
+}
+bool ranks_alive(const fs::path& dir) { return shell("pgrep -f -- " + rank_pattern(dir)).status == 0; }
+int ranks_running(const fs::path& dir) {
+  const Outcome o = shell("pgrep -c -f -- " + rank_pattern(dir));
+  return o.output.empty() ? 0 : std::atoi(o.output.c_str());
 }
 
 Outcome qdmeta_cli(const std::string& args) { return shell(std::string(QDMETA_BINARY) + " " + args); }
@@ -173,20 +178,26 @@ TEST(Mpi, AKilledWorkerCanBeResumedUnderMpirunToo) {
   expect_same_files(straight, killed);
 }
 
-// `mpirun` started in the background; until `deadline` s, times (s from the start) when
-// dir/file appears and then when no rank of the job is left; then the outcome.
+// `mpirun` of `ranks` ranks started in the background; until `deadline` s, times (s from the
+// start) when a rank first went missing after all had run, when dir/file appears, and then when
+// no rank of the job is left; then the outcome. The tests compare these intervals with launcher
+// timeouts many times longer than the work, so a slow or loaded machine passes them too.
 struct Watched {
   Outcome outcome;
-  double appeared = -1, exited = -1;
+  double died = -1, appeared = -1, exited = -1;
 };
-Watched watch(const std::string& command, const fs::path& dir, const char* file, double deadline) {
+Watched watch(const std::string& command, int ranks, const fs::path& dir, const char* file, double deadline) {
   Watched w;
   const auto start = Clock::now();
   FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return w;
+  bool all_ran = false;
   while (since(start) < deadline && w.exited < 0) {
+    const int running = ranks_running(dir);
+    all_ran = all_ran || running == ranks;
+    if (all_ran && w.died < 0 && running < ranks) w.died = since(start);
     if (w.appeared < 0 && fs::exists(dir / file)) w.appeared = since(start);
-    if (w.appeared >= 0 && !ranks_alive(dir)) w.exited = since(start);
+    if (w.appeared >= 0 && running == 0) w.exited = since(start);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   char buffer[4096];
@@ -199,23 +210,22 @@ Watched watch(const std::string& command, const fs::path& dir, const char* file,
 // With a long launcher timeout OpenMPI signals the survivors only T s after the death (and
 // mpirun itself stays for about 2 T, its output held meanwhile): rank 0 must find the dead rank
 // by itself, write the checkpoint at once, and every rank must exit without waiting for signals.
+// Times are taken from the death, and T is far above the work's own time even on a loaded machine.
 TEST(Mpi, RankZeroFindsADeadWorkerItselfUnderALongLauncherTimeout) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
   const std::string run = "run --config " + config() + " --evals 60000 --seed 3 --quiet --out ";
   const fs::path straight = fresh_dir("straight3"), killed = fresh_dir("killed3");
   ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
-  constexpr double kLauncherTimeout = 4;  // s: SIGTERM 4 s after the death, SIGKILL 4 s after that
-  // The death comes well within a second of the start (30 pieces); the launcher's SIGTERM would
-  // come kLauncherTimeout later.
+  constexpr double kLauncherTimeout = 10;  // s: SIGTERM 10 s after the death, SIGKILL 10 s after that
   const Watched w = watch(mpirun_command(3, run + killed.string(),
-                                         "OMPI_MCA_odls_base_sigkill_timeout=4 QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30"),
-                          killed, "checkpoint.bin", 3 * kLauncherTimeout);
+                                         "OMPI_MCA_odls_base_sigkill_timeout=10 QDMETA_TEST_KILL_RANK=2 QDMETA_TEST_KILL_AFTER=30"),
+                          3, killed, "checkpoint.bin", 100);
   const Outcome& o = w.outcome;
-  const double checkpointed = w.appeared, exited = w.exited;
-  ASSERT_GE(checkpointed, 0) << o.output;
-  EXPECT_LT(checkpointed, kLauncherTimeout - 1) << "rank 0 waited for the launcher's SIGTERM\n" << o.output;
-  EXPECT_GE(exited, 0) << "ranks still running";
-  EXPECT_LT(exited - checkpointed, 2.0) << "the ranks waited for the launcher's signals";
+  ASSERT_GE(w.died, 0) << "no rank was seen to die\n" << o.output;
+  ASSERT_GE(w.appeared, 0) << o.output;
+  EXPECT_LT(w.appeared - w.died, kLauncherTimeout - 1) << "rank 0 waited for the launcher's SIGTERM\n" << o.output;
+  EXPECT_GE(w.exited, 0) << "ranks still running";
+  EXPECT_LT(w.exited - w.appeared, kLauncherTimeout / 2) << "the ranks waited for the launcher's signals";
   EXPECT_EQ(o.status, 137) << o.output;  // the dead rank's status, as with the default timeout
   EXPECT_NE(o.output.find("qdmeta: error: MPI rank 2 stopped answering (crashed or killed)"), std::string::npos)
       << o.output;
@@ -233,13 +243,14 @@ TEST(Mpi, AWorkerDeadAtTheEndDoesNotHoldRankZeroInFinalize) {
   const std::string run = "run --config " + config() + " --evals 20000 --seed 7 --quiet --out ";
   const fs::path straight = fresh_dir("straight5"), dir = fresh_dir("dead-at-end");
   ASSERT_EQ(qdmeta_cli(run + straight.string()).status, 0);
+  // Were rank 0 to wait for the dead rank, only the launcher's signal, 10 s after the death, would end it.
   const Watched w = watch(mpirun_command(3, run + dir.string(),
-                                         "OMPI_MCA_odls_base_sigkill_timeout=2 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
-                          dir, "summary.json", 12);
+                                         "OMPI_MCA_odls_base_sigkill_timeout=10 QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=stop"),
+                          3, dir, "summary.json", 100);
   const Outcome& o = w.outcome;
   ASSERT_GE(w.appeared, 0) << o.output;
   EXPECT_GE(w.exited, 0) << "ranks still running";
-  EXPECT_LT(w.exited - w.appeared, 2.0) << "rank 0 waited for the dead rank\n" << o.output;
+  EXPECT_LT(w.exited - w.appeared, 5.0) << "rank 0 waited for the dead rank\n" << o.output;
   EXPECT_EQ(o.status, 137) << o.output;
   EXPECT_NE(o.output.find("qdmeta: warning: MPI rank 1 stopped answering (crashed or killed) after rank 0's last "
                           "evaluation"),
@@ -259,7 +270,7 @@ TEST(Mpi, AHungWorkerIsFoundByItsMissingHeartbeat) {
   const Outcome o = mpirun(3, run + hung.string(),
                            "QDMETA_MPI_TIMEOUT=1 QDMETA_TEST_KILL_SIGNAL=STOP QDMETA_TEST_KILL_RANK=1 QDMETA_TEST_KILL_AFTER=12");
   EXPECT_EQ(o.status, 3) << o.output;
-  EXPECT_LT(since(start), 20.0) << o.output;
+  EXPECT_LT(since(start), 60.0) << o.output;  // found by the 1 s heartbeat, not by the 120 s guard
   EXPECT_NE(o.output.find("qdmeta: error: MPI rank 1 stopped answering (crashed or killed)"), std::string::npos)
       << o.output;
   ASSERT_TRUE(fs::exists(hung / "checkpoint.bin")) << o.output;
