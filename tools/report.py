@@ -8,7 +8,7 @@ meta.csv, archive.csv, adapt-*.csv, generalisation.csv, summary.json, config.tom
 DIR/figures/*.png, DIR/report.md and the small CSV summaries they are made from,
 DIR/data/runs.csv, DIR/data/curves.csv and (when runs have generalisation.csv)
 DIR/data/generalisation.csv, the paper's Table 2. The paper's supplementary meta-fitness
-figures (S5: running average; S6: G against meta-fitness) are drawn for RHex experiments, or for
+figures (S4: meta-fitness with its running average; S5: G against meta-fitness) are drawn for RHex experiments, or for
 any experiment with --supplementary.
 Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
 point), since meta-generation boundaries fall at different evaluation counts. Values are
@@ -327,7 +327,7 @@ def replicate_matrix(series):
 
 
 def figure_meta_running_average(conditions, out):
-    """The paper's Fig S5: meta-fitness per meta-generation (thin, faint) and its trailing mean
+    """The paper's Fig S4: meta-fitness per meta-generation (thin, faint) and its trailing mean
     over G_WINDOW meta-generations (thick, with the SE band over replicates), mean over
     replicates. One column per meta-fitness kind, as the kinds' scales differ (RHex: obstacle
     courses against damages); rows: the best map of the meta-population, and the mean over it
@@ -363,7 +363,7 @@ def figure_meta_running_average(conditions, out):
 
 def controls_generations(runs):
     """Whether G varies in these runs: [control] kind = "sarsa" in their config (or, without a
-    config, G not constant in meta.csv). A static control fixes G, so S6 has nothing to show."""
+    config, G not constant in meta.csv). A static control fixes G, so S5 has nothing to show."""
     config = runs[0].config()
     if config:
         return config.get("control", {}).get("kind") == "sarsa"
@@ -371,7 +371,7 @@ def controls_generations(runs):
 
 
 def figure_generations_and_meta_fitness(conditions, out):
-    """The paper's Fig S6: for each QD-Meta condition with SARSA control of G, one panel per run
+    """The paper's Fig S5: for each QD-Meta condition with SARSA control of G, one panel per run
     (row: condition; column: replicate) with the meta-fitness (mean over the meta-population,
     the paper's top panels; left axis) and G, drawn and as its running average over G_WINDOW
     meta-generations (right axis), over meta-generations."""
@@ -400,7 +400,7 @@ def figure_generations_and_meta_fitness(conditions, out):
 
 
 def supplementary_figures(conditions):
-    """Whether to draw S5 and S6: the paper shows them for its RHex study only, and the Rastrigin
+    """Whether to draw S4 and S5: the paper shows them for its RHex study only, and the Rastrigin
     reports stay as they were (--supplementary draws them for any experiment)."""
     return any(r.config().get("task", {}).get("name") == "rhex" for c in conditions for r in c["runs"][:1])
 
@@ -721,12 +721,12 @@ def report(directory, quiet, supplementary):
     figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, (figures_dir, "qd-statistics.png")), ""),
                ("Meta-fitness and generations per meta-generation", figure_meta(conditions, (figures_dir, "meta-fitness.png")), "")]
     if supplementary or supplementary_figures(conditions):
-        figures.append(("Meta-fitness with its running average (Fig S5)",
+        figures.append(("Meta-fitness with its running average (Fig S4)",
                         figure_meta_running_average(conditions, (figures_dir, "meta-fitness-running-average.png")),
                         "Each QD-Meta condition's meta-fitness per meta-generation (faint: mean over replicates) and its "
                         f"trailing mean over the last {G_WINDOW} meta-generations (thick: mean ± SE over replicates); one "
                         "column per meta-fitness kind; top: the best map of the meta-population, bottom: the mean over it."))
-        figures.append(("Generations per meta-generation and meta-fitness (Fig S6)",
+        figures.append(("Generations per meta-generation and meta-fitness (Fig S5)",
                         figure_generations_and_meta_fitness(conditions, (figures_dir, "generations-and-meta-fitness.png")),
                         "One panel per run of each QD-Meta condition whose G is chosen by SARSA: the meta-fitness (mean "
                         "over the meta-population, left axis) and G (faint: as drawn; thick: the mean of the last "

@@ -1,7 +1,7 @@
 #!/bin/bash
 # configs/rhex/experiment-smoke.toml end to end: every run, the damage, obstacle and
 # generalisation tests, and the report's RHex outputs (Table 2 with its bold best and underlined
-# training groups, the recovery curves, Figs S5 and S6, the claims table).
+# training groups, the recovery curves, Figs S4 and S5, the claims table).
 # Usage: rhex_smoke_experiment_test.sh QDMETA_BINARY SOURCE_DIR
 set -euo pipefail
 bin=$1 src=$2
@@ -33,7 +33,7 @@ grep "^| Training-Obstacles" "$report" | awk -F'|' '{exit !($4 ~ /<u>/ && $3 !~ 
 for row in Training-Damages Training-Obstacles Test-Damages Test-Obstacles; do
   grep "^| $row" "$report" | grep -q '\*\*' || fail "the $row row has no bold best"
 done
-# Fig S6 from the Obstacle condition, whose G SARSA chooses.
+# Fig S5 from the Obstacle condition, whose G SARSA chooses.
 for f in qd-statistics adaptation-damage adaptation-obstacle meta-fitness-running-average generations-and-meta-fitness; do
   [[ -s $tmp/x/figures/$f.png ]] || fail "no figures/$f.png"
 done

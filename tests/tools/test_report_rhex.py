@@ -1,6 +1,6 @@
 """tools/report.py on a RHex-like experiment: Table 2 (generalisation, mean ± SD, bold best,
 underlined trained groups), recovery curves continued with their last value (Fig 7), and the
-supplementary figures S5 and S6. The run files mirror qdmeta's writers (run_tables.cpp,
+supplementary figures S4 and S5 (the paper's numbering: S4 meta-fitness, S5 the G schedule). The run files mirror qdmeta's writers (run_tables.cpp,
 summary.cpp, adaptation.cpp, csv.cpp, run_directory.cpp's config.toml)."""
 import csv
 import json
@@ -205,14 +205,14 @@ def test_generalisation_entry_is_no_curve(experiment):
     assert "test_damage_at_10" in header and not any("generalisation" in h for h in header)
 
 
-def test_supplementary_figures_s5_and_s6(experiment):
+def test_supplementary_figures_s4_and_s5(experiment):
     md = (experiment / "report.md").read_text()
-    for name, title in [("meta-fitness-running-average.png", "(Fig S5)"), ("generations-and-meta-fitness.png", "(Fig S6)")]:
+    for name, title in [("meta-fitness-running-average.png", "(Fig S4)"), ("generations-and-meta-fitness.png", "(Fig S5)")]:
         assert (experiment / "figures" / name).stat().st_size > 0
         assert f"figures/{name}" in md and title in md
 
 
-def test_s6_only_for_sarsa_conditions(experiment):
+def test_s5_only_for_sarsa_conditions(experiment):
     _, conditions = report.load(str(experiment))
     by_name = {c["name"]: c["runs"] for c in conditions}
     assert report.controls_generations(by_name["QD-Meta Damage"])
@@ -233,7 +233,7 @@ def test_trailing_mean_window():
 
 def test_rastrigin_like_experiment_has_no_rhex_outputs(tmp_path):
     """Without generalisation.csv or a RHex task the report is the generic one: no Table 2, no
-    S5/S6, and equal-length recovery curves averaged as before."""
+    S4/S5, and equal-length recovery curves averaged as before."""
     spec = ['name = "Rastrigin (synthetic)"', "replicates = 2", 'tests = [ "dimension" ]', "",
             "[[condition]]", 'name = "QD-Meta Dimension"', 'slug = "qd-meta-dimension"', 'config = "/c.toml"', ""]
     (tmp_path / "experiment.toml").write_text("\n".join(spec) + "\n")
@@ -245,7 +245,7 @@ def test_rastrigin_like_experiment_has_no_rhex_outputs(tmp_path):
         (path / "config.toml").write_text((path / "config.toml").read_text().replace('"rhex"', '"rastrigin"'))
     assert report.main(["report.py", str(tmp_path), "--quiet"]) == 0
     md = (tmp_path / "report.md").read_text()
-    assert "Table 2" not in md and "Fig S5" not in md and "Fig S6" not in md and "continued" not in md
+    assert "Table 2" not in md and "Fig S4" not in md and "Fig S5" not in md and "continued" not in md
     assert not (tmp_path / "data" / "generalisation.csv").exists()
     assert not (tmp_path / "figures" / "meta-fitness-running-average.png").exists()
     with open(tmp_path / "data" / "curves.csv", newline="") as f:
