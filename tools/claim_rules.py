@@ -8,16 +8,20 @@ tests/data/claims/cases.toml keep the two readers in agreement.
 import math
 import re
 
-KINDS = ["near", "below", "order", "ratio", "top"]
+KINDS = ["near", "below", "between", "order", "ratio", "top"]
 COMMON_KEYS = ["text", "kind", "measure"]
-# Each kind's keys beyond the common ones: (required, optional).
+# Each kind's keys beyond the common ones: (required, optional). Every kind may also have `source`.
 KIND_KEYS = {
-    "near": (["conditions", "value", "tolerance"], ["budget", "grows"]),
-    "below": (["conditions", "value"], ["budget", "grows"]),
+    "near": (["conditions", "value", "tolerance"], ["budget"]),
+    "below": (["conditions", "value"], ["tolerance", "budget"]),
+    "between": (["conditions", "low", "high"], ["budget"]),
     "order": (["groups"], []),
-    "ratio": (["numerator", "denominator", "value", "tolerance"], []),
+    "ratio": (["numerator", "denominator", "value", "tolerance"], ["budget"]),
     "top": (["conditions", "top"], []),
 }
+# Whose claim it is: the paper's (the default), or a check of our own that the paper does not make
+# (the report lists those under their own heading).
+SOURCES = ["paper", "ours"]
 FAMILIES = ["final", "population", "meta", "test", "generalisation"]
 POPULATION_STATS = ["num_elites", "obj_mean", "obj_max", "qd_score"]
 # meta.csv's columns (src/qdmeta/io/run_tables.cpp).
@@ -99,7 +103,7 @@ def validate(claim, conditions, tests):
         raise ClaimError(f"unknown kind '{kind}' (kinds: {', '.join(KINDS)})" if isinstance(kind, str)
                          else "kind must be a string")
     required, optional = KIND_KEYS[kind]
-    valid = COMMON_KEYS + required + optional
+    valid = COMMON_KEYS + required + optional + ["source"]
     for key in claim:
         if key not in valid:
             raise ClaimError(f"unknown key '{key}' for kind '{kind}' (valid keys: {', '.join(valid)})")
@@ -120,7 +124,7 @@ def validate(claim, conditions, tests):
             raise ClaimError(f"measure '{m}' is listed twice")
         _check_measure(m, tests)
 
-    if kind in ("near", "below", "top"):
+    if kind in ("near", "below", "between", "top"):
         named = _names(claim, "conditions")
     elif kind == "ratio":
         if not isinstance(claim["numerator"], str):
@@ -147,6 +151,11 @@ def validate(claim, conditions, tests):
                 raise ClaimError(f"value has no number for condition '{name}'")
     elif kind in ("near", "below", "ratio"):
         _finite_number(claim, "value")
+    if kind == "between":
+        _finite_number(claim, "low")
+        _finite_number(claim, "high")
+        if not claim["low"] < claim["high"]:
+            raise ClaimError("low must be below high")
     if "tolerance" in claim:
         t = claim["tolerance"]
         if not _is_number(t) or not math.isfinite(t) or t < 0:
@@ -155,5 +164,5 @@ def validate(claim, conditions, tests):
         b = claim["budget"]
         if not isinstance(b, int) or isinstance(b, bool) or b < 1:
             raise ClaimError("budget must be an integer of at least 1")
-    if "grows" in claim and not isinstance(claim["grows"], bool):
-        raise ClaimError("grows must be true or false")
+    if "source" in claim and claim["source"] not in SOURCES:
+        raise ClaimError(f"source must be one of {', '.join(SOURCES)}")

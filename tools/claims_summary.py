@@ -1,53 +1,79 @@
 #!/usr/bin/python3
-"""One table of the claims of several reports, for a results page.
+"""One table of an experiment file's claims checked on committed reports at several budgets, for
+a results page.
 
-Usage: tools/claims_summary.py "EXPERIMENT:LABEL=DIR,LABEL=DIR..." ...
+Usage: tools/claims_summary.py [--source paper|ours] "NAME:EXPERIMENT_FILE:LABEL=DIR,LABEL=DIR..." ...
 
-Each argument names an experiment and its reports (DIR/report.md, as `qdmeta report` writes
-them), one per label (e.g. a budget); the reports of one experiment must check the same claims.
-Prints a Markdown table: experiment, claim, the verdict under each label, and what the last
-label's report measured.
+Each argument names an experiment, the experiment file whose [[claim]] tables are checked (the
+claims as they are now), and its committed reports (DIR/report.md and DIR/data/runs.csv, as
+`qdmeta report` writes them), one per label, smallest budget first. Every claim is checked with
+tools/claims.py on each report's runs.csv; a magnitude claim about a larger budget takes its
+trend from the report one label before (the committed smaller budget: runs do not depend on
+their budget, so that is the same runs' state there, paired by seed), and has none at the first
+label. Prints a
+Markdown table: experiment, claim, the verdict under each label, and what the last label's
+report measured. --source picks the paper's claims (the default) or the checks of our own.
 """
 import os
 import sys
+import tomllib
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import claims  # noqa: E402
+from study_data import Study  # noqa: E402
 
 
-def claims_of(directory):
-    """(claim, measured, verdict) rows of a report's claims table."""
-    with open(os.path.join(directory, "report.md")) as f:
-        text = f.read()
-    if "## The paper's claims" not in text:
-        raise SystemExit(f"{directory}/report.md has no claims table")
+def claims_of(experiment_file, source):
+    with open(experiment_file, "rb") as f:
+        spec = tomllib.load(f)
+    return [c for c in spec.get("claim", []) if c.get("source", "paper") == source]
+
+
+def verdicts(claim, studies):
+    """[(measured, verdict)] of one claim on each study, each judged with the one before as its
+    smaller budget."""
+    out = []
+    for i, study in enumerate(studies):
+        earlier = ((studies[i - 1].budget, studies[i - 1].samples, study.pairs_with(studies[i - 1]))
+                   if i > 0 else None)
+        out.append(claims.check(claim, study.samples, study.budget, earlier))
+    return out
+
+
+def table(experiments, source="paper"):
+    """The Markdown table of [(name, experiment file, [(label, Study)])], "" when no experiment
+    has a claim of `source`."""
+    labels = [label for label, _ in experiments[0][2]]
+    if any([label for label, _ in labelled] != labels for _, _, labelled in experiments):
+        raise ValueError("every experiment needs the same labels")
     rows = []
-    for line in text.split("## The paper's claims", 1)[1].splitlines():
-        if line.startswith("| ") and not line.startswith("| claim |"):
-            claim, measured, verdict = [c.strip() for c in line.strip().strip("|").split(" | ")]
-            rows.append((claim, measured, verdict.strip("*")))
-    return rows
+    for name, experiment_file, labelled in experiments:
+        for claim in claims_of(experiment_file, source):
+            checked = verdicts(claim, [s for _, s in labelled])
+            cells = [v for _, v in checked[:-1]] + [f"**{checked[-1][1]}**"]
+            rows.append(f"| {name} | {claim['text']} | " + " | ".join(cells) + f" | {checked[-1][0]} |")
+    if not rows:
+        return ""
+    return "\n".join(["| experiment | claim | " + " | ".join(labels) + f" | measured ({labels[-1]}) |",
+                      "|---|---|" + "---|" * len(labels) + "---|"] + rows)
 
 
 def main(argv):
-    if len(argv) < 2:
+    args = argv[1:]
+    source = "paper"
+    if args[:1] == ["--source"] and len(args) > 1:
+        source, args = args[1], args[2:]
+    if not args:
         print(__doc__, file=sys.stderr)
         return 2
     experiments = []
-    for arg in argv[1:]:
-        name, _, reports = arg.partition(":")
+    for arg in args:
+        name, file, reports = (arg.split(":", 2) + ["", ""])[:3]
         labelled = [r.split("=", 1) for r in reports.split(",")]
-        if not name or any(len(r) != 2 for r in labelled):
-            raise SystemExit(f"bad argument '{arg}': expected EXPERIMENT:LABEL=DIR,LABEL=DIR...")
-        experiments.append((name, labelled))
-    labels = [label for label, _ in experiments[0][1]]
-    print("| experiment | claim | " + " | ".join(labels) + f" | measured ({labels[-1]}) |")
-    print("|---|---|" + "---|" * len(labels) + "---|")
-    for name, labelled in experiments:
-        tables = [claims_of(d) for _, d in labelled]
-        for rows in zip(*tables):
-            if len({claim for claim, _, _ in rows}) != 1:
-                raise SystemExit(f"{name}: the reports check different claims: {[r[0] for r in rows]}")
-            verdicts = [v for _, _, v in rows]
-            print(f"| {name} | {rows[0][0]} | " + " | ".join(verdicts[:-1] + [f"**{verdicts[-1]}**"])
-                  + f" | {rows[-1][1]} |")
+        if not name or not file or any(len(r) != 2 for r in labelled):
+            raise SystemExit(f"bad argument '{arg}': expected NAME:EXPERIMENT_FILE:LABEL=DIR,LABEL=DIR...")
+        experiments.append((name, file, [(label, Study(d)) for label, d in labelled]))
+    print(table(experiments, source))
     return 0
 
 

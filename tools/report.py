@@ -8,8 +8,8 @@ meta.csv, archive.csv, adapt-*.csv, generalisation.csv, summary.json, config.tom
 DIR/figures/*.png, DIR/report.md and the small CSV summaries they are made from,
 DIR/data/runs.csv, DIR/data/curves.csv and (when runs have generalisation.csv)
 DIR/data/generalisation.csv, the paper's Table 2. The paper's supplementary meta-fitness
-figures (S4: meta-fitness with its running average; S5: G against meta-fitness) are drawn for RHex experiments, or for
-any experiment with --supplementary.
+figures (S4: meta-fitness with its running average; S5: G against meta-fitness) are drawn for
+RHex experiments, or for any experiment with --supplementary.
 Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
 point), since meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
@@ -526,15 +526,29 @@ def experiment_budget(spec, conditions):
     return max(budgets) if budgets else None
 
 
-def claims_table(spec, conditions):
-    """The experiment file's [[claim]] tables, each with what was measured and a verdict."""
-    if not spec.get("claim"):
+def claims_table(spec, conditions, source):
+    """The experiment file's [[claim]] tables of one source ("paper": the paper's claims; "ours":
+    checks the paper does not make), each with what was measured and a verdict. A magnitude
+    claim about a larger budget is compared with the runs' own curves at half the budget
+    (tools/claims.py)."""
+    chosen = [c for c in spec.get("claim", []) if c.get("source", "paper") == source]
+    if not chosen:
         return ""
     by_name = {c["name"]: c["runs"] for c in conditions}
     budget = experiment_budget(spec, conditions)
+    earlier = None
+    if budget:
+        half = budget // 2
+
+        def pairs(name, m):  # each run's (final, half-budget) values: the same runs, paired
+            values = [(claims.measure_values([r], m), claims.measure_values_at([r], m, half))
+                      for r in by_name.get(name, [])]
+            return [(now[0], then[0]) for now, then in values if now and then]
+        earlier = (half, lambda name, m: claims.measure_values_at(by_name.get(name, []), m, half), pairs)
     lines = ["| claim | measured (mean ± SE over replicates) | verdict |", "|---|---|---|"]
-    for claim in spec["claim"]:
-        measured, verdict = claims.check(claim, lambda name, m: claims.measure_values(by_name.get(name, []), m), budget)
+    for claim in chosen:
+        measured, verdict = claims.check(claim, lambda name, m: claims.measure_values(by_name.get(name, []), m), budget,
+                                         earlier)
         lines.append(f'| {claim["text"]} | {measured} | **{verdict}** |')
     return "\n".join(lines)
 
@@ -777,13 +791,16 @@ def report(directory, quiet, supplementary):
     for title, path, caption in figures:
         if path:
             md += [f"### {title}", ""] + ([caption, ""] if caption else []) + [f"![{title}](figures/{os.path.basename(path)})", ""]
-    claim_rows = claims_table(spec, conditions)
-    if claim_rows:
-        budget = experiment_budget(spec, conditions)
-        md += ["## The paper's claims", "",
-               "Each claim of the experiment file, checked on the finished runs"
-               + (f" ({budget:,} evaluations each)" if budget else "")
-               + '. How each kind is judged: tools/claims.py and docs/config.md ("Claims").', "", claim_rows, ""]
+    budget = experiment_budget(spec, conditions)
+    at = f" ({budget:,} evaluations each)" if budget else ""
+    rule = ('. How each kind is judged, and when a claim about a larger budget is "not testable at this budget": '
+            'tools/claims.py and docs/config.md ("Claims").')
+    for source, heading, what in [("paper", "The paper's claims", "Each claim of the paper in the experiment file"),
+                                  ("ours", "Our own checks (not in the paper)",
+                                   "Each check of the experiment file that the paper does not make")]:
+        rows = claims_table(spec, conditions, source)
+        if rows:
+            md += [f"## {heading}", "", f"{what}, checked on the finished runs{at}{rule}", "", rows, ""]
     written = out.write("report.md", "\n".join(md) + "\n")
     if not quiet:
         print(f"report: {written} with {sum(1 for _, p, _ in figures if p)} figures in {figures_dir.path}")

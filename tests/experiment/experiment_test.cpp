@@ -58,14 +58,14 @@ TEST(Experiment, ShippedExperimentFilesLoad) {
   // The paper's four conditions and QD-Meta Translation's frozen control, with the paper's claims.
   ASSERT_EQ(paper.conditions.size(), 5u);
   EXPECT_EQ(paper.conditions[4].slug, "qd-meta-translation-frozen-cma-es");
-  EXPECT_EQ(paper.claims.size(), 10u);
+  EXPECT_EQ(paper.claims.size(), 11u);  // 10 of the paper's and the frozen control's (source = "ours")
   const ExperimentSpec lambda = load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt);
   EXPECT_EQ(lambda.conditions.size(), 5u);
-  EXPECT_EQ(lambda.claims.size(), 3u);
+  EXPECT_EQ(lambda.claims.size(), 5u);
   // The authors' effective mutation SD, for every condition of the paper's study.
   const ExperimentSpec sigma = load_experiment(dir / "experiment-sigma.toml", std::nullopt, std::nullopt);
   ASSERT_EQ(sigma.conditions.size(), 4u);
-  EXPECT_EQ(sigma.claims.size(), 9u);  // all but the frozen control's
+  EXPECT_EQ(sigma.claims.size(), 10u);  // all but the frozen control's
   for (std::size_t i = 0; i < sigma.conditions.size(); ++i) {
     EXPECT_EQ(sigma.conditions[i].slug, paper.conditions[i].slug);
     EXPECT_EQ(sigma.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.0025);

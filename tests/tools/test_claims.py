@@ -9,10 +9,11 @@ import claims  # noqa: E402
 
 
 class FakeRun:
-    def __init__(self, summary, meta=None, adapt=None):
+    def __init__(self, summary, meta=None, adapt=None, metrics=None):
         self.summary = summary
         self.meta = meta or {}
         self.adapt = adapt or {}
+        self.metrics = metrics or {}
 
 
 def samples_from(table):
@@ -32,6 +33,21 @@ def test_measures_read_the_files_a_run_writes():
     assert claims.measure_values([qd_meta], "test:dimension@100") == [-2.0]  # shorter curve: its last value
 
 
+def test_measures_at_a_smaller_budget_read_the_runs_curves():
+    """The last logged row at or before the count: meta.csv for QD-Meta's meta-population and meta
+    columns, metrics.csv otherwise; nothing for a count before the first row or a test measure."""
+    qd_meta = FakeRun({}, meta={"evals": np.array([100.0, 250.0, 400.0]), "meta_fitness_mean": np.array([1.0, 2.0, 3.0]),
+                                "population_num_elites_mean": np.array([10.0, 20.0, 30.0])},
+                      metrics={"evals": np.array([100.0, 200.0, 300.0, 400.0]), "num_elites": np.array([11, 21, 31, 41.0])})
+    cvt = FakeRun({}, metrics={"evals": np.array([50.0, 150.0, 250.0]), "num_elites": np.array([5.0, 15.0, 25.0])})
+    assert claims.measure_values_at([qd_meta, cvt], "population:num_elites", 200) == [10.0, 15.0]
+    assert claims.measure_values_at([qd_meta, cvt], "population:num_elites", 250) == [20.0, 25.0]
+    assert claims.measure_values_at([qd_meta, cvt], "final:num_elites", 200) == [21.0, 15.0]  # QD-Meta: its best map
+    assert claims.measure_values_at([qd_meta, cvt], "meta:meta_fitness_mean", 399) == [2.0]
+    assert claims.measure_values_at([qd_meta, cvt], "population:num_elites", 60) == [5.0]
+    assert claims.measure_values_at([qd_meta], "test:dimension@10", 400) == []
+
+
 def test_generalisation_measures_read_generalisation_csv(tmp_path):
     run = FakeRun({})
     run.path = str(tmp_path)
@@ -44,42 +60,109 @@ def test_generalisation_measures_read_generalisation_csv(tmp_path):
     assert claims.measure_values([run], "generalisation:damage") == []
 
 
-def test_near_and_below_judge_the_mean_and_know_the_budget():
+def test_near_below_and_between_judge_the_mean_against_a_band():
     table = {"A": {"m": [9500, 10400]}, "B": {"m": [6000, 7000]}}
     near = {"text": "about 10,000", "kind": "near", "measure": "m", "conditions": ["A"], "value": 10000,
             "tolerance": 0.1, "budget": 100}
-    assert claims.check(near, samples_from(table), 100)[1] == claims.REPRODUCED  # mean 9950
+    measured, verdict = claims.check(near, samples_from(table), 100)
+    assert verdict == claims.REPRODUCED and measured == "A 9950 ± 4.5e+02 (allowed: 9,000 to 11,000)"
     near["conditions"] = ["A", "B"]
     assert claims.check(near, samples_from(table), 100)[1] == claims.NOT_REPRODUCED  # B: 6500
-    assert claims.check(near, samples_from(table), 50)[1] == claims.NOT_AT_BUDGET
     per_condition = dict(near, value={"A": 10000, "B": 6500})
-    assert claims.check(per_condition, samples_from(table), 100)[1] == claims.REPRODUCED
-    below = {"text": "under 3,000", "kind": "below", "measure": "m", "conditions": ["B"], "value": 7000}
+    measured, verdict = claims.check(per_condition, samples_from(table), 100)
+    assert verdict == claims.REPRODUCED and "(allowed: A 9,000 to 11,000, B 5,850 to 7,150)" in measured
+    below = {"text": "under 7,000", "kind": "below", "measure": "m", "conditions": ["B"], "value": 7000}
     assert claims.check(below, samples_from(table), None)[1] == claims.REPRODUCED
     below["value"] = 6500  # the mean is not below itself
     measured, verdict = claims.check(below, samples_from(table), None)
     assert verdict == claims.NOT_REPRODUCED
-    assert measured == "B 6500 ± 5e+02"
+    assert measured == "B 6500 ± 5e+02 (allowed: below 6,500)"
+    # "Just below": within the tolerance under the value, so far below is not "just below".
+    just_below = dict(below, value=7000, tolerance=0.1)  # 6,300 to under 7,000
+    assert claims.check(just_below, samples_from(table), None)[1] == claims.REPRODUCED
+    just_below["tolerance"] = 0.05  # 6,650 to under 7,000
+    measured, verdict = claims.check(just_below, samples_from(table), None)
+    assert verdict == claims.NOT_REPRODUCED and "(allowed: 6,650 to under 7,000)" in measured
+    between = {"text": "6 to 8", "kind": "between", "measure": "m", "conditions": ["C"], "low": 6, "high": 8}
+    assert claims.check(between, samples_from({"C": {"m": [5.9, 8.1]}}), None)[1] == claims.REPRODUCED
+    assert claims.check(between, samples_from({"C": {"m": [8.0, 8.2]}}), None)[1] == claims.NOT_REPRODUCED
 
 
-def test_a_growing_measure_past_the_claim_is_not_reproduced_at_any_budget():
-    # Archive sizes only grow with evaluations: 9,600 elites at a small budget cannot become
-    # "below 3,000" at the paper's; 2,000 against "about 10,000" still could become it.
-    table = {"CVT": {"m": [9600, 9700]}, "QD": {"m": [2000, 2100]}}
-    below = {"text": "under 3,000", "kind": "below", "measure": "m", "conditions": ["CVT"], "value": 3000,
-             "budget": 100, "grows": True}
-    assert claims.check(below, samples_from(table), 5)[1] == claims.NOT_REPRODUCED
-    assert claims.check(dict(below, grows=False), samples_from(table), 5)[1] == claims.NOT_AT_BUDGET
-    near = {"text": "about 10,000", "kind": "near", "measure": "m", "conditions": ["QD"], "value": 10000,
-            "tolerance": 0.1, "budget": 100, "grows": True}
-    assert claims.check(near, samples_from(table), 5)[1] == claims.NOT_AT_BUDGET
-    # Best fitness grows too: -11 is past "about -70" (at most -59.5), -88 is still short of it.
-    fitness = {"A": {"m": [-11.0, -12.0]}, "B": {"m": [-88.0, -87.0]}}
-    near = {"text": "about -70", "kind": "near", "measure": "m", "conditions": ["B"], "value": -70, "tolerance": 0.15,
-            "budget": 100, "grows": True}
-    assert claims.check(near, samples_from(fitness), 5)[1] == claims.NOT_AT_BUDGET
-    near["conditions"] = ["A", "B"]
-    assert claims.check(near, samples_from(fitness), 5)[1] == claims.NOT_REPRODUCED
+def test_just_below_admits_the_tolerance_and_no_more():
+    # The paper's "just below 3,000" with the size tolerance of 10%: 2,700 to under 3,000.
+    claim = {"text": "just below 3,000", "kind": "below", "measure": "m", "conditions": ["CVT"], "value": 3000,
+             "tolerance": 0.1}
+    for mean, verdict in [(2999, claims.REPRODUCED), (2700, claims.REPRODUCED), (2346, claims.NOT_REPRODUCED),
+                          (3000, claims.NOT_REPRODUCED), (2699, claims.NOT_REPRODUCED)]:
+        assert claims.check(claim, samples_from({"CVT": {"m": [mean]}}), None)[1] == verdict, mean
+
+
+def earlier_from(table, at=5):
+    return at, samples_from(table)
+
+
+def test_a_failing_magnitude_is_not_testable_only_while_it_moves_toward_the_paper():
+    # About -100 at a budget of 100, checked at 10; the earlier values are at 5.
+    claim = {"text": "about -100", "kind": "near", "measure": "m", "conditions": ["QD"], "value": -100,
+             "tolerance": 0.15, "budget": 100}
+    now = {"QD": {"m": [-144.0, -146.0]}}
+    toward = {"QD": {"m": [-178.0, -180.0]}}  # further from -115 at 5 than at 10
+    away = {"QD": {"m": [-120.0, -122.0]}}  # closer at 5: moving away
+    level = {"QD": {"m": [-150.0, -140.0]}}  # a change of 0 against an SE of 5
+    measured, verdict = claims.check(claim, samples_from(now), 10, earlier_from(toward))
+    assert verdict == claims.NOT_AT_BUDGET
+    assert measured == "QD -145 ± 1 (allowed: -115 to -85) (at 5: QD -179 ± 1, toward)"
+    assert claims.check(claim, samples_from(now), 10, earlier_from(away))[1] == claims.NOT_REPRODUCED
+    assert claims.check(claim, samples_from(now), 10, earlier_from(level))[1] == claims.NOT_REPRODUCED
+    # No earlier value, or none for this condition: no evidence that it is on its way.
+    assert claims.check(claim, samples_from(now), 10)[1] == claims.NOT_REPRODUCED
+    assert claims.check(claim, samples_from(now), 10, earlier_from({}))[1] == claims.NOT_REPRODUCED
+    # At (or past) the paper's budget a failure is a failure, whatever the trend.
+    assert claims.check(claim, samples_from(now), 100, earlier_from(toward))[1] == claims.NOT_REPRODUCED
+    # A claim without a budget is about the budget it is checked at.
+    unbudgeted = {k: v for k, v in claim.items() if k != "budget"}
+    assert claims.check(unbudgeted, samples_from(now), 10, earlier_from(toward))[1] == claims.NOT_REPRODUCED
+    # Passing at a small budget is "reproduced" (at that budget), whichever way it moves.
+    assert claims.check(claim, samples_from({"QD": {"m": [-99.0, -101.0]}}), 10, earlier_from(away))[1] == \
+        claims.REPRODUCED
+
+
+def test_every_failing_condition_must_move_toward_and_by_more_than_two_standard_errors():
+    claim = {"text": "about -170", "kind": "near", "measure": "m", "conditions": ["A", "B"], "value": -170,
+             "tolerance": 0.15, "budget": 100}  # -195.5 to -144.5
+    now = {"A": {"m": [-60.0, -61.0]}, "B": {"m": [-44.0, -46.0]}}
+    # A's mean went from -120 to -60.5: away from the band, although B went toward it.
+    earlier = {"A": {"m": [-120.0, -121.0]}, "B": {"m": [-30.0, -31.0]}}
+    measured, verdict = claims.check(claim, samples_from(now), 10, earlier_from(earlier))
+    assert verdict == claims.NOT_REPRODUCED
+    assert "(at 5: A -120.5 ± 0.5, away; B -30.5 ± 0.5, toward)" in measured
+    # Moving toward by 1.5 with an SE of the change of about 0.71: more than 2 SE.
+    assert claims.trend((-58.0, 0.5), (-56.5, 0.5), claims.Band(-195.5, -144.5)) == claims.TOWARD
+    # By 1.0: less than 2 SE (1.41).
+    assert claims.trend((-58.0, 0.5), (-57.0, 0.5), claims.Band(-195.5, -144.5)) == claims.LEVEL
+
+
+def test_a_measure_past_the_band_that_keeps_growing_is_not_reproduced():
+    # The best fitness only rises: -5 at 10 and -7 at 5 is moving away from "around -70".
+    claim = {"text": "around -70", "kind": "near", "measure": "m", "conditions": ["CVT"], "value": -70,
+             "tolerance": 0.15, "budget": 100}
+    assert claims.check(claim, samples_from({"CVT": {"m": [-5.0, -5.2]}}), 10,
+                        earlier_from({"CVT": {"m": [-7.0, -7.4]}}))[1] == claims.NOT_REPRODUCED
+    # An archive already past "just below 3,000" that grows is moving away too.
+    below = {"text": "just below 3,000", "kind": "below", "measure": "m", "conditions": ["CVT"], "value": 3000,
+             "tolerance": 0.1, "budget": 100}
+    assert claims.check(below, samples_from({"CVT": {"m": [9936.0, 9937.0]}}), 10,
+                        earlier_from({"CVT": {"m": [9630.0, 9631.0]}}))[1] == claims.NOT_REPRODUCED
+    # One still filling towards it is on its way.
+    assert claims.check(below, samples_from({"CVT": {"m": [2346.0, 2350.0]}}), 10,
+                        earlier_from({"CVT": {"m": [2100.0, 2110.0]}}))[1] == claims.NOT_AT_BUDGET
+    # One filling by 6 elites from 5 to 10 reaches 2,454 by 100 on a straight line, and 2,454 is
+    # not 2,700: it moves toward the band, too slowly to get there.
+    paired = (5, samples_from({"CVT": {"m": [2340.0, 2342.0]}}), lambda c, m: [(2346.0, 2340.0), (2348.0, 2342.0)])
+    measured, verdict = claims.check(below, samples_from({"CVT": {"m": [2346.0, 2348.0]}}), 10, paired)
+    assert verdict == claims.NOT_REPRODUCED
+    assert measured.endswith("(at 5: CVT 2341 ± 1, toward, too slowly to reach it by 100)")
+    assert claims.reaches(2346.0, 2340.0, claims.Band(2700, 3000, False), (5, 10, 1000))  # 6 x 198 elites more
 
 
 def test_order_needs_every_pair_ordered_and_significant_after_holm():
@@ -110,9 +193,15 @@ def test_ratio_and_top():
     ratio = {"text": "half", "kind": "ratio", "measure": "m", "numerator": "one", "denominator": ["two", "ten"],
              "value": 0.5, "tolerance": 0.3}
     measured, verdict = claims.check(ratio, samples_from(table), None)
-    assert verdict == claims.REPRODUCED and "ratio 0.5" in measured  # 1 / mean(2, 2)
+    assert verdict == claims.REPRODUCED and "ratio 0.5 ± " in measured  # 1 / mean(2, 2)
+    assert "allowed: 0.35 to 0.65" in measured
     ratio["value"] = 0.9
     assert claims.check(ratio, samples_from(table), None)[1] == claims.NOT_REPRODUCED
+    # A ratio about a larger budget follows the same trend rule as the other magnitudes.
+    ratio.update(value=0.8, tolerance=0.15, budget=100)  # 0.68 to 0.92
+    earlier = samples_from({"one": {"m": [0.5, 0.5]}, "two": {"m": [2.0, 2.0]}, "ten": {"m": [2.0, 2.0]}})
+    assert claims.check(ratio, samples_from(table), 10, (5, earlier))[1] == claims.NOT_AT_BUDGET  # 0.25 -> 0.5
+    assert claims.check(ratio, samples_from(table), 100, (5, earlier))[1] == claims.NOT_REPRODUCED
     top = {"text": "two on top", "kind": "top", "measure": "m", "conditions": ["two", "ten"], "top": "two"}
     assert claims.check(top, samples_from(table), None)[1] == claims.NOT_REPRODUCED  # 2.0 against 2.0: a tie
     table["ten"]["m"] = [1.0, 1.0]
@@ -124,15 +213,33 @@ def test_a_condition_without_runs_is_not_testable_here():
     assert claims.check(claim, samples_from({}), None)[1] == claims.NOT_IN_EXPERIMENT
 
 
-def test_claims_summary_merges_the_claims_tables_of_several_reports(tmp_path, capsys):
+def write_study(directory, budget, rows):
+    """A committed report as `qdmeta report` leaves it: report.md's first lines and data/runs.csv."""
+    (directory / "data").mkdir(parents=True)
+    (directory / "report.md").write_text(f"# x\n\n1 conditions x 2 replicates (seeds 1..2), {budget:,} evaluations "
+                                         "each. Values: mean ± standard error over finished replicates.\n")
+    (directory / "data" / "runs.csv").write_text("condition,seed,population_num_elites,test_dimension_at_10\n" + "".join(
+        f"{c},{seed},{size},{score}\n" for c, seed, size, score in rows))
+
+
+def test_claims_summary_checks_the_claims_on_committed_data_with_the_smaller_budget_as_trend(tmp_path, capsys):
     import claims_summary
-    for name, verdict, value in [("small", "not testable at this budget", "9"), ("large", "reproduced", "10")]:
-        (tmp_path / name).mkdir()
-        (tmp_path / name / "report.md").write_text(
-            "# x\n\n| condition | n |\n|---|---|\n| A | 2 |\n\n## The paper's claims\n\ntext\n\n"
-            "| claim | measured (mean ± SE over replicates) | verdict |\n|---|---|---|\n"
-            f"| about 10 | A {value} ± 0 | **{verdict}** |\n")
-    assert claims_summary.main(["x", f"study:5M={tmp_path / 'small'},10M={tmp_path / 'large'}"]) == 0
+    (tmp_path / "experiment.toml").write_text(
+        '[[claim]]\ntext = "about 100"\nkind = "near"\nmeasure = "population:num_elites"\nconditions = ["A"]\n'
+        'value = 100\ntolerance = 0.1\nbudget = 1000\n'
+        '[[claim]]\ntext = "ours"\nkind = "top"\nmeasure = "test:dimension@10"\nconditions = ["A", "B"]\n'
+        'top = "A"\nsource = "ours"\n')
+    # Seed 1 grows 40 -> 60, seed 2 grows 50 -> 70: 20 each, paired SE 0, toward 90 to 110.
+    write_study(tmp_path / "small", 50, [("A", 1, 40, 3), ("A", 2, 50, 4), ("B", 1, 9, 1), ("B", 2, 9, 2)])
+    write_study(tmp_path / "large", 100, [("A", 2, 70, 5), ("A", 1, 60, 6), ("B", 1, 9, 1), ("B", 2, 9, 2)])
+    argument = f"study:{tmp_path / 'experiment.toml'}:5M={tmp_path / 'small'},10M={tmp_path / 'large'}"
+    assert claims_summary.main(["x", argument]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == "| experiment | claim | 5M | 10M | measured (10M) |"
-    assert lines[2] == "| study | about 10 | not testable at this budget | **reproduced** | A 10 ± 0 |"
+    # The smallest budget has nothing smaller to take a trend from.
+    assert lines[2] == ("| study | about 100 | not reproduced | **not testable at this budget** | A 65 ± 5 (allowed: 90 "
+                        "to 110) (at 50: A 45 ± 5, toward) |")
+    assert len(lines) == 3  # the check of our own is not among the paper's claims
+    assert claims_summary.main(["x", "--source", "ours", argument]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[2] == "| study | ours | reproduced | **reproduced** | A 5.5 ± 0.5, B 1.5 ± 0.5 (highest: A) |"

@@ -54,7 +54,8 @@ def report_of(root, capsys):
 def test_the_undamaged_experiment_reports(tmp_path, capsys):
     make_experiment(tmp_path)
     assert report_of(tmp_path, capsys) == (0, [])
-    assert "| ME under a billion | ME 30 ± 0 | **reproduced** |" in (tmp_path / "report.md").read_text()
+    assert ("| ME under a billion | ME 30 ± 0 (allowed: below 1,000,000,000) | **reproduced** |"
+            in (tmp_path / "report.md").read_text())
 
 
 def test_an_archive_cut_short_names_the_file_and_line(tmp_path, capsys):

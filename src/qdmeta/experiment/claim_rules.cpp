@@ -17,18 +17,22 @@ namespace {
 
 using Names = std::vector<std::string>;
 
-const Names kKinds = {"near", "below", "order", "ratio", "top"};
+const Names kKinds = {"near", "below", "between", "order", "ratio", "top"};
 const Names kCommonKeys = {"text", "kind", "measure"};
+// Each kind's keys beyond the common ones; every kind may also have `source`.
 struct KindKeys {
   Names required, optional;
 };
 const std::map<std::string, KindKeys, std::less<>> kKindKeys = {
-    {"near", {{"conditions", "value", "tolerance"}, {"budget", "grows"}}},
-    {"below", {{"conditions", "value"}, {"budget", "grows"}}},
+    {"near", {{"conditions", "value", "tolerance"}, {"budget"}}},
+    {"below", {{"conditions", "value"}, {"tolerance", "budget"}}},
+    {"between", {{"conditions", "low", "high"}, {"budget"}}},
     {"order", {{"groups"}, {}}},
-    {"ratio", {{"numerator", "denominator", "value", "tolerance"}, {}}},
+    {"ratio", {{"numerator", "denominator", "value", "tolerance"}, {"budget"}}},
     {"top", {{"conditions", "top"}, {}}},
 };
+// Whose claim it is: the paper's (the default) or a check of our own, reported apart.
+const Names kSources = {"paper", "ours"};
 const Names kFamilies = {"final", "population", "meta", "test", "generalisation"};
 const Names kPopulationStats = {"num_elites", "obj_mean", "obj_max", "qd_score"};
 // summary.json's keys that hold text, not a number a claim could measure.
@@ -62,6 +66,11 @@ class ClaimReader {
   bool is_number(const toml::node* n) const {
     if (n->is_integer()) return true;
     return n->is_floating_point() && std::isfinite(n->as_floating_point()->get());
+  }
+
+  // The value of a node is_number accepts.
+  double number(const toml::node* n) const {
+    return n->is_integer() ? static_cast<double>(n->as_integer()->get()) : n->as_floating_point()->get();
   }
 
   // A non-empty list of strings.
@@ -132,7 +141,7 @@ void check_names(const ClaimReader& c, const Names& named, const Names& conditio
 
 // The condition names a claim is about (conditions; numerator and denominator; groups).
 Names named_conditions(const ClaimReader& c, const std::string& kind) {
-  if (kind == "near" || kind == "below" || kind == "top") return c.names("conditions");
+  if (kind == "near" || kind == "below" || kind == "between" || kind == "top") return c.names("conditions");
   if (kind == "ratio") {
     const toml::node* numerator = c.get("numerator");
     if (!numerator->is_string()) c.fail("numerator must be a condition name", numerator);
@@ -172,16 +181,22 @@ void check_values(const ClaimReader& c, const std::string& kind, const Names& na
   } else if (kind == "near" || kind == "below" || kind == "ratio") {
     if (!c.is_number(value)) c.fail("value must be a finite number", value);
   }
+  if (kind == "between") {
+    const toml::node* low = c.get("low");
+    const toml::node* high = c.get("high");
+    if (!c.is_number(low)) c.fail("low must be a finite number", low);
+    if (!c.is_number(high)) c.fail("high must be a finite number", high);
+    if (!(c.number(low) < c.number(high))) c.fail("low must be below high", low);
+  }
   if (const toml::node* t = c.get("tolerance")) {
-    const double x = t->is_integer() ? static_cast<double>(t->as_integer()->get())
-                                     : t->is_floating_point() ? t->as_floating_point()->get() : -1.0;
-    if (!c.is_number(t) || x < 0) c.fail("tolerance must be a finite number of at least 0", t);
+    if (!c.is_number(t) || c.number(t) < 0) c.fail("tolerance must be a finite number of at least 0", t);
   }
   if (const toml::node* b = c.get("budget")) {
     if (!b->is_integer() || b->as_integer()->get() < 1) c.fail("budget must be an integer of at least 1", b);
   }
-  if (const toml::node* g = c.get("grows")) {
-    if (!g->is_boolean()) c.fail("grows must be true or false", g);
+  if (const toml::node* s = c.get("source")) {
+    if (!s->is_string() || !contains(kSources, s->as_string()->get()))
+      c.fail(fmt::format("source must be one of {}", fmt::join(kSources, ", ")), s);
   }
 }
 
@@ -196,6 +211,7 @@ void check_claim(const ClaimReader& c, const Names& conditions, const Names& tes
   Names valid = kCommonKeys, needed = kCommonKeys;
   valid.insert(valid.end(), keys.required.begin(), keys.required.end());
   valid.insert(valid.end(), keys.optional.begin(), keys.optional.end());
+  valid.push_back("source");
   needed.insert(needed.end(), keys.required.begin(), keys.required.end());
   for (const auto& [key, node] : c.claim_)
     if (!contains(valid, key.str()))
