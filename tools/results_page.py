@@ -19,7 +19,8 @@ A template is Markdown with:
 Expressions see: study(PATH), a committed report directory under docs/results
 (tools/study_data.py: S.mean(condition, measure), S.se, S.pm, S.median, S.u, S.holm, S.a12,
 S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXPERIMENT FILE,
-[(LABEL, study)]), ...) (tools/claims_summary.py); table2(study) (the report's Table 2 from
+[(LABEL, study)]), ...) (tools/claims_summary.py) and verdict(EXPERIMENT FILE, CLAIM TEXT,
+[study, ...]) for one claim's verdict on the last study; table2(study) (the report's Table 2 from
 data/generalisation.csv); config(PATH) (a committed TOML file, parsed); and Python's builtins
 (min, max, sorted, ...).
 """
@@ -38,7 +39,8 @@ from study_data import Study  # noqa: E402
 
 _STATEMENT = re.compile(r"^\{%(.*)%\}$")
 _EXPRESSION = re.compile(r"\{\{(.*?)\}\}")
-GENERATED = "<!-- Made by tools/results_page.py from {template}: edit that file, then run tools/results_page.py {template} --write -->"
+GENERATED = ("<!-- Made by tools/results_page.py from {template}: edit that file, then run "
+             "tools/results_page.py {template} --write -->")
 
 
 def namespace():
@@ -50,18 +52,29 @@ def namespace():
         return studies[path]
 
     def claims_table(source, *experiments):
-        return claims_summary.table([(name, os.path.join(ROOT, file), labelled) for name, file, labelled in experiments],
-                                    source)
+        return claims_summary.table([(name, os.path.join(ROOT, file), labelled)
+                                     for name, file, labelled in experiments], source)
 
     def table2(s):
         import report  # the report's own Table 2 (matplotlib is imported with it)
-        return report.generalisation_table([{"condition": r["condition"], "group": r["group"], "n": int(r["n"]),
-                                             "mean": float(r["mean"]), "sd": float(r["sd"]) if r["sd"] else float("nan"),
-                                             "trained": r["trained"] == "1"} for r in s.generalisation])
+        return report.generalisation_table([
+            {"condition": r["condition"], "group": r["group"], "n": int(r["n"]), "mean": float(r["mean"]),
+             "sd": float(r["sd"]) if r["sd"] else float("nan"), "trained": r["trained"] == "1"}
+            for r in s.generalisation])
+    def verdict(experiment_file, text, studies):
+        """The verdict of the claim with this text on the last of `studies` (smallest budget
+        first), as claims_table gives it: for {% assert %} lines under prose that cites it."""
+        path = os.path.join(ROOT, experiment_file)
+        matching = [c for source in ("paper", "ours") for c in claims_summary.claims_of(path, source)
+                    if c["text"] == text]
+        if len(matching) != 1:
+            raise ValueError(f"{experiment_file} has {len(matching)} claims with text '{text}'")
+        return claims_summary.verdicts(matching[0], studies)[-1][1]
+
     def config(path):
         with open(os.path.join(ROOT, path), "rb") as f:
             return tomllib.load(f)
-    return {"study": study, "claims_table": claims_table, "table2": table2, "config": config}
+    return {"study": study, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict}
 
 
 def value_text(value, spec):
