@@ -1,5 +1,7 @@
 // qdmeta.Algorithm: any registered algorithm built from a config dict, driven by ask/tell from
-// Python or stepped with the library's threads.
+// Python or stepped with the library's threads. It pickles between steps as its resolved config,
+// its Python task and meta-objective (by reference) and its checkpoint bytes (Algorithm::save),
+// so an unpickled algorithm continues to the bits the original would have had.
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -10,14 +12,16 @@
 #include <optional>
 #include <vector>
 
+#include "algorithm_archive.hpp"
 #include "bindings.hpp"
 #include "elite_arrays.hpp"
 #include "numpy_arrays.hpp"
 #include "python_build.hpp"
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
-#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/checkpoint.hpp"
 #include "toml_convert.hpp"
 
 namespace py = pybind11;
@@ -29,7 +33,9 @@ namespace {
 class PyAlgorithm {
  public:
   PyAlgorithm(const py::dict& config, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective)
-      : built_(build_from_python(config, PythonParts{std::move(task), std::move(objective)})) {}
+      : built_(build_from_python(config, PythonParts{task, objective})),
+        task_(std::move(task)),
+        objective_(std::move(objective)) {}
 
   Algorithm& algorithm() { return *built_.algorithm; }
   const Algorithm& algorithm() const { return *built_.algorithm; }
@@ -109,7 +115,42 @@ class PyAlgorithm {
 
   const BuiltRun& built() const { return built_; }
 
+  // Pickling: (format, resolved config, Python task or None, meta-objective or None, the
+  // algorithm's checkpoint bytes). A built-in task is in the config already.
+  py::tuple state() const {
+    if (algorithm().step_in_progress())
+      throw Error(fmt::format("{}: cannot pickle in the middle of a step (a request is pending or more are due); "
+                              "finish the step with tell() first",
+                              algorithm().name()));
+    BinaryWriter out;
+    algorithm().save(out);
+    const py::object task = task_ && is_python_task(*task_) ? py::cast(*task_) : py::none();
+    const py::object objective = objective_ ? py::cast(objective_) : py::none();
+    return py::make_tuple(kStateFormat, dict_from_table(built_.resolved), task, objective, py::bytes(out.bytes()));
+  }
+
+  static std::unique_ptr<PyAlgorithm> from_state(const py::tuple& s) {
+    if (s.size() != 5 || !py::isinstance<py::int_>(s[0]) || !py::isinstance<py::dict>(s[1]) ||
+        !py::isinstance<py::bytes>(s[4]))
+      throw InputError("unpickling a qdmeta.Algorithm: the state is not one qdmeta made");
+    if (s[0].cast<int>() != kStateFormat)
+      throw InputError(fmt::format("unpickling a qdmeta.Algorithm: state format {}, but this qdmeta reads format {}",
+                                   s[0].cast<int>(), kStateFormat));
+    auto a = std::make_unique<PyAlgorithm>(s[1].cast<py::dict>(), s[2].cast<std::optional<Task>>(),
+                                           s[3].cast<std::shared_ptr<PythonMetaObjective>>());
+    const std::string bytes = s[4].cast<std::string>();
+    BinaryReader in(bytes, "the pickled qdmeta.Algorithm");
+    {
+      const py::gil_scoped_release release;
+      a->algorithm().load(in);
+    }
+    in.finish();
+    return a;
+  }
+
  private:
+  static constexpr int kStateFormat = 1;
+
   void tell_blocks(const std::vector<py::tuple>& blocks) {
     if (jobs_.empty() || !algorithm().step_in_progress())
       throw Error(fmt::format("{}: tell() called with no pending ask()", algorithm().name()));
@@ -128,6 +169,8 @@ class PyAlgorithm {
   }
 
   BuiltRun built_;
+  std::optional<Task> task_;  // as given, for pickling
+  std::shared_ptr<PythonMetaObjective> objective_;
   std::span<const EvaluationJob> jobs_;
   std::unique_ptr<Evaluator> evaluator_;
   int threads_ = -1;
@@ -180,7 +223,18 @@ step with the library's evaluator. The same config and seed give the same bits e
       .def("as_pandas", [](const PyAlgorithm& a) { return elite_table_pandas(a.algorithm().elites()); },
            "The archive's elites as a pandas DataFrame with pyribs's columns")
       .def("data", [](const PyAlgorithm& a) { return elite_table_data(a.algorithm().elites()); },
-           "The archive's elites (QD-Meta: the best map's) as numpy arrays");
+           "The archive's elites (QD-Meta: the best map's) as numpy arrays")
+      .def_property_readonly(
+          "archive", [](PyAlgorithm& a) { return archive_copy(a.algorithm(), a.built().settings.seed); },
+          "A copy of the archive the algorithm runs, taken now: a GridArchive (MAP-Elites; QD-Meta: the best map's "
+          "of the latest meta-generation, over its target features), a CvtArchive with the centroids "
+          "(CVT-MAP-Elites) or an UnstructuredArchive over the latent codes (AURORA); its sample_elites() is "
+          "seeded with the config's seed. Adding to it leaves the algorithm as it was.")
+      .def("retrieve", [](PyAlgorithm& a, py::handle measures) { return retrieve_from(a.algorithm(), measures); },
+           py::arg("measures"),
+           "retrieve(measures (n, measure_dim)) on the algorithm's archive (see `archive`), without copying it: "
+           "(occupied (n,) bool, {index, objective, measures, solution})")
+      .def(py::pickle([](const PyAlgorithm& a) { return a.state(); }, &PyAlgorithm::from_state));
 }
 
 }  // namespace qdmeta::python

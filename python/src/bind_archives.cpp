@@ -1,6 +1,7 @@
 // qdmeta.GridArchive, qdmeta.CvtArchive (with qdmeta.cvt_centroids, cached as the CLI caches
 // them) and qdmeta.UnstructuredArchive: batch add returning statuses, statistics with pyribs's
-// names, the elites as numpy arrays.
+// names, the elites as numpy arrays, one by one (iteration), by measures (retrieve) or drawn
+// at random (sample_elites); pickle, copy and deepcopy.
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -12,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "archive_handle.hpp"
+#include "archive_pickle.hpp"
+#include "archive_queries.hpp"
 #include "bindings.hpp"
 #include "elite_arrays.hpp"
 #include "numpy_arrays.hpp"
@@ -62,21 +66,6 @@ struct AddArguments {
   }
 };
 
-// The members as an elite table: index = slot.
-EliteTable members(const UnstructuredArchive& a) {
-  EliteTable t;
-  const Index n = a.size(), d = a.params().descriptor_size, g = a.params().solution_size;
-  t.measures.resize(n, d);
-  t.solutions.resize(n, g);
-  for (Index s = 0; s < n; ++s) {
-    t.index.push_back(s);
-    t.objective.push_back(a.objective(s));
-    for (Index k = 0; k < d; ++k) t.measures(s, k) = a.descriptor(s, k);
-    std::copy_n(a.solution(s), g, t.solutions.row(s).data());
-  }
-  return t;
-}
-
 py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
   py::array_t<std::uint8_t> out = new_array<std::uint8_t>({static_cast<py::ssize_t>(s.size())});
   for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
@@ -104,11 +93,41 @@ const char* kAddDoc =
     "add(solutions, objectives, measures, base_features=None, valid=None) -> statuses: a uint8 array, one per "
     "row: 0 not added, 1 improved an elite, 2 filled a new cell. Rows go in in order, as if added one by one.";
 
+// What every archive class offers besides add(): the queries of archive_queries.hpp, its
+// seed, pickling (archive_pickle.hpp), copy and deepcopy (the archive holds no Python objects,
+// so both are a C++ copy).
+template <class Archive, class Class>
+void bind_common(Class& c, EliteTable (*elites)(const Archive&)) {
+  using Handle = ArchiveHandle<Archive>;
+  c.def("retrieve", [](const Handle& h, py::handle m) { return retrieve(h.archive, m); }, py::arg("measures"),
+        "retrieve(measures (n, measure_dim)) -> (occupied (n,) bool, {index, objective, measures, solution}): the "
+        "elite at each row's measures, as pyribs's retrieve(); a row with none has index -1 and NaN fields")
+      .def("retrieve_single", [](const Handle& h, py::handle m) { return retrieve_single(h.archive, m); },
+           py::arg("measures"), "retrieve() for one measure vector: (occupied, {index, objective, measures, solution})")
+      .def(
+          "sample_elites",
+          [](Handle& h, Index n, bool replace) { return sample_elites(h.archive, h.next_sample_stream(), n, replace); },
+          py::arg("n"), py::arg("replace") = true,
+          "n elites drawn uniformly from the archive (with replacement unless replace=False), as {index, objective, "
+          "measures, solution} arrays. Call k draws from the stream (seed, k): the same archive and seed give the "
+          "same samples, also after pickling")
+      .def("__iter__", [elites](const Handle& h) { return iterate_elites(elites(h.archive)); },
+           "One dict per elite (solution, objective, measures, index), in cell order, from a snapshot")
+      .def_property_readonly("seed", [](const Handle& h) { return h.seed; },
+                             "The seed of sample_elites()'s random streams")
+      .def("__copy__", [](const Handle& h) { return h; })
+      .def("__deepcopy__", [](const Handle& h, const py::object&) { return h; }, py::arg("memo"))
+      .def(py::pickle([](const Handle& h) { return archive_state(h); },
+                      [](const py::tuple& state) { return archive_from_state<Archive>(state); }));
+}
+
 template <class Archive, class Class>
 void bind_elite_archive(Class& c) {
+  using Handle = ArchiveHandle<Archive>;
   c.def(
        "add",
-       [](Archive& a, py::handle s, py::handle o, py::handle m, py::handle b, py::handle v) {
+       [](Handle& h, py::handle s, py::handle o, py::handle m, py::handle b, py::handle v) {
+         Archive& a = h.archive;
          const AddArguments args(s, o, m, b, v, a.solution_size(), a.dimensions(), a.base_feature_size());
          std::vector<AddStatus> status(static_cast<std::size_t>(args.rows));
          {
@@ -119,16 +138,28 @@ void bind_elite_archive(Class& c) {
        },
        py::arg("solutions"), py::arg("objectives"), py::arg("measures"), py::arg("base_features") = py::none(),
        py::arg("valid") = py::none(), kAddDoc)
-      .def_property_readonly("stats", [](const Archive& a) { return a.stats(); })
-      .def_property_readonly("cells", [](const Archive& a) { return a.cells(); })
-      .def_property_readonly("solution_dim", [](const Archive& a) { return a.solution_size(); })
-      .def_property_readonly("measure_dim", [](const Archive& a) { return a.dimensions(); })
-      .def("__len__", [](const Archive& a) { return a.size(); })
-      .def("clear", [](Archive& a) { a.clear(); })
-      .def("data", [](const Archive& a) { return elite_table_data(a.elites()); },
+      .def_property_readonly("stats", [](const Handle& h) { return h.archive.stats(); })
+      .def_property_readonly("cells", [](const Handle& h) { return h.archive.cells(); })
+      .def_property_readonly("solution_dim", [](const Handle& h) { return h.archive.solution_size(); })
+      .def_property_readonly("measure_dim", [](const Handle& h) { return h.archive.dimensions(); })
+      .def("__len__", [](const Handle& h) { return h.archive.size(); })
+      .def("clear", [](Handle& h) { h.archive.clear(); })
+      .def(
+          "index_of",
+          [](const Handle& h, py::handle measures) {
+            const Archive& a = h.archive;
+            const FloatArray v = measure_rows(measures, -1, a.dimensions());
+            py::array_t<std::int64_t> out = new_array<std::int64_t>({v.shape(0)});
+            for (py::ssize_t i = 0; i < v.shape(0); ++i)
+              out.mutable_data()[i] = a.index_of(v.data() + i * a.dimensions());
+            return out;
+          },
+          py::arg("measures"), "The cell index of each row of measures")
+      .def("data", [](const Handle& h) { return elite_table_data(h.archive.elites()); },
            "The elites as numpy arrays: index, objective, measures, solution (and base_features), by cell index")
-      .def("as_pandas", [](const Archive& a) { return elite_table_pandas(a.elites()); },
+      .def("as_pandas", [](const Handle& h) { return elite_table_pandas(h.archive.elites()); },
            "The elites as a pandas DataFrame with pyribs's columns: index, objective, measures_0.., solution_0..");
+  bind_common<Archive>(c, +[](const Archive& a) { return a.elites(); });
 }
 
 }  // namespace
@@ -157,13 +188,14 @@ void bind_archives(py::module_& m) {
                            "obj_max={:.6g}, obj_mean={:.6g})",
                            s.num_elites, s.coverage, s.qd_score, s.norm_qd_score, s.obj_max, s.obj_mean);
       });
+  bind_elite_iterator(m);
 
-  py::class_<GridArchive> grid(m, "GridArchive", R"doc(
+  py::class_<ArchiveHandle<GridArchive>> grid(m, "GridArchive", R"doc(
 A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper] (values outside
 go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
-numbered in row-major order as pyribs's GridArchive.)doc");
+numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites().)doc");
   grid.def(py::init([](Index solution_dim, std::vector<int> dims, double lower, double upper, double qd_offset,
-                       Index base_feature_dim) {
+                       Index base_feature_dim, py::handle seed) {
              GridArchiveParams p;
              p.bins = std::move(dims);
              p.lower = lower;
@@ -172,34 +204,34 @@ numbered in row-major order as pyribs's GridArchive.)doc");
              p.qd_offset = qd_offset;
              p.base_feature_size = base_feature_dim;
              p.validate();
-             return GridArchive(p);
+             return ArchiveHandle<GridArchive>(GridArchive(p), seed_argument(seed));
            }),
            py::arg("solution_dim"), py::arg("dims"), py::arg("lower") = 0.0, py::arg("upper") = 1.0,
-           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0);
+           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed);
   bind_elite_archive<GridArchive>(grid);
-  grid.def("index_of", [](const GridArchive& a, py::handle measures) {
-    const FloatArray v = float_rows(measures, -1, a.dimensions(), "measures");
-    py::array_t<std::int64_t> out = new_array<std::int64_t>({v.shape(0)});
-    for (py::ssize_t i = 0; i < v.shape(0); ++i) out.mutable_data()[i] = a.index_of(v.data() + i * a.dimensions());
-    return out;
-  }, py::arg("measures"), "The cell index of each row of measures");
+  grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
+      .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
+      .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; });
 
-  py::class_<CvtArchive> cvt(m, "CvtArchive", R"doc(
+  py::class_<ArchiveHandle<CvtArchive>> cvt(m, "CvtArchive", R"doc(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from
 qdmeta.cvt_centroids), a measure vector belongs to its nearest centroid's cell (exact; ties to
-the lower index).)doc");
-  cvt.def(py::init([](Index solution_dim, py::handle centroids, double qd_offset) {
+the lower index). `seed` seeds sample_elites().)doc");
+  cvt.def(py::init([](Index solution_dim, py::handle centroids, double qd_offset, py::handle seed) {
             const py::array a = py::array::ensure(centroids);
             if (!a || a.ndim() != 2 || a.shape(0) < 1 || a.shape(1) < 1)
               throw py::value_error("centroids must be a 2-D array (cells, measure_dim) with at least one row");
             const FloatArray f = float_rows(centroids, a.shape(0), a.shape(1), "centroids");
             RowMatrix rows = Eigen::Map<const RowMatrix>(f.data(), f.shape(0), f.shape(1));
-            return CvtArchive(CvtArchiveParams{solution_dim, qd_offset, 0}, std::move(rows));
+            return ArchiveHandle<CvtArchive>(CvtArchive(CvtArchiveParams{solution_dim, qd_offset, 0}, std::move(rows)),
+                                             seed_argument(seed));
           }),
-          py::arg("solution_dim"), py::arg("centroids"), py::arg("qd_offset") = 0.0);
+          py::arg("solution_dim"), py::arg("centroids"), py::arg("qd_offset") = 0.0,
+          py::arg("seed") = kDefaultArchiveSeed);
   bind_elite_archive<CvtArchive>(cvt);
-  cvt.def_property_readonly("centroids", [](const CvtArchive& a) {
-    return rows_copy(a.centroids().data(), a.centroids().rows(), a.centroids().cols());
+  cvt.def_property_readonly("centroids", [](const ArchiveHandle<CvtArchive>& h) {
+    const RowMatrix& c = h.archive.centroids();
+    return rows_copy(c.data(), c.rows(), c.cols());
   });
 
   m.def(
@@ -224,13 +256,15 @@ the lower index).)doc");
       "k-means centroids of uniform points in [0,1]^dimensions, as the CLI's [cvt] makes them (k-means++, Lloyd), "
       "from the centroid cache when there (cache_dir: default $XDG_CACHE_HOME/qdmeta/centroids; '' disables it)");
 
-  py::class_<UnstructuredArchive> unstructured(m, "UnstructuredArchive", R"doc(
+  using Unstructured = ArchiveHandle<UnstructuredArchive>;
+  py::class_<Unstructured> unstructured(m, "UnstructuredArchive", R"doc(
 AURORA's unstructured archive: elites at free points of the measure space; a candidate farther
 than `threshold` from every member enters, a nearer one may take its nearest member's place
-when it eps-dominates it on (objective, novelty).)doc");
+when it eps-dominates it on (objective, novelty). retrieve() gives the member nearest each
+measure vector; `seed` seeds sample_elites().)doc");
   unstructured
       .def(py::init([](Index solution_dim, Index measure_dim, Index target_size, double eps, int novelty_neighbours,
-                       double qd_offset) {
+                       double qd_offset, py::handle seed) {
              UnstructuredArchiveParams p;
              p.solution_size = solution_dim;
              p.descriptor_size = measure_dim;
@@ -239,13 +273,14 @@ when it eps-dominates it on (objective, novelty).)doc");
              p.novelty_neighbours = novelty_neighbours;
              p.qd_offset = qd_offset;
              p.validate();
-             return UnstructuredArchive(p);
+             return Unstructured(UnstructuredArchive(p), seed_argument(seed));
            }),
            py::arg("solution_dim"), py::arg("measure_dim"), py::arg("target_size") = 10'000, py::arg("eps") = 0.1,
-           py::arg("novelty_neighbours") = 15, py::arg("qd_offset") = 0.0)
+           py::arg("novelty_neighbours") = 15, py::arg("qd_offset") = 0.0, py::arg("seed") = kDefaultArchiveSeed)
       .def(
           "add",
-          [](UnstructuredArchive& a, py::handle s, py::handle o, py::handle mm, double threshold) {
+          [](Unstructured& h, py::handle s, py::handle o, py::handle mm, double threshold) {
+            UnstructuredArchive& a = h.archive;
             if (!(threshold > 0)) throw py::value_error(fmt::format("threshold must be > 0, got {}", threshold));
             const AddArguments args(s, o, mm, py::none(), py::none(), a.params().solution_size,
                                     a.params().descriptor_size, 0);
@@ -262,13 +297,16 @@ when it eps-dominates it on (objective, novelty).)doc");
           },
           py::arg("solutions"), py::arg("objectives"), py::arg("measures"), py::arg("threshold"),
           "add(solutions, objectives, measures, threshold) -> statuses (0 rejected, 1 replaced a member, 2 added)")
-      .def_property_readonly("stats", &UnstructuredArchive::stats)
-      .def("__len__", &UnstructuredArchive::size)
-      .def("clear", &UnstructuredArchive::clear)
-      .def("data", [](const UnstructuredArchive& a) { return elite_table_data(members(a)); },
+      .def_property_readonly("stats", [](const Unstructured& h) { return h.archive.stats(); })
+      .def_property_readonly("solution_dim", [](const Unstructured& h) { return h.archive.params().solution_size; })
+      .def_property_readonly("measure_dim", [](const Unstructured& h) { return h.archive.params().descriptor_size; })
+      .def("__len__", [](const Unstructured& h) { return h.archive.size(); })
+      .def("clear", [](Unstructured& h) { h.archive.clear(); })
+      .def("data", [](const Unstructured& h) { return elite_table_data(member_table(h.archive)); },
            "The members as numpy arrays: index (the slot), objective, measures, solution")
-      .def("as_pandas", [](const UnstructuredArchive& a) { return elite_table_pandas(members(a)); },
+      .def("as_pandas", [](const Unstructured& h) { return elite_table_pandas(member_table(h.archive)); },
            "The members as a pandas DataFrame with pyribs's columns");
+  bind_common<UnstructuredArchive>(unstructured, &member_table);
 }
 
 }  // namespace qdmeta::python

@@ -1,14 +1,17 @@
 // qdmeta.Task (a Python function, or a built-in task made from its config table) and
-// qdmeta.MetaObjective.
+// qdmeta.MetaObjective. Both pickle: a Python function by reference (its module and name, as
+// pickle does), a built-in task as its resolved [task] table.
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "configured_task.hpp"
 #include "numpy_arrays.hpp"
 #include "python_build.hpp"
 #include "python_meta_objective.hpp"
 #include "python_task.hpp"
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
 #include "toml_convert.hpp"
@@ -23,7 +26,28 @@ Task task_from_table(const py::dict& table) {
   py::dict config;
   config["task"] = table;
   const BuiltRun built = build_from_python(config, {}, BuildScope::kTasksOnly);
-  return built.evaluation_tasks.front();
+  return Task(ConfiguredTask(built.evaluation_tasks.front(), *built.resolved["task"].as_table()));
+}
+
+// Pickling: ("python", function, genotype_size, base_feature_size, name, qd_offset) or
+// ("builtin", resolved [task] table).
+py::tuple task_state(const Task& task) {
+  if (const auto* p = task.target<PythonTask>())
+    return py::make_tuple("python", p->function(), p->genotype_size(), p->base_feature_size(), p->name(),
+                          p->qd_offset());
+  if (const toml::table* table = builtin_table(task)) return py::make_tuple("builtin", dict_from_table(*table));
+  throw py::type_error(fmt::format("cannot pickle task '{}': only a Task(function, ...) or a Task.builtin(table) "
+                                   "pickles (pickle the config that made this one)",
+                                   task.name()));
+}
+
+Task task_from_state(const py::tuple& s) {
+  const std::string kind = s.size() > 0 && py::isinstance<py::str>(s[0]) ? s[0].cast<std::string>() : "";
+  if (kind == "python" && s.size() == 6)
+    return Task(PythonTask(s[1], s[2].cast<Index>(), s[3].cast<Index>(), s[4].cast<std::string>(),
+                           s[5].cast<double>()));
+  if (kind == "builtin" && s.size() == 2) return task_from_table(s[1].cast<py::dict>());
+  throw InputError("unpickling a qdmeta.Task: the state is not one qdmeta made");
 }
 
 py::tuple evaluate(const Task& task, const py::handle& genotypes) {
@@ -67,6 +91,7 @@ built-in task from its [task] table (docs/config.md).)doc")
       .def_property_readonly("is_python", [](const Task& t) { return is_python_task(t); })
       .def("evaluate", &evaluate, py::arg("genotypes"),
            "Evaluates genotypes (n, genotype_size): (fitness, base_features, valid), checked as in a run")
+      .def(py::pickle(&task_state, &task_from_state))
       .def("__repr__", [](const Task& t) {
         return fmt::format("qdmeta.Task('{}', genotype_size={}, base_feature_size={})", t.name(), t.genotype_size(),
                            t.base_feature_size());
@@ -79,7 +104,14 @@ genotype per row; `seed` an integer for the function's own random draws (the sam
 same seeds). Given to qdmeta.run() or qdmeta.Algorithm() it becomes the [meta_fitness] kind
 `name` of the run's task.)doc")
       .def(py::init<py::object, std::string>(), py::arg("function"), py::arg("name") = "python")
-      .def_property_readonly("name", &PythonMetaObjective::name);
+      .def_property_readonly("name", &PythonMetaObjective::name)
+      .def(py::pickle(
+          [](const PythonMetaObjective& o) { return py::make_tuple(o.function(), o.name()); },
+          [](const py::tuple& s) {
+            if (s.size() != 2 || !py::isinstance<py::str>(s[1]))
+              throw InputError("unpickling a qdmeta.MetaObjective: the state is not one qdmeta made");
+            return std::make_shared<PythonMetaObjective>(s[0], s[1].cast<std::string>());
+          }));
 }
 
 }  // namespace qdmeta::python

@@ -18,6 +18,8 @@ class PythonMetaObjective final : public MetaObjective {
   PythonMetaObjective(pybind11::object function, std::string name);
 
   std::string name() const override { return name_; }
+  // The function; call only with the GIL held.
+  const pybind11::object& function() const { return function_.get(); }
   // Takes the GIL; the seed is drawn from `rng`, so the same run gives the function the same seeds.
   MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
   MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,

@@ -1,0 +1,30 @@
+#pragma once
+// An archive as Python holds it: the archive and the random streams of its sample_elites().
+// Call k of sample_elites() draws from the stream (seed, k), so a copy or an unpickled archive
+// samples exactly as the original would have from there on.
+#include <cstdint>
+#include <utility>
+
+#include "qdmeta/core/rng.hpp"
+
+namespace qdmeta::python {
+
+inline constexpr std::uint64_t kDefaultArchiveSeed = 1;  // the config's default seed
+// The purpose key of sample_elites()'s streams ("SAMPLE"): far above the library's StreamKey
+// values (rng.hpp), so the draws never share a stream with an algorithm of the same seed.
+inline constexpr std::uint64_t kSampleElitesStream = 0x53414D504C45;
+
+template <class Archive>
+struct ArchiveHandle {
+  explicit ArchiveHandle(Archive a, std::uint64_t s = kDefaultArchiveSeed, std::uint64_t calls = 0)
+      : archive(std::move(a)), seed(s), sample_calls(calls) {}
+
+  // The stream of the next sample_elites() call.
+  Rng next_sample_stream() { return Rng::stream(seed, {kSampleElitesStream, sample_calls++}); }
+
+  Archive archive;
+  std::uint64_t seed;
+  std::uint64_t sample_calls;  // sample_elites() calls so far
+};
+
+}  // namespace qdmeta::python
