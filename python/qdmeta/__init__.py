@@ -5,9 +5,12 @@ The C++ library behind the `qdmeta` command line, from Python:
 - ``Task(function, genotype_size, base_feature_size, name)``: a task written in numpy;
   ``Task.builtin({"name": "rastrigin", ...})`` a built-in one.
 - ``MetaObjective(function, name)``: QD-Meta's meta-fitness written in numpy.
-- ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``.
+- ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``: iterated
+  over, ``retrieve(measures)``, ``sample_elites(n)``, as pyribs's archives.
 - ``Algorithm(config, task=..., meta_objective=...)``: any registered algorithm, driven by
-  ``ask()``/``tell()`` or ``step()``.
+  ``ask()``/``tell()`` or ``step()``; ``archive`` and ``retrieve(measures)`` show its archive.
+
+Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
   writes them.
 

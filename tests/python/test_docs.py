@@ -1,7 +1,10 @@
-"""docs/python.md: every python block runs, in order, in one namespace (so the tutorial cannot
-rot), with `output_dir` a temporary folder."""
+"""docs/python.md: every python block runs, in order, as one module (so the tutorial cannot
+rot, and its functions pickle by reference as a script's do), with `output_dir` a temporary
+folder."""
 import pathlib
 import re
+import sys
+import types
 
 DOC = pathlib.Path(__file__).resolve().parents[2] / "docs" / "python.md"
 
@@ -9,9 +12,14 @@ DOC = pathlib.Path(__file__).resolve().parents[2] / "docs" / "python.md"
 def test_every_python_block_of_the_tutorial_runs(tmp_path):
     blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(), flags=re.S)
     assert len(blocks) >= 6
-    namespace = {"output_dir": tmp_path}
-    for i, block in enumerate(blocks):
-        exec(compile(block, f"{DOC.name} block {i + 1}", "exec"), namespace)
+    tutorial = types.ModuleType("qdmeta_tutorial")
+    tutorial.output_dir = tmp_path
+    sys.modules[tutorial.__name__] = tutorial
+    try:
+        for i, block in enumerate(blocks):
+            exec(compile(block, f"{DOC.name} block {i + 1}", "exec"), tutorial.__dict__)
+    finally:
+        del sys.modules[tutorial.__name__]
     assert (tmp_path / "arm-archive.png").stat().st_size > 1000
     assert (tmp_path / "arm-qd-meta" / "summary.json").exists()
 
