@@ -53,6 +53,12 @@ Task task_from_state(const py::tuple& s) {
 py::tuple evaluate(const Task& task, const py::handle& genotypes) {
   const FloatArray g = float_rows(genotypes, -1, task.genotype_size(), "genotypes");
   const Index n = g.shape(0);
+  // Genes live in [0, 1] (a task maps them to its own ranges): a gene outside is a mistake
+  // the task would silently extrapolate from.
+  for (Index i = 0; i < n * task.genotype_size(); ++i)
+    if (!(g.data()[i] >= 0 && g.data()[i] <= 1))
+      throw InputError(fmt::format("genotypes row {} gene {} is {}, outside [0, 1]", i / task.genotype_size(),
+                                   i % task.genotype_size(), g.data()[i]));
   EvaluationBatch out;
   out.resize(n, task.base_feature_size());
   {
@@ -90,7 +96,8 @@ built-in task from its [task] table (docs/config.md).)doc")
       .def_property_readonly("qd_offset", &Task::qd_offset)
       .def_property_readonly("is_python", [](const Task& t) { return is_python_task(t); })
       .def("evaluate", &evaluate, py::arg("genotypes"),
-           "Evaluates genotypes (n, genotype_size): (fitness, base_features, valid), checked as in a run")
+           "Evaluates genotypes (n, genotype_size), every gene in [0, 1]: (fitness, base_features, valid), checked "
+           "as in a run")
       .def(py::pickle(&task_state, &task_from_state))
       .def("__repr__", [](const Task& t) {
         return fmt::format("qdmeta.Task('{}', genotype_size={}, base_feature_size={})", t.name(), t.genotype_size(),

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+
+#include "qdmeta/core/error.hpp"
 
 namespace py = pybind11;
 
@@ -77,6 +80,17 @@ void copy_results(py::handle fitness, py::handle base_features, py::handle valid
   } else {
     const ByteArray v = flags(valid, n, who + ": valid");
     std::copy_n(v.data(), n, out.valid);
+  }
+}
+
+void check_result_values(const EvaluationView& out, const std::string& who) {
+  for (Index i = 0; i < out.count; ++i) {
+    if (!out.valid[i]) continue;
+    if (!std::isfinite(out.fitness[i]))
+      throw InputError(fmt::format("{} row {}: fitness {} is not finite", who, i, out.fitness[i]));
+    for (Index k = 0; k < out.base_feature_size; ++k)
+      if (const Real v = out.base_row(i)[k]; !(v >= 0 && v <= 1))
+        throw InputError(fmt::format("{} row {}: base feature {} is {}, outside [0, 1]", who, i, k, v));
   }
 }
 

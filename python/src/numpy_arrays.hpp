@@ -46,6 +46,10 @@ ByteArray flags(pybind11::handle value, Index rows, const std::string& what);
 void copy_results(pybind11::handle fitness, pybind11::handle base_features, pybind11::handle valid,
                   const std::string& who, EvaluationView out);
 
+// Throws InputError naming `who`, the row and the value when a valid row of `out` has a
+// non-finite fitness or a base feature outside [0, 1] (the same check as tell()'s).
+void check_result_values(const EvaluationView& out, const std::string& who);
+
 // "(3, 2)" for an array's shape.
 std::string shape_of(const pybind11::array& a);
 

@@ -84,6 +84,11 @@ ScopedParts::~ScopedParts() {
 
 BuiltRun build_from_python(const py::dict& config, const PythonParts& parts, BuildScope scope) {
   toml::table table = table_from_dict(config);
+  // A TOML config without [task] runs Rastrigin (docs/config.md); from Python that default would
+  // silently replace the task the caller forgot to pass, so a run must name its task.
+  if (!parts.task && !table.contains("task"))
+    throw InputError("config: no task: pass task=qdmeta.Task(...) or give config['task'], a built-in task's table "
+                     "such as {'name': 'rastrigin'}");
   if (parts.task) require_key(subtable(table, "task"), "task", "name", parts.task->name());
   if (parts.meta_objective) require_key(subtable(table, "meta_fitness"), "meta_fitness", "kind", parts.meta_objective->name());
   const ScopedParts registered(parts, task_name_of(table));

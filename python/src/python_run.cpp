@@ -1,7 +1,9 @@
 #include "python_run.hpp"
 
+#include <fmt/format.h>
 
 #include "python_evaluator.hpp"
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/regular_file.hpp"
@@ -113,6 +115,16 @@ py::dict drive(BuiltRun& built, const std::optional<fs::path>& out, int threads,
 
 py::dict start_and_drive(BuiltRun& built, const fs::path& out, int threads, bool overwrite, const py::object& progress) {
   const RunLock lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+  // start_run_directory would refuse in the command line's words (--overwrite, qdmeta resume).
+  const auto holds_run = [&] {
+    for (const auto& f : run_files())
+      if (path_taken(out / f)) return true;
+    return false;
+  };
+  if (!overwrite && holds_run())
+    throw InputError(fmt::format("{} already holds a run: pass overwrite=True to replace it, or continue it with "
+                                 "qdmeta.resume('{}')",
+                                 out.string(), out.string()));
   start_run_directory(out, built, "<python>", threads, overwrite);
   return drive(built, out, threads, progress, nullptr);
 }

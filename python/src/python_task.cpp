@@ -41,7 +41,10 @@ void PythonTask::evaluate(GenotypeView genotypes, EvaluationView out) const {
                                       "base_features, valid)",
                                       who, parts.size()));
   copy_results(parts[0], parts[1], parts.size() == 3 ? py::object(parts[2]) : py::object(py::none()), who, out);
-  // Task::evaluate checks the values (finite fitness, features in [0, 1]) and names the row.
+  // The values, checked as tell() checks them and with its exception (qdmeta.InputError): a
+  // bad value is the caller's mistake whether their function returned it in a run or they
+  // passed it to tell() (Task::evaluate's own check, an Error, is for a built-in task's bug).
+  check_result_values(out, who);
 }
 
 }  // namespace qdmeta::python

@@ -116,7 +116,7 @@ def test_a_task_returning_the_wrong_shapes_is_named():
     with pytest.raises(ValueError, match=r"task 'bad': base_features must have shape \(200, 2\), got \(200, 3\)"):
         qdmeta.Algorithm(ME, task=bad).step()
     nan = qdmeta.Task(lambda x: (np.full(len(x), np.nan), x[:, :2]), 20, 2, name="nan")
-    with pytest.raises(qdmeta.Error, match="task 'nan': fitness of solution 0 is nan"):
+    with pytest.raises(qdmeta.InputError, match="task 'nan' row 0: fitness nan is not finite"):
         qdmeta.Algorithm(ME, task=nan).step()
 
 

@@ -1,0 +1,77 @@
+"""One exception per kind of mistake, wherever it is found, and messages in Python's words: a
+bad value from the caller's task is the same qdmeta.InputError whether tell() or a run finds it;
+a used run directory names overwrite=True and qdmeta.resume(); a run without a task says so
+instead of running Rastrigin; Task.evaluate refuses genes outside [0, 1]."""
+import numpy as np
+import pytest
+
+import qdmeta
+
+ME = {"algorithm": "map-elites", "seed": 1, "archive": {"bins": [4, 4]}, "budget": {"evaluations": 60},
+      "map_elites": {"batch_size": 10, "initial_population": 20}}
+
+
+def features_of(x):
+    return x[:, :2].copy()
+
+
+def with_a_bad_feature(x):
+    """Row 3's base feature 1 is 1.5."""
+    features = features_of(x)
+    features[3, 1] = 1.5
+    return -np.sum(x * x, axis=1), features
+
+
+def bad_task():
+    return qdmeta.Task(with_a_bad_feature, genotype_size=4, base_feature_size=2, name="bad")
+
+
+def test_a_bad_value_is_the_same_input_error_from_tell_a_step_a_run_and_evaluate(tmp_path):
+    message = r"row 3: base feature 1 is 1\.5, outside \[0, 1\]"
+    by_hand = qdmeta.Algorithm(ME, task=bad_task())
+    x = by_hand.ask()
+    with pytest.raises(qdmeta.InputError, match=r"tell\(\): job 0 " + message):
+        by_hand.tell(*with_a_bad_feature(x))
+    with pytest.raises(qdmeta.InputError, match=r"^task 'bad' " + message):
+        bad_task().evaluate(x)
+    with pytest.raises(qdmeta.InputError, match=r"^task 'bad' " + message):
+        qdmeta.Algorithm(ME, task=bad_task()).step()
+    with pytest.raises(qdmeta.InputError, match=r"^task 'bad' " + message):
+        qdmeta.Algorithm(ME, task=bad_task()).run()
+    with pytest.raises(qdmeta.InputError, match=r"^task 'bad' " + message):
+        qdmeta.run(ME, tmp_path / "run", task=bad_task())
+    # An InputError is a ValueError, as a wrong shape is.
+    assert issubclass(qdmeta.InputError, ValueError) and issubclass(qdmeta.InputError, qdmeta.Error)
+
+
+def test_a_used_run_directory_is_refused_in_pythons_words(tmp_path):
+    task = qdmeta.Task(lambda x: (np.zeros(len(x)), features_of(x)), genotype_size=4, base_feature_size=2, name="ok")
+    qdmeta.run(ME, tmp_path, task=task)
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.run(ME, tmp_path, task=task)
+    assert str(info.value) == (f"{tmp_path} already holds a run: pass overwrite=True to replace it, or continue it "
+                               f"with qdmeta.resume('{tmp_path}')")
+    with pytest.raises(qdmeta.InputError, match="pass overwrite=True"):
+        qdmeta.Algorithm(ME, task=task).run(out_dir=tmp_path)
+    assert qdmeta.run(ME, tmp_path, task=task, overwrite=True)["stop_reason"] == "budget"
+
+
+def test_a_run_without_a_task_says_so():
+    expected = r"^config: no task: pass task=qdmeta\.Task\(\.\.\.\) or give config\['task'\]"
+    with pytest.raises(qdmeta.InputError, match=expected):
+        qdmeta.Algorithm(ME)
+    with pytest.raises(qdmeta.InputError, match=expected):
+        qdmeta.run(ME, "never-made")
+    # Named either way, it runs.
+    named = qdmeta.Algorithm(dict(ME, task={"name": "rastrigin", "dimensions": 4}))
+    assert named.ask().shape == (20, 4)
+
+
+def test_task_evaluate_refuses_genes_outside_the_unit_interval():
+    task = qdmeta.Task.builtin({"name": "rastrigin", "dimensions": 3})
+    assert task.evaluate(np.array([[0.0, 0.5, 1.0]]))[2].all()
+    for gene in (1.5, -0.25, np.nan):
+        genotypes = np.full((2, 3), 0.5)
+        genotypes[1, 2] = gene
+        with pytest.raises(qdmeta.InputError, match=rf"^genotypes row 1 gene 2 is {gene}, outside \[0, 1\]$"):
+            task.evaluate(genotypes)
