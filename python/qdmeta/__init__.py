@@ -39,9 +39,16 @@ from ._qdmeta import (  # noqa: F401  (the public names)
 
 import numpy as _numpy
 
-from . import _numpy_check, _qdmeta
+from . import _arguments, _numpy_check, _qdmeta
 
 _numpy_check.check(_qdmeta, _numpy)
+
+for _archive in (GridArchive, CvtArchive, UnstructuredArchive):
+    _arguments.shorten_argument_errors(_archive, "__init__", "add", "retrieve", "retrieve_single", "sample_elites")
+_arguments.shorten_argument_errors(GridArchive, "index_of")
+_arguments.shorten_argument_errors(CvtArchive, "index_of")
+_arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "retrieve", "step", "run")
+_arguments.shorten_argument_errors(Task, "__init__", "evaluate")
 
 __all__ = [
     "Algorithm",

@@ -75,3 +75,27 @@ def test_task_evaluate_refuses_genes_outside_the_unit_interval():
         genotypes[1, 2] = gene
         with pytest.raises(qdmeta.InputError, match=rf"^genotypes row 1 gene 2 is {gene}, outside \[0, 1\]$"):
             task.evaluate(genotypes)
+
+
+def test_arguments_a_method_does_not_take_are_one_line_without_the_arrays():
+    archive = qdmeta.GridArchive(solution_dim=3, dims=[4, 4])
+    batch = np.zeros((500, 3)), np.zeros(500), np.zeros((500, 2))
+    with pytest.raises(TypeError) as info:
+        archive.add(solution=batch[0], objective=batch[1], measures=batch[2])  # pyribs's names
+    assert str(info.value) == ("GridArchive.add() takes (solutions, objectives, measures, base_features=None, "
+                               "valid=None); it was given solution=, objective=, measures=")
+    algo = qdmeta.Algorithm(ME, task=bad_task())
+    x = algo.ask()
+    with pytest.raises(TypeError, match=r"^Algorithm\.tell\(\) takes \(fitness, base_features, valid=None\); it "
+                                        r"was given objective=, measures=$"):
+        algo.tell(objective=np.zeros(len(x)), measures=x)
+    with pytest.raises(TypeError, match=r"^CvtArchive\(\) takes \(solution_dim, centroids, qd_offset=0\.0, "
+                                        r"seed=1\); it was given 2 positional, ranges=$"):
+        qdmeta.CvtArchive(3, np.zeros((1000, 2)), ranges=[(0, 1), (0, 1)])
+    # A TypeError from the caller's own task reaches them as it was raised.
+    def typo(x):
+        raise TypeError("my task's own mistake")
+    with pytest.raises(TypeError, match="^my task's own mistake$"):
+        qdmeta.Algorithm(ME, task=qdmeta.Task(typo, genotype_size=4, base_feature_size=2)).step()
+    # The wrapped methods keep their names and documentation.
+    assert qdmeta.GridArchive.add.__name__ == "add" and "statuses" in qdmeta.GridArchive.add.__doc__
