@@ -373,6 +373,9 @@ TEST(BuildRun, OtherBadConfigs) {
       {"[archive]\nbins = [100, 0]\n", "archive.bins holds 0, out of range"},
       {"[archive]\nbins = [10, 10]\nmeasures = [0, 25]\n", "archive.measures holds 25, out of range"},
       {"[archive]\nbins = [10, 10]\nmeasures = [0]\n", "archive.measures has 1 entries"},
+      {"algorithm = \"map-elites\"\n[task]\ndimensions = 2\n[archive]\nbins = [10, 10, 10]\n",
+       "archive.bins has 3 entries (one per target feature), but the task has 2 base features: give at most 2, or "
+       "archive.measures to pick a base feature for each"},
       {"[archive]\nlower = 1.0\nupper = 0.0\n", "lower must be below upper"},
       {"[archive]\nlower = 0.0\nupper = 1e-320\n", "archive range [0, 1e-320] is too narrow"},
       {"[task]\nname = \"rhex\"\n", "task.name = \"rhex\" is not a valid choice: use one of \"rastrigin\""},

@@ -67,6 +67,13 @@ def test_a_run_without_a_task_says_so():
     assert named.ask().shape == (20, 4)
 
 
+def test_more_bins_than_base_features_names_the_bins():
+    with pytest.raises(qdmeta.InputError) as info:
+        qdmeta.Algorithm(dict(ME, archive={"bins": [3, 3, 3]}), task=bad_task())
+    assert str(info.value) == ("<python>: archive.bins has 3 entries (one per target feature), but the task has 2 "
+                               "base features: give at most 2, or archive.measures to pick a base feature for each")
+
+
 def test_task_evaluate_refuses_genes_outside_the_unit_interval():
     task = qdmeta.Task.builtin({"name": "rastrigin", "dimensions": 3})
     assert task.evaluate(np.array([[0.0, 0.5, 1.0]]))[2].all()

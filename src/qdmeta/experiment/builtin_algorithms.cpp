@@ -67,6 +67,12 @@ GridArchiveParams read_grid(ConfigReader& a, std::vector<int>* measures, Index b
   p.lower = a.number("lower", p.lower, -kNoUpper, kNoUpper);
   p.upper = a.number("upper", p.upper, -kNoUpper, kNoUpper);
   if (measures) {
+    // Without `measures`, entry i of bins is base feature i: name bins, the key the user wrote.
+    if (!a.has("measures") && static_cast<Index>(bins.size()) > base_features)
+      throw InputError(fmt::format("{}: archive.bins has {} entries (one per target feature), but the task has {} "
+                                   "base features: give at most {}, or archive.measures to pick a base feature for "
+                                   "each",
+                                   a.source(), bins.size(), base_features, base_features));
     std::vector<std::int64_t> fallback;
     for (std::size_t i = 0; i < bins.size(); ++i) fallback.push_back(static_cast<std::int64_t>(i));
     const auto m = a.integers("measures", fallback, 0, std::max<Index>(base_features - 1, 0), bins.size(), bins.size(),
