@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <sstream>
+
+#include "configured_task.hpp"
 #include "python_task.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
@@ -26,6 +29,22 @@ toml::table& subtable(toml::table& config, const std::string& name) {
   auto* t = config[name].as_table();
   if (t == nullptr) throw py::type_error(fmt::format("config: '{}' must be a dict (a TOML table)", name));
   return *t;
+}
+
+// A built-in task given as task= is the [task] table it was made from: the config's own [task]
+// keys must agree with it, and its keys fill in the rest (else the config's defaults would
+// silently replace the task's settings).
+void take_builtin_table(toml::table& task, const toml::table& builtin) {
+  const auto text = [](const toml::node& n) {
+    std::ostringstream s;
+    n.visit([&](const auto& v) { s << v; });
+    return s.str();
+  };
+  for (const auto& [key, value] : task)
+    if (const toml::node* own = builtin.get(key); own && text(*own) != text(value))
+      throw InputError(fmt::format("config: task.{} is {}, but the task given has {}", key.str(), text(value),
+                                   text(*own)));
+  for (const auto& [key, value] : builtin) task.insert_or_assign(key, value);
 }
 
 std::string task_name_of(const toml::table& config) {
@@ -89,7 +108,10 @@ BuiltRun build_from_python(const py::dict& config, const PythonParts& parts, Bui
   if (!parts.task && !table.contains("task"))
     throw InputError("config: no task: pass task=qdmeta.Task(...) or give config['task'], a built-in task's table "
                      "such as {'name': 'rastrigin'}");
-  if (parts.task) require_key(subtable(table, "task"), "task", "name", parts.task->name());
+  if (parts.task) {
+    require_key(subtable(table, "task"), "task", "name", parts.task->name());
+    if (const toml::table* builtin = builtin_table(*parts.task)) take_builtin_table(subtable(table, "task"), *builtin);
+  }
   if (parts.meta_objective) require_key(subtable(table, "meta_fitness"), "meta_fitness", "kind", parts.meta_objective->name());
   const ScopedParts registered(parts, task_name_of(table));
   return build_run(table, "<python>", {}, scope);

@@ -67,6 +67,16 @@ def test_a_run_without_a_task_says_so():
     assert named.ask().shape == (20, 4)
 
 
+def test_a_builtin_task_given_as_task_brings_its_settings():
+    five = qdmeta.Task.builtin({"name": "rastrigin", "dimensions": 5})
+    algo = qdmeta.Algorithm(ME, task=five)
+    assert algo.ask().shape == (20, 5) and algo.config["task"]["dimensions"] == 5
+    agreeing = qdmeta.Algorithm(dict(ME, task={"name": "rastrigin", "dimensions": 5}), task=five)
+    assert agreeing.config["task"] == algo.config["task"]
+    with pytest.raises(qdmeta.InputError, match=r"^config: task\.dimensions is 6, but the task given has 5$"):
+        qdmeta.Algorithm(dict(ME, task={"dimensions": 6}), task=five)
+
+
 def test_more_bins_than_base_features_names_the_bins():
     with pytest.raises(qdmeta.InputError) as info:
         qdmeta.Algorithm(dict(ME, archive={"bins": [3, 3, 3]}), task=bad_task())
