@@ -30,10 +30,11 @@ endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/qdmeta DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp" ${qdmeta_header_excludes})
 # report.py imports its modules from its own folder (claims, significance, the checked readers
-# and writers of run files, the claim rules).
+# and writers of run files, the claim rules, the archive plots).
 install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/significance.py ${PROJECT_SOURCE_DIR}/tools/claims.py
               ${PROJECT_SOURCE_DIR}/tools/claim_rules.py ${PROJECT_SOURCE_DIR}/tools/experiment_files.py
               ${PROJECT_SOURCE_DIR}/tools/run_files.py ${PROJECT_SOURCE_DIR}/tools/output_files.py
+              ${PROJECT_SOURCE_DIR}/tools/archive_plots.py
         DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
 install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})

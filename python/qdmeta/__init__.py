@@ -13,6 +13,8 @@ The C++ library behind the `qdmeta` command line, from Python:
 Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
   writes them.
+- ``qdmeta.visualize`` (imported on its own, as it needs matplotlib): heatmaps and parallel-axes
+  plots of an archive.
 
 Configs are dicts with the keys of the TOML configs (docs/config.md). docs/python.md is the
 tutorial.

@@ -211,7 +211,14 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
   bind_elite_archive<GridArchive>(grid);
   grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
       .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
-      .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; });
+      .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; })
+      // pyribs's names: one bound per measure (qdmeta.visualize draws from them).
+      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) {
+        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().lower);
+      })
+      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) {
+        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().upper);
+      });
 
   py::class_<ArchiveHandle<CvtArchive>> cvt(m, "CvtArchive", R"doc(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from
