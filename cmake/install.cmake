@@ -29,12 +29,14 @@ if(QDMETA_WITH_RHEX)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/qdmeta DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.hpp" ${qdmeta_header_excludes})
-# report.py imports its modules from its own folder (claims, significance, the checked readers
-# and writers of run files, the claim rules, the archive plots).
+# report.py and run_summary.py import their modules from their own folder (claims, significance,
+# the checked readers and writers of run files, the claim rules, the archive plots, runs and
+# their summaries).
 install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/significance.py ${PROJECT_SOURCE_DIR}/tools/claims.py
               ${PROJECT_SOURCE_DIR}/tools/claim_rules.py ${PROJECT_SOURCE_DIR}/tools/experiment_files.py
               ${PROJECT_SOURCE_DIR}/tools/run_files.py ${PROJECT_SOURCE_DIR}/tools/output_files.py
-              ${PROJECT_SOURCE_DIR}/tools/archive_plots.py
+              ${PROJECT_SOURCE_DIR}/tools/archive_plots.py ${PROJECT_SOURCE_DIR}/tools/runs.py
+              ${PROJECT_SOURCE_DIR}/tools/run_summary.py
         DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
 install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})

@@ -47,11 +47,9 @@ claim whose replicates are too few for any p below ALPHA is "not testable with t
 replicates".
 """
 import math
-import os
 
 import numpy as np
 
-import experiment_files
 import significance
 
 ALPHA = 0.05
@@ -60,12 +58,6 @@ NOT_REPRODUCED = "not reproduced"
 NOT_AT_BUDGET = "not testable at this budget"
 NOT_IN_EXPERIMENT = "not testable in this experiment"
 TOO_FEW = "not testable with these replicates"
-
-
-def read_generalisation(run_path):
-    """The run's generalisation.csv as {group: mean over the archive's solutions and the group's
-    environments}; {} without one. A damaged file is an InputError (experiment_files)."""
-    return experiment_files.read_generalisation(os.path.join(run_path, "generalisation.csv"))
 
 
 def measure_values(runs, measure):
@@ -85,7 +77,7 @@ def measure_values(runs, measure):
             curve = r.adapt.get(test, {}).get("best_mean")
             v = curve[min(int(at), len(curve)) - 1] if curve is not None and len(curve) else None
         elif family == "generalisation":
-            v = read_generalisation(r.path).get(name)
+            v = r.generalisation().get(name)
         else:
             raise ValueError(f"unknown measure '{measure}' (families: final, population, meta, test, generalisation)")
         if v is not None:

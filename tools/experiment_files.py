@@ -68,8 +68,11 @@ def read_summary(path):
     """summary.json (None without one): its text keys strings, every other value a finite
     number; null (qdmeta's NaN) is left out, as if the key were absent."""
     summary = read_json_object(path)
-    if summary is None:
-        return None
+    return None if summary is None else check_summary(summary, path)
+
+
+def check_summary(summary, path):
+    """summary.json's rules (read_summary) on its parsed object; returns it, nulls left out."""
     for key, value in list(summary.items()):
         if key in claim_rules.SUMMARY_TEXT_KEYS:
             if not isinstance(value, str):

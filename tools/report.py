@@ -1,17 +1,20 @@
 #!/usr/bin/python3
 """Figures and report.md for an experiment written by `qdmeta experiment`.
 
-Usage: /usr/bin/python3 tools/report.py DIR [--quiet] [--supplementary]
+Usage: /usr/bin/python3 tools/report.py DIR [--out OUT] [--quiet] [--supplementary]
 
-Reads DIR/experiment.toml and every finished run DIR/<condition>/seed-<r>/ (metrics.csv,
-meta.csv, archive.csv, adapt-*.csv, generalisation.csv, summary.json, config.toml); writes
-DIR/figures/*.png, DIR/report.md and the small CSV summaries they are made from,
-DIR/data/runs.csv, DIR/data/curves.csv and (when runs have generalisation.csv)
-DIR/data/generalisation.csv, the paper's Table 2. The paper's supplementary meta-fitness
-figures (S4: meta-fitness with its running average; S5: G against meta-fitness) are drawn for
-RHex experiments, or for any experiment with --supplementary.
-Replicates are aligned on a fixed evaluation grid (the last logged row at or before each grid
-point), since meta-generation boundaries fall at different evaluation counts. Values are
+Reads DIR/experiment.toml and every finished run: its directory DIR/<condition>/seed-<r>/
+(metrics.csv, meta.csv, archive.csv, adapt-*.csv, generalisation.csv, summary.json,
+config.toml) or, without one, its summary DIR/<condition>/seed-<r>.json (tools/runs.py: the
+same report from either); writes OUT/figures/*.png, OUT/report.md and the small CSV summaries
+they are made from, OUT/data/runs.csv, OUT/data/curves.csv and (when runs have
+generalisation.csv) OUT/data/generalisation.csv, the paper's Table 2 (OUT: DIR unless given).
+The paper's supplementary meta-fitness figures (S4: meta-fitness with its running average; S5:
+G against meta-fitness) are drawn for RHex experiments, or for any experiment with
+--supplementary.
+Replicates are aligned on a fixed evaluation grid from 0 to the experiment's budget (the last
+logged row at or before each grid point; the last point is each run's end), since
+meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
 Mann-Whitney U test (Holm-adjusted per table) with the A12 effect size (tools/significance.py).
 Needs only Debian's python3-matplotlib and numpy.
@@ -28,15 +31,16 @@ import matplotlib
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import claims  # noqa: E402  (tools/claims.py)
 import experiment_files  # noqa: E402  (tools/experiment_files.py: every input, read and checked)
+import runs as run_data  # noqa: E402  (tools/runs.py: a run from its directory or its summary)
 import significance  # noqa: E402  (tools/significance.py)
 from output_files import OutputDir  # noqa: E402  (tools/output_files.py: writes that follow no planted link)
-from run_files import InputError, list_dir  # noqa: E402
+from run_files import InputError  # noqa: E402
+from runs import G_WINDOW, on_grid, trailing_mean  # noqa: E402, F401  (trailing_mean: for its tests)
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-GRID_POINTS = 101
 warnings.filterwarnings("ignore", message="Mean of empty slice")
 warnings.filterwarnings("ignore", message="Degrees of freedom <= 0")
 
@@ -60,13 +64,6 @@ def stat(values):
     return float(np.mean(v)), se
 
 
-def on_grid(evals, values, grid):
-    """The last logged value at or before each grid point (NaN before the first row)."""
-    idx = np.searchsorted(evals, grid, side="right") - 1
-    out = np.where(idx >= 0, values[np.clip(idx, 0, None)], np.nan)
-    return out
-
-
 def plot_band(ax, x, mean, se, label, linewidth=1.5):
     """A mean curve with its +- SE band."""
     ax.plot(x, mean, label=label, linewidth=linewidth)
@@ -79,45 +76,10 @@ def fmt(mean, se, digits=4):
     return f"{mean:.{digits}g} ± {se:.2g}"
 
 
-class Run:
-    """A finished run's files, every one read and checked when the run is loaded (a damaged file
-    stops the report before it writes anything); the archive is read when first asked for."""
-
-    def __init__(self, path, summary):
-        self.path = path
-        self.summary = summary
-        self.metrics = experiment_files.read_metrics(os.path.join(path, "metrics.csv"))
-        self.meta = experiment_files.read_meta(os.path.join(path, "meta.csv"))
-        self.adapt = {}
-        for name in list_dir(path):
-            if name.startswith("adapt-") and name.endswith(".csv"):
-                test = name[len("adapt-"):-len(".csv")]
-                self.adapt[test] = experiment_files.read_adaptation(os.path.join(path, name))
-        self._config = experiment_files.read_config(os.path.join(path, "config.toml"))
-        self._generalisation = claims.read_generalisation(path)
-        self._archive = None
-
-    def archive(self):
-        if self._archive is None:
-            self._archive = experiment_files.read_archive(os.path.join(self.path, "archive.csv"))
-        return self._archive
-
-    def config(self):
-        """The run's resolved config.toml (every key in force, written by `qdmeta run`); {} if absent."""
-        return self._config
-
-    def generalisation(self):
-        return self._generalisation
-
-    @property
-    def seed(self):
-        """The replicate's seed, from its directory name (seed-<r>)."""
-        return os.path.basename(self.path).split("-")[-1]
-
-
 def load(directory):
-    """The experiment in force and its conditions' finished and unfinished runs; every file the
-    report reads is checked here (InputError), the archives it draws included."""
+    """The experiment in force and its conditions' finished and unfinished runs, each from its
+    run directory or, without a finished one, its summary; every file the report reads is
+    checked here (InputError), the archives it draws included."""
     spec = experiment_files.read_experiment(os.path.join(directory, "experiment.toml"))
     conditions = []
     for c in spec["condition"]:
@@ -125,12 +87,15 @@ def load(directory):
         for r in range(1, spec["replicates"] + 1):
             path = experiment_files.run_directory(directory, c["slug"], r)
             summary = experiment_files.read_summary(os.path.join(path, "summary.json"))
+            kept = run_data.summary_path(directory, c["slug"], r)
             if summary is not None and summary.get("stop_reason") == "budget":
-                runs.append(Run(path, summary))
+                runs.append(run_data.RunDirectory(path, summary))
+            elif os.path.lexists(kept):
+                runs.append(run_data.RunSummary(kept))
             else:
                 unfinished.append(path)
         if runs:
-            runs[0].archive()  # the one figure_archives draws
+            runs[0].picture()  # the one figure_archives draws
         conditions.append({"name": c["name"], "slug": c["slug"], "runs": runs, "unfinished": unfinished})
     return spec, conditions
 
@@ -157,10 +122,12 @@ def best_map_curve(run, column):
 QD_VIEWS = [("best map", best_map_curve), ("meta-population", population_curve)]
 
 
-def evaluation_grid(conditions):
-    """The fixed evaluation grid replicates are aligned on (None when nothing was logged)."""
-    budget = max((r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
-    return np.linspace(0, budget, GRID_POINTS) if budget > 0 else None
+def evaluation_grid(spec, conditions):
+    """The fixed evaluation grid replicates are aligned on: up to the experiment's budget, or
+    without one the last logged evaluation count (None when nothing was logged)."""
+    budget = experiment_budget(spec, conditions) or max(
+        (r.metrics["evals"][-1] for c in conditions for r in c["runs"] if r.metrics), default=0)
+    return run_data.evaluation_grid(budget) if budget > 0 else None
 
 
 def save_figure(fig, out):
@@ -173,12 +140,11 @@ def save_figure(fig, out):
     return directory.write(name, png.getvalue())
 
 
-def figure_qd_statistics(conditions, out):
+def figure_qd_statistics(conditions, grid, out):
     """Two views side by side, as rows: QD-Meta's best map of each meta-generation (metrics.csv),
     and its whole meta-population (the mean over its maps, meta.csv), as the paper's figures
     aggregate "across the different archives within the meta-population". The other
     algorithms have one archive: the same curve in both rows."""
-    grid = evaluation_grid(conditions)
     if grid is None:
         return None
     fig, axes = plt.subplots(2, len(QD_PANELS), figsize=(5 * len(QD_PANELS), 8.4), squeeze=False)
@@ -198,17 +164,6 @@ def figure_qd_statistics(conditions, out):
     return save_figure(fig, out)
 
 
-G_WINDOW = 50
-
-
-def trailing_mean(values, window):
-    """Mean of each value and the up to window - 1 before it."""
-    sums = np.cumsum(np.insert(np.asarray(values, dtype=float), 0, 0.0))
-    n = np.arange(1, len(values) + 1)
-    lo = np.maximum(n - window, 0)
-    return (sums[n] - sums[lo]) / (n - lo)
-
-
 def figure_meta(conditions, out):
     meta = [c for c in conditions if any(r.meta for r in c["runs"])]
     if not meta:
@@ -219,16 +174,16 @@ def figure_meta(conditions, out):
               ("generations", f"G per meta-generation (mean of the last {G_WINDOW})")]
     for c in meta:
         runs = [r for r in c["runs"] if r.meta]
-        length = max(len(r.meta["meta_generation"]) for r in runs)
+        length = max(r.meta_generations for r in runs)
+        stride = run_data.meta_stride(length)
+        x = np.arange(0, length, stride) + 1
         for ax, (column, label) in zip(axes, panels):
-            padded = np.full((len(runs), length), np.nan)
+            padded = np.full((len(runs), len(x)), np.nan)
             for i, r in enumerate(runs):
-                values = r.meta[column]
-                if column == "generations":  # G is drawn anew each meta-generation: show its trend
-                    values = trailing_mean(values, G_WINDOW)
+                # G is drawn anew each meta-generation: show its trend
+                values = r.meta_series("generations_trailing" if column == "generations" else column, stride)
                 padded[i, : len(values)] = values
             mean, se = mean_se(padded)
-            x = np.arange(1, length + 1)
             plot_band(ax, x, mean, se, f'{c["name"]} (n={len(runs)})', linewidth=0.8)
             ax.set_xlabel("meta-generation")
             ax.set_ylabel(label, fontsize=9)
@@ -345,9 +300,10 @@ def figure_meta_running_average(conditions, out):
             ax = axes[row][col]
             for i, (c, runs) in enumerate(members):
                 colour = f"C{i}"
-                raw = replicate_matrix([r.meta[column] for r in runs])
-                smooth = replicate_matrix([trailing_mean(r.meta[column], G_WINDOW) for r in runs])
-                x = np.arange(1, raw.shape[1] + 1)
+                stride = run_data.meta_stride(max(r.meta_generations for r in runs))
+                raw = replicate_matrix([r.meta_series(column, stride) for r in runs])
+                smooth = replicate_matrix([r.meta_series(f"{column}_trailing", stride) for r in runs])
+                x = np.arange(0, raw.shape[1]) * stride + 1
                 ax.plot(x, np.nanmean(raw, axis=0), color=colour, linewidth=0.5, alpha=0.35)
                 mean, se = mean_se(smooth)
                 ax.plot(x, mean, color=colour, linewidth=2, label=f'{c["name"]} (n={len(runs)})')
@@ -367,7 +323,7 @@ def controls_generations(runs):
     config = runs[0].config()
     if config:
         return config.get("control", {}).get("kind") == "sarsa"
-    return any(len(np.unique(r.meta["generations"])) > 1 for r in runs)
+    return any(r.generations_vary for r in runs)
 
 
 def figure_generations_and_meta_fitness(conditions, out):
@@ -384,14 +340,15 @@ def figure_generations_and_meta_fitness(conditions, out):
         for ax in row[len(runs):]:
             ax.axis("off")
         for ax, r in zip(row, runs):
-            x = r.meta["meta_generation"]
-            ax.plot(x, r.meta["meta_fitness_mean"], color="C0", linewidth=1)
+            stride = run_data.meta_stride(r.meta_generations)
+            x = r.meta_series("meta_generation", stride)
+            ax.plot(x, r.meta_series("meta_fitness_mean", stride), color="C0", linewidth=1)
             ax.set_xlabel("meta-generation")
             ax.set_ylabel("meta-fitness (mean over the meta-population)", color="C0", fontsize=8)
             ax.tick_params(axis="y", labelcolor="C0")
             g = ax.twinx()
-            g.plot(x, r.meta["generations"], color="C1", linewidth=0.5, alpha=0.3)
-            g.plot(x, trailing_mean(r.meta["generations"], G_WINDOW), color="C1", linewidth=2)
+            g.plot(x, r.meta_series("generations", stride), color="C1", linewidth=0.5, alpha=0.3)
+            g.plot(x, r.meta_series("generations_trailing", stride), color="C1", linewidth=2)
             g.set_ylabel(f"G (faint: drawn; thick: mean of the last {G_WINDOW})", color="C1", fontsize=8)
             g.tick_params(axis="y", labelcolor="C1")
             ax.set_title(f'{c["name"]}, seed {r.seed}', fontsize=9)
@@ -478,19 +435,23 @@ def group_order(group):
 
 
 def figure_archives(conditions, out):
+    """One archive per condition, its first finished replicate's: the best fitness in each bin
+    over measures 0 and 1 (tools/runs.py, archive_picture)."""
     shown = [c for c in conditions if c["runs"]]
     if not shown:
         return None
     fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 4), squeeze=False)
     for ax, c in zip(axes[0], shown):
         run = c["runs"][0]
-        a = run.archive()
-        if "measures_0" not in a or "measures_1" not in a:
+        picture = run.picture()
+        if picture is None:
             ax.set_title(f'{c["name"]}: fewer than 2 measures')
             continue
-        points = ax.scatter(a["measures_0"], a["measures_1"], c=a["objective"], s=2, cmap="viridis", linewidths=0)
-        fig.colorbar(points, ax=ax, label="fitness")
-        ax.set_title(f'{c["name"]} (seed {run.seed}, {len(a["objective"])} elites)',
+        image = ax.imshow(run_data.picture_values(picture), origin="lower", aspect="auto", cmap="viridis",
+                          interpolation="nearest", extent=(*picture["measures_0"], *picture["measures_1"]),
+                          vmin=picture["fitness"][0], vmax=picture["fitness"][1])
+        fig.colorbar(image, ax=ax, label="fitness")
+        ax.set_title(f'{c["name"]} (seed {run.seed}, {picture["elites"]} elites)',
                      fontsize=9)
         ax.set_xlabel("measure 0")
         ax.set_ylabel("measure 1")
@@ -538,7 +499,7 @@ def claims_table(spec, conditions, source):
     budget = experiment_budget(spec, conditions)
     earlier = None
     if budget:
-        half = budget // 2
+        half = run_data.earlier_evals(budget)  # a summary keeps its runs' rows at this count
 
         def pairs(name, m):  # each run's (final, half-budget) values: the same runs, paired
             values = [(claims.measure_values([r], m), claims.measure_values_at([r], m, half))
@@ -577,8 +538,8 @@ def meta_table(conditions):
             continue
         best = [r.meta["meta_fitness_best"][-1] for r in runs]
         mean = [r.meta["meta_fitness_mean"][-1] for r in runs]
-        gens = [len(r.meta["meta_generation"]) for r in runs]
-        g = [float(np.mean(r.meta["generations"])) for r in runs]
+        gens = [r.meta_generations for r in runs]
+        g = [r.mean_generations for r in runs]
         states = [r.meta["states"][-1] for r in runs]
         rows.append(f'| {c["name"]} | {len(runs)} | {fmt(*stat(best))} | {fmt(*stat(mean))} | '
                     f'{fmt(*stat(gens), 5)} | {fmt(*stat(g), 3)} | {fmt(*stat(states), 3)} |')
@@ -657,7 +618,7 @@ def write_csv(directory, name, header, rows):
     directory.write(name, text.getvalue())
 
 
-def write_data(data_dir, conditions, tests):
+def write_data(data_dir, conditions, tests, grid):
     """The small CSV summaries every table and figure is made from, in DIR/data/ (`data_dir`, an
     OutputDir): runs.csv (one row per finished run: its final values and test-phase scores) and
     curves.csv (the plotted means and SEs over replicates). They are small enough to commit
@@ -677,8 +638,8 @@ def write_data(data_dir, conditions, tests):
                 v = claims.measure_values([r], measure)
                 row.append(v[0] if v else "")
             if r.meta:
-                row += [r.meta["meta_fitness_best"][-1], r.meta["meta_fitness_mean"][-1], len(r.meta["meta_generation"]),
-                        float(np.mean(r.meta["generations"]))]
+                row += [r.meta["meta_fitness_best"][-1], r.meta["meta_fitness_mean"][-1], r.meta_generations,
+                        r.mean_generations]
             else:
                 row += ["", "", "", ""]
             for t, at in test_points:
@@ -688,7 +649,6 @@ def write_data(data_dir, conditions, tests):
     write_csv(data_dir, "runs.csv", header, rows)
 
     curves = []
-    grid = evaluation_grid(conditions)
     for c in conditions:
         runs = [r for r in c["runs"] if r.metrics]
         if not runs or grid is None:
@@ -717,8 +677,17 @@ def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
+    options = argv[2:]
+    out = argv[1]
+    if "--out" in options:
+        at = options.index("--out")
+        if at + 1 == len(options):
+            print(__doc__, file=sys.stderr)
+            return 2
+        out = options.pop(at + 1)
+        options.pop(at)
     try:
-        return report(argv[1], "--quiet" in argv[2:], "--supplementary" in argv[2:])
+        return report(argv[1], "--quiet" in options, "--supplementary" in options, out)
     except InputError as e:
         # One line whatever the message holds (a directory name may hold a newline).
         line = str(e).replace("\r", "\\r").replace("\n", "\\n")
@@ -726,13 +695,21 @@ def main(argv):
         return 2
 
 
-def report(directory, quiet, supplementary):
+def report(directory, quiet, supplementary, out_directory=None):
+    """The report on the experiment in `directory`, written into `out_directory` (default: the same)."""
     spec, conditions = load(directory)
-    out = OutputDir.open(directory)
+    if out_directory:
+        try:
+            os.makedirs(out_directory, exist_ok=True)
+        except OSError as e:
+            raise InputError(f"{out_directory}: cannot make the folder: {e.strerror}") from None
+    out = OutputDir.open(out_directory or directory)
     figures_dir = out.subdir("figures")
     tests = curve_tests(spec.get("tests", []))  # "generalisation" is Table 2, not a curve
+    grid = evaluation_grid(spec, conditions)
     # (title, figure or None, caption or "")
-    figures = [("QD statistics over evaluations", figure_qd_statistics(conditions, (figures_dir, "qd-statistics.png")), ""),
+    figures = [("QD statistics over evaluations",
+                figure_qd_statistics(conditions, grid, (figures_dir, "qd-statistics.png")), ""),
                ("Meta-fitness and generations per meta-generation", figure_meta(conditions, (figures_dir, "meta-fitness.png")), "")]
     if supplementary or supplementary_figures(conditions):
         figures.append(("Meta-fitness with its running average (Fig S4)",
@@ -751,7 +728,7 @@ def report(directory, quiet, supplementary):
                         CONTINUED_NOTE if any(archive_exhausted(runs, test) for _, runs in shown) else ""))
     figures.append(("One archive per condition (fitness over measures 0 and 1)", figure_archives(conditions, (figures_dir, "archives.png")), ""))
 
-    write_data(out.subdir("data"), conditions, tests)
+    write_data(out.subdir("data"), conditions, tests, grid)
 
     md = [f'# {spec.get("name", "Experiment")}', ""]
     evals = spec.get("evaluations")
@@ -759,7 +736,8 @@ def report(directory, quiet, supplementary):
               + (f", {evals:,} evaluations each" if evals else "") + ". Values: mean ± standard error over finished replicates.")
     unfinished = [p for c in conditions for p in c["unfinished"]]
     if unfinished:
-        md.append(f"\n{len(unfinished)} runs are not finished and are left out: " + ", ".join(os.path.relpath(p, directory) for p in unfinished[:10])
+        md.append(f"\n{len(unfinished)} of {len(unfinished) + sum(len(c['runs']) for c in conditions)} runs are not "
+                  "finished and are left out: " + ", ".join(os.path.relpath(p, directory) for p in unfinished[:10])
                   + (" ..." if len(unfinished) > 10 else ""))
     md += ["", "## Final archives", "", "The archive each run ends with (QD-Meta: the best map of its last meta-generation).",
            "", summary_table(conditions), ""]

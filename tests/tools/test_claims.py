@@ -9,11 +9,15 @@ import claims  # noqa: E402
 
 
 class FakeRun:
-    def __init__(self, summary, meta=None, adapt=None, metrics=None):
+    def __init__(self, summary, meta=None, adapt=None, metrics=None, generalisation=None):
         self.summary = summary
         self.meta = meta or {}
         self.adapt = adapt or {}
         self.metrics = metrics or {}
+        self._generalisation = generalisation or {}
+
+    def generalisation(self):
+        return self._generalisation
 
 
 def samples_from(table):
@@ -48,13 +52,9 @@ def test_measures_at_a_smaller_budget_read_the_runs_curves():
     assert claims.measure_values_at([qd_meta], "test:dimension@10", 400) == []
 
 
-def test_generalisation_measures_read_generalisation_csv(tmp_path):
-    run = FakeRun({})
-    run.path = str(tmp_path)
-    (tmp_path / "generalisation.csv").write_text("group,environments,solutions,mean,se\n"
-                                                 "damage-training,12,40,4.25,0.5\nobstacle,4,40,2.5,0.25\n")
-    other = FakeRun({})
-    other.path = str(tmp_path / "missing")  # a run without the test
+def test_generalisation_measures_read_the_runs_generalisation_means():
+    run = FakeRun({}, generalisation={"damage-training": 4.25, "obstacle": 2.5})
+    other = FakeRun({})  # a run without the test
     assert claims.measure_values([run, other], "generalisation:damage-training") == [4.25]
     assert claims.measure_values([run], "generalisation:obstacle") == [2.5]
     assert claims.measure_values([run], "generalisation:damage") == []
