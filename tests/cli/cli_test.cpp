@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -401,6 +402,78 @@ TEST(Cli, APlannedRunStartedOnItsOwnIsTheExperimentsRun) {
     for (const char* f : {"metrics.csv", "archive.csv", "adapt-dimension.csv"})
       EXPECT_EQ(slurp(planned / cond / "seed-1" / f), slurp(whole / cond / "seed-1" / f)) << cond << "/" << f;
   EXPECT_EQ(slurp(planned / "qd-meta-sarsa/seed-1/meta.csv"), slurp(whole / "qd-meta-sarsa/seed-1/meta.csv"));
+}
+
+// Every file a report writes, by its path under `dir`.
+std::map<std::string, std::string> report_files(const fs::path& dir) {
+  std::map<std::string, std::string> files{{"report.md", slurp(dir / "report.md")}};
+  for (const char* sub : {"data", "figures"})
+    for (const auto& entry : fs::directory_iterator(dir / sub))
+      files[std::string(sub) + "/" + entry.path().filename().string()] = slurp(entry.path());
+  return files;
+}
+
+TEST(Cli, AReportFromKeptSummariesEqualsTheReportFromTheRuns) {
+  // Each replicate range kept in one folder of summaries, as two machines would; the report from
+  // the summaries alone is the report from the run directories, byte for byte.
+  const fs::path runs = fresh_dir("summaries_runs"), kept = fresh_dir("summaries_kept"),
+                 from_kept = fresh_dir("summaries_report"), elsewhere = fresh_dir("summaries_elsewhere");
+  const std::string config = small_experiment().string();
+  const std::string common = "experiment --config " + config + " --evals 20000 --no-report --summaries " + kept.string();
+  const Outcome first = qdmeta_cli(common + " --out " + runs.string() + " --seeds 1");
+  ASSERT_EQ(first.status, 0) << first.output;
+  EXPECT_NE(first.output.find("2 runs finished now, 0 resumed, 0 already finished; 4 test phases\n"
+                              "2 summaries written, 0 runs skipped for the summary already in"),
+            std::string::npos)
+      << first.output;
+  EXPECT_FALSE(fs::exists(runs / "map-elites/seed-2")) << "--seeds 1 ran replicate 2";
+  const Outcome second = qdmeta_cli(common + " --out " + runs.string() + " --seeds 2-2");
+  ASSERT_EQ(second.status, 0) << second.output;
+  EXPECT_NE(second.output.find("2 summaries written, 0 runs skipped"), std::string::npos) << second.output;
+  for (const char* run : {"qd-meta-sarsa/seed-1.json", "qd-meta-sarsa/seed-2.json", "map-elites/seed-1.json",
+                          "map-elites/seed-2.json"}) {
+    ASSERT_TRUE(fs::exists(kept / run)) << run;
+    EXPECT_LT(fs::file_size(kept / run), 40'000u) << run;  // kilobytes, not the archive
+  }
+  EXPECT_NE(slurp(kept / "experiment.toml").find("config = '" + std::string(QDMETA_SOURCE_DIR) +
+                                                 "/configs/rastrigin/map-elites.toml'"),
+            std::string::npos);  // as the experiment file names it
+  ASSERT_EQ(qdmeta_cli("report " + runs.string() + " --quiet").status, 0);
+  const Outcome report = qdmeta_cli("report " + kept.string() + " --out " + from_kept.string() + " --quiet");
+  ASSERT_EQ(report.status, 0) << report.output;
+  const auto expected = report_files(runs), got = report_files(from_kept);
+  EXPECT_EQ(expected.size(), 8u);  // report.md, runs.csv, curves.csv, 5 figures
+  ASSERT_EQ(got.size(), expected.size());
+  for (const auto& [name, bytes] : expected) EXPECT_TRUE(got.at(name) == bytes) << name << " differs";
+  EXPECT_NE(expected.at("report.md").find("| MAP-Elites | 2 |"), std::string::npos);
+  // Another machine with the summaries only: every run is skipped, none is made.
+  const Outcome again = qdmeta_cli(common + " --out " + elsewhere.string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("0 runs finished now, 0 resumed, 0 already finished; 0 test phases\n"
+                              "0 summaries written, 4 runs skipped"),
+            std::string::npos)
+      << again.output;
+  EXPECT_FALSE(fs::exists(elsewhere / "map-elites/seed-1"));
+  // A lost summary of a finished run is written again, the same bytes.
+  const std::string summary = slurp(kept / "map-elites/seed-2.json");
+  fs::remove(kept / "map-elites/seed-2.json");
+  const Outcome rewritten = qdmeta_cli(common + " --out " + runs.string());
+  EXPECT_NE(rewritten.output.find("0 runs finished now, 0 resumed, 1 already finished; 0 test phases\n"
+                                  "1 summaries written, 3 runs skipped"),
+            std::string::npos)
+      << rewritten.output;
+  EXPECT_EQ(slurp(kept / "map-elites/seed-2.json"), summary);
+  // Summaries of another budget, or replicates past the experiment's, are refused before any run.
+  const Outcome other_budget = qdmeta_cli("experiment --config " + config + " --evals 5000 --no-report --summaries " +
+                                          kept.string() + " --out " + fresh_dir("summaries_other").string());
+  EXPECT_EQ(other_budget.status, 2) << other_budget.output;
+  EXPECT_NE(other_budget.output.find("its summaries were made with evaluations = 20000, this experiment has "
+                                     "evaluations = 5000"),
+            std::string::npos)
+      << other_budget.output;
+  const Outcome past = qdmeta_cli(common + " --out " + runs.string() + " --seeds 2-3");
+  EXPECT_EQ(past.status, 2) << past.output;
+  EXPECT_NE(past.output.find("replicates 2-3 are not within the experiment's 1-2"), std::string::npos) << past.output;
 }
 
 TEST(Cli, AMalformedClaimIsRefusedBeforeAnyRun) {

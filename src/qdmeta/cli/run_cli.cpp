@@ -206,6 +206,8 @@ struct ExperimentArgs {
   std::string config;
   std::string out;
   std::optional<int> replicates;
+  std::optional<std::string> seeds;      // a range of the replicates, "A-B" or "A"
+  std::optional<std::string> summaries;  // where each finished run's summary goes
   std::optional<std::int64_t> evals;
   int threads = 0;
   bool quiet = false;
@@ -229,55 +231,85 @@ fs::path tools_dir() {
   return g_tools_dir;
 }
 
-// The report script's own error, when it gave one: exit status 2 and a single stderr line
-// "report.py: error: MESSAGE" (a damaged input, an output it may not write). Anything else (a
+// A tool script's own error, when it gave one: exit status 2 and a single stderr line
+// "<script>: error: MESSAGE" (a damaged input, an output it may not write). Anything else (a
 // traceback, a signal) is a fault of the script, shown as it is.
-std::optional<std::string> report_error(const ProgramOutcome& r) {
-  constexpr std::string_view kPrefix = "report.py: error: ";
+std::optional<std::string> script_error(const ProgramOutcome& r, const fs::path& script) {
+  const std::string prefix = script.filename().string() + ": error: ";
   const std::string& e = r.error_output;
-  if (r.status != kExitBadInput || !e.starts_with(kPrefix) || !e.ends_with('\n')) return std::nullopt;
+  if (r.status != kExitBadInput || !e.starts_with(prefix) || !e.ends_with('\n')) return std::nullopt;
   if (e.find('\n') != e.size() - 1) return std::nullopt;
-  return e.substr(kPrefix.size(), e.size() - kPrefix.size() - 1);
+  return e.substr(prefix.size(), e.size() - prefix.size() - 1);
 }
 
-// Figures and report.md from the runs under `dir`, by tools/report.py with Debian's Python
-// (matplotlib); $QDMETA_PYTHON overrides the interpreter.
-int command_report(const std::string& dir, bool quiet) {
-  if (!fs::exists(fs::path(dir) / "experiment.toml"))
-    throw InputError(fmt::format("{} holds no experiment (no experiment.toml): run qdmeta experiment first", dir));
+// A tools/ script, e.g. ("report.py", "report script").
+struct ToolScript {
+  fs::path path;
+  std::string label;
+};
+
+ToolScript tool_script(const std::string& name, const std::string& label) {
+  const fs::path script = tools_dir() / name;
+  if (!fs::exists(script)) throw InputError(fmt::format("{} {} not found (set QDMETA_TOOLS_DIR)", label, script.string()));
+  return {script, label};
+}
+
+// Runs a tools/ script with Debian's Python ($QDMETA_PYTHON overrides the interpreter) from an
+// argument vector, never a shell: a path may hold any character. Its one-line error is ours.
+void run_tool(const ToolScript& script, const std::vector<std::string>& args, const std::string& subject) {
   const char* env = std::getenv("QDMETA_PYTHON");
-  const std::string python = env ? env : "/usr/bin/python3";
-  const fs::path script = tools_dir() / "report.py";
-  if (!fs::exists(script)) throw InputError(fmt::format("report script {} not found (set QDMETA_TOOLS_DIR)", script.string()));
-  // An argument vector, never a shell: the directory may hold any character.
-  std::vector<std::string> argv{python, script.string(), dir};
-  if (quiet) argv.emplace_back("--quiet");
+  std::vector<std::string> argv{env ? env : "/usr/bin/python3", script.path.string()};
+  argv.insert(argv.end(), args.begin(), args.end());
   std::fflush(stdout);  // our lines first, then the script's
   const ProgramOutcome r = run_program_capturing_stderr(argv, 64 * 1024);
   // The user sees one line for a damaged input: the script's, as ours.
-  if (const std::optional<std::string> message = report_error(r)) throw InputError(*message);
+  if (const std::optional<std::string> message = script_error(r, script.path)) throw InputError(*message);
   std::fputs(r.error_output.c_str(), stderr);  // warnings, or a traceback worth reading whole
   if (r.status != 0)
-    throw Error(fmt::format("the report script {} failed (exit status {}) on {}", script.string(), r.status, dir));
+    throw Error(fmt::format("the {} {} failed (exit status {}) on {}", script.label, script.path.string(), r.status,
+                            subject));
+}
+
+// Figures and report.md from the runs (or their summaries) under `dir`, written into `out`
+// (default: `dir`), by tools/report.py with matplotlib.
+int command_report(const std::string& dir, const std::optional<std::string>& out, bool quiet) {
+  if (!fs::exists(fs::path(dir) / "experiment.toml"))
+    throw InputError(fmt::format("{} holds no experiment (no experiment.toml): run qdmeta experiment first", dir));
+  const ToolScript script = tool_script("report.py", "report script");
+  std::vector<std::string> args{dir};
+  if (out) args.insert(args.end(), {"--out", *out});  // the script makes the folder
+  if (quiet) args.emplace_back("--quiet");
+  run_tool(script, args, dir);
   return 0;
 }
 
 int command_experiment(const ExperimentArgs& a) {
   const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
+  ExperimentOptions options;
+  if (a.seeds) options.replicates = parse_replicate_range(*a.seeds);
   if (a.plan) {
-    const int runs = write_experiment_plan(spec, a.out);
+    const int runs = write_experiment_plan(spec, a.out, options.replicates);
+    if (a.summaries) keep_experiment_spec(spec, *a.summaries, options.replicates);
     if (!a.quiet)
       fmt::print("{} runs planned in {}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
                  "scripts/slurm-experiment.sh), then this command without --plan runs the tests and the report\n",
                  runs, (fs::path(a.out) / "plan.tsv").string());
     return 0;
   }
+  if (a.summaries) {
+    // Summaries need numpy only (tools/runs.py), not the report's matplotlib.
+    const ToolScript script = tool_script("run_summary.py", "summary script");
+    options.summaries = *a.summaries;
+    options.summarise = [script](const fs::path& run_dir, const fs::path& file) {
+      run_tool(script, {run_dir.string(), file.string()}, run_dir.string());
+    };
+  }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const bool tty = isatty(fileno(stdout)) != 0;
   if (!a.quiet)
-    fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{} -> {}\n", kVersion, spec.name,
-               spec.conditions.size(), spec.replicates,
+    fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{}{} -> {}\n", kVersion, spec.name,
+               spec.conditions.size(), spec.replicates, a.seeds ? fmt::format(" (now {})", *a.seeds) : std::string(),
                spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
   auto last = std::make_shared<double>(-1.0);
   auto last_line = std::make_shared<std::string>();
@@ -300,18 +332,21 @@ int command_experiment(const ExperimentArgs& a) {
     else fmt::print("{}\n", line);
     std::fflush(stdout);
   };
-  const ExperimentResult r = run_experiment(spec, a.out, a.threads, progress, &g_stop);
+  const ExperimentResult r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
   if (!a.quiet) {
     if (tty) fmt::print("\n");
     fmt::print("{} runs finished now, {} resumed, {} already finished; {} test phases\n", r.runs_done, r.runs_resumed,
                r.runs_skipped, r.tests_done);
+    if (a.summaries)
+      fmt::print("{} summaries written, {} runs skipped for the summary already in {}\n", r.summaries_written,
+                 r.runs_kept, *a.summaries);
   }
   if (r.interrupted) {
     if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
     return kExitInterrupted;
   }
   if (a.no_report) return 0;
-  command_report(a.out, a.quiet);
+  command_report(a.out, std::nullopt, a.quiet);
   if (!a.quiet) fmt::print("report: {}\n", (fs::path(a.out) / "report.md").string());
   return 0;
 }
@@ -373,6 +408,12 @@ int parse_and_run(int argc, char** argv) {
       ->required();
   experiment_cmd->add_option("--replicates", experiment.replicates, "Replicates (seeds 1..R; overrides the file)")
       ->check(CLI::PositiveNumber);
+  experiment_cmd->add_option("--seeds", experiment.seeds,
+                             "Run only these replicates now, A-B or A (within 1..R; default: all)");
+  experiment_cmd->add_option("--summaries", experiment.summaries,
+                             "Keep each finished run's summary in DIR/<condition>/seed-<r>.json (with DIR/experiment.toml) "
+                             "and skip the runs whose summary is there (tools/run_summary.py; needs numpy); with "
+                             "--plan: only check the summaries there and write DIR/experiment.toml");
   experiment_cmd->add_option("--evals", experiment.evals, "Evaluation budget of every run (overrides the configs)")
       ->check(CLI::PositiveNumber);
   experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
@@ -383,9 +424,13 @@ int parse_and_run(int argc, char** argv) {
                            "batch system");
 
   std::string report_dir;
+  std::optional<std::string> report_out;
   bool report_quiet = false;
   CLI::App* report_cmd = app.add_subcommand("report", "Figures (PNG) and report.md from an experiment's runs");
-  report_cmd->add_option("dir", report_dir, "Directory written by qdmeta experiment")->required();
+  report_cmd->add_option("dir", report_dir,
+                         "Directory written by qdmeta experiment (its --out, or its --summaries: runs or their summaries)")
+      ->required();
+  report_cmd->add_option("--out", report_out, "Write report.md, figures/ and data/ here (default: DIR)");
   report_cmd->add_flag("--quiet", report_quiet, "Print nothing but errors");
 
   AdaptArgs adapt;
@@ -428,7 +473,7 @@ int parse_and_run(int argc, char** argv) {
     if (*resume_cmd) return command_resume(resume);
     if (*adapt_cmd) return command_adapt(adapt);
     if (*experiment_cmd) return command_experiment(experiment);
-    if (*report_cmd) return command_report(report_dir, report_quiet);
+    if (*report_cmd) return command_report(report_dir, report_out, report_quiet);
   } catch (const std::bad_alloc&) {
     // The config's memory is estimated before a run starts; this is what the estimate missed.
     fmt::print(stderr, "qdmeta: error: out of memory (std::bad_alloc): the config asks for more memory than this "

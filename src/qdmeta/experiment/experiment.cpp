@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
+#include <charconv>
 #include <chrono>
 #include <set>
 #include <sstream>
@@ -12,6 +15,7 @@
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
+#include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_lock.hpp"
 
 namespace fs = std::filesystem;
@@ -64,6 +68,25 @@ toml::table ExperimentCondition::effective_config() const {
 
 fs::path replicate_dir(const fs::path& out, const ExperimentCondition& c, int replicate) {
   return out / c.slug / fmt::format("seed-{}", replicate);
+}
+
+fs::path summary_file(const fs::path& summaries, const ExperimentCondition& c, int replicate) {
+  return summaries / c.slug / fmt::format("seed-{}.json", replicate);
+}
+
+ReplicateRange parse_replicate_range(std::string_view text) {
+  const auto number = [](std::string_view s) -> std::optional<int> {
+    int n = 0;
+    const auto [end, error] = std::from_chars(s.data(), s.data() + s.size(), n);
+    if (s.empty() || s.front() == '-' || error != std::errc() || end != s.data() + s.size() || n < 1) return std::nullopt;
+    return n;
+  };
+  const std::size_t dash = text.find('-');
+  const std::optional<int> first = number(text.substr(0, dash));
+  const std::optional<int> last = dash == std::string_view::npos ? first : number(text.substr(dash + 1));
+  if (!first || !last || *first > *last)
+    throw InputError(fmt::format("replicates '{}' must be a range A-B or one replicate A, with 1 <= A <= B", text));
+  return {*first, *last};
 }
 
 ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicates,
@@ -122,6 +145,7 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
     if (cond.slug.empty() || !slugs.insert(cond.slug).second)
       throw InputError(fmt::format("{}: condition '{}' repeats another's name", where, cond.name));
     cond.config = fs::absolute(file.parent_path() / config);
+    cond.config_name = config;
     if (!fs::exists(cond.config))
       throw InputError(fmt::format("{}: condition '{}' names a config that does not exist: {}", where, cond.name,
                                    cond.config.string()));
@@ -136,7 +160,11 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
 
 namespace {
 
-void write_spec(const ExperimentSpec& spec, const fs::path& out) {
+// The configs as absolute paths (a run directory's experiment.toml) or as the experiment file
+// names them (a folder of summaries, committed and continued on other machines).
+enum class ConfigPaths { kAbsolute, kAsWritten };
+
+void write_spec(const ExperimentSpec& spec, const fs::path& out, ConfigPaths paths = ConfigPaths::kAbsolute) {
   toml::table t;
   t.insert("name", spec.name);
   t.insert("replicates", spec.replicates);
@@ -147,14 +175,18 @@ void write_spec(const ExperimentSpec& spec, const fs::path& out) {
   if (spec.generalisation_solutions) t.insert("generalisation_solutions", static_cast<std::int64_t>(*spec.generalisation_solutions));
   toml::array conditions;
   for (const auto& c : spec.conditions) {
-    toml::table entry{{"name", c.name}, {"slug", c.slug}, {"config", c.config.string()}};
+    toml::table entry{{"name", c.name}, {"slug", c.slug},
+                      {"config", paths == ConfigPaths::kAbsolute ? c.config.string() : c.config_name}};
     if (c.set) entry.insert("set", *c.set);
     conditions.push_back(std::move(entry));
   }
   t.insert("condition", std::move(conditions));
   if (!spec.claims.empty()) t.insert("claim", spec.claims);
   std::ostringstream text;
-  text << "# The experiment in force for the runs below (written by qdmeta experiment; read by qdmeta report).\n"
+  text << (paths == ConfigPaths::kAbsolute
+               ? "# The experiment in force for the runs below (written by qdmeta experiment; read by qdmeta report).\n"
+               : "# The experiment in force for the summaries below (written by qdmeta experiment --summaries; read "
+                 "by qdmeta report).\n")
        << t << "\n";
   write_file_atomic(out / "experiment.toml", text.str());
 }
@@ -164,9 +196,102 @@ std::int64_t finished_budget(const fs::path& dir) {
   return config["budget"]["evaluations"].value_or<std::int64_t>(-1);
 }
 
+ReplicateRange checked_range(const ExperimentSpec& spec, std::optional<ReplicateRange> range) {
+  const ReplicateRange r = range.value_or(ReplicateRange{1, spec.replicates});
+  if (r.first < 1 || r.last < r.first || r.last > spec.replicates)
+    throw InputError(fmt::format("replicates {}-{} are not within the experiment's 1-{}: raise its replicates "
+                                 "(--replicates)",
+                                 r.first, r.last, spec.replicates));
+  return r;
+}
+
+std::string evaluations_text(std::optional<std::int64_t> evaluations) {
+  return evaluations ? fmt::format("evaluations = {}", *evaluations) : "each condition's own budget";
+}
+
+std::vector<std::string> strings_of(const toml::node_view<const toml::node>& array) {
+  std::vector<std::string> out;
+  if (const auto* a = array.as_array())
+    for (const auto& v : *a) out.push_back(v.value_or<std::string>(""));
+  return out;
+}
+
+// Summaries kept in `dir` by an earlier call must come from the same experiment: the same
+// evaluations and tests, and for each condition still in it the same config and set (its
+// experiment.toml), and each kept summary of `range` the budget its condition has now.
+void check_kept_summaries(const ExperimentSpec& spec, const fs::path& dir, ReplicateRange range,
+                          const std::vector<std::int64_t>& budgets) {
+  const fs::path file = dir / "experiment.toml";
+  const std::string advice = "use another --summaries folder, or the experiment that made them";
+  if (path_taken(file)) {
+    const toml::table kept = load_toml(file);
+    const std::optional<std::int64_t> evaluations = kept["evaluations"].value<std::int64_t>();
+    if (evaluations != spec.evaluations)
+      throw InputError(fmt::format("{}: its summaries were made with {}, this experiment has {}: {}", file.string(),
+                                   evaluations_text(evaluations), evaluations_text(spec.evaluations), advice));
+    if (strings_of(kept["tests"]) != spec.tests)
+      throw InputError(fmt::format("{}: its summaries were made with other tests than this experiment's: {}",
+                                   file.string(), advice));
+    if (const auto* conditions = kept["condition"].as_array()) {
+      for (const auto& node : *conditions) {
+        const auto* k = node.as_table();
+        if (!k) continue;
+        const std::string slug = (*k)["slug"].value_or<std::string>("");
+        for (const auto& c : spec.conditions) {
+          if (c.slug != slug) continue;
+          const toml::table kept_set = (*k)["set"].as_table() ? *(*k)["set"].as_table() : toml::table{};
+          if ((*k)["config"].value_or<std::string>("") != c.config_name || kept_set != c.set.value_or(toml::table{}))
+            throw InputError(fmt::format("{}: condition '{}' was run with config {} and another set than this "
+                                         "experiment's (config {}): {}",
+                                         file.string(), c.name, (*k)["config"].value_or<std::string>("?"),
+                                         c.config_name, advice));
+        }
+      }
+    }
+  }
+  for (int r = range.first; r <= range.last; ++r) {
+    for (std::size_t i = 0; i < spec.conditions.size(); ++i) {
+      const fs::path summary = summary_file(dir, spec.conditions[i], r);
+      if (!path_taken(summary)) continue;
+      std::int64_t budget = -1;
+      try {
+        budget = nlohmann::json::parse(read_regular_file(summary, kMaxTextFileBytes))
+                     .at("summary")
+                     .at("budget")
+                     .get<std::int64_t>();
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(fmt::format("{} is unreadable: {}", summary.string(), e.what()));
+      }
+      if (budget != budgets[i])
+        throw InputError(fmt::format("{} was made with a budget of {} evaluations but this experiment asks for {}: {}",
+                                     summary.string(), budget, budgets[i], advice));
+    }
+  }
+}
+
+void keep_spec(const ExperimentSpec& spec, const fs::path& summaries, ReplicateRange range,
+               const std::vector<std::int64_t>& budgets) {
+  check_kept_summaries(spec, summaries, range, budgets);
+  fs::create_directories(summaries);
+  write_spec(spec, summaries, ConfigPaths::kAsWritten);
+}
+
+std::vector<std::int64_t> condition_budgets(const ExperimentSpec& spec) {
+  std::vector<std::int64_t> budgets;
+  for (const auto& c : spec.conditions)
+    budgets.push_back(build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}).settings.budget);
+  return budgets;
+}
+
 }  // namespace
 
-int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out) {
+void keep_experiment_spec(const ExperimentSpec& spec, const fs::path& summaries,
+                          std::optional<ReplicateRange> replicates) {
+  keep_spec(spec, summaries, checked_range(spec, replicates), condition_budgets(spec));
+}
+
+int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out, std::optional<ReplicateRange> replicates) {
+  const ReplicateRange range = checked_range(spec, replicates);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
   write_spec(spec, out);
   for (const auto& c : spec.conditions) {
@@ -186,7 +311,7 @@ int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out) {
   std::ostringstream plan;
   plan << "index\tcondition\tseed\tconfig\tdir\n";
   int index = 0;
-  for (int r = 1; r <= spec.replicates; ++r)  // replicate-major, as run_experiment
+  for (int r = range.first; r <= range.last; ++r)  // replicate-major, as run_experiment
     for (const auto& c : spec.conditions)
       plan << ++index << '\t' << c.slug << '\t' << r << '\t' << (out / c.slug / "condition.toml").string() << '\t'
            << replicate_dir(out, c, r).string() << '\n';
@@ -195,12 +320,17 @@ int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out) {
 }
 
 ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,
-                                const ExperimentCallback& progress, const std::atomic<bool>* stop) {
+                                const ExperimentCallback& progress, const std::atomic<bool>* stop,
+                                const ExperimentOptions& options) {
+  const ReplicateRange range = checked_range(spec, options.replicates);
+  if (options.summaries && !options.summarise) throw Error("run_experiment: summaries asked for without a summariser");
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out
-  // Refuse before touching anything when finished runs here had another budget.
-  for (const auto& c : spec.conditions) {
-    const std::int64_t budget = build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}).settings.budget;
-    for (int r = 1; r <= spec.replicates; ++r) {
+  // Refuse before touching anything when finished runs here, or kept summaries, had another budget.
+  const std::vector<std::int64_t> budgets = condition_budgets(spec);
+  for (std::size_t i = 0; i < spec.conditions.size(); ++i) {
+    const ExperimentCondition& c = spec.conditions[i];
+    const std::int64_t budget = budgets[i];
+    for (int r = range.first; r <= range.last; ++r) {
       const fs::path dir = replicate_dir(out, c, r);
       if (stop_reason_of(dir) == StopReason::kBudget && finished_budget(dir) != budget)
         throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
@@ -208,19 +338,29 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
                                      dir.string(), finished_budget(dir), budget));
     }
   }
+  if (options.summaries) keep_spec(spec, *options.summaries, range, budgets);
   write_spec(spec, out);
   const auto start = std::chrono::steady_clock::now();
   const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   auto evaluator = make_evaluator(threads);
   ExperimentResult result;
-  const int runs = static_cast<int>(spec.conditions.size()) * spec.replicates;
+  const int runs = static_cast<int>(spec.conditions.size()) * (range.last - range.first + 1);
   int run = 0;
-  for (int r = 1; r <= spec.replicates; ++r) {  // replicate-major: a partial experiment has every condition
+  for (int r = range.first; r <= range.last; ++r) {  // replicate-major: a partial experiment has every condition
     for (const auto& c : spec.conditions) {
       ++run;
+      ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
+      const std::optional<fs::path> summary =
+          options.summaries ? std::optional(summary_file(*options.summaries, c, r)) : std::nullopt;
+      if (summary && path_taken(*summary)) {  // kept: its directory may be on another machine
+        p.phase = "kept";
+        p.run_fraction = 1.0;
+        if (progress) progress(p);
+        ++result.runs_kept;
+        continue;
+      }
       const fs::path dir = replicate_dir(out, c, r);
       const RunLock lock(dir, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // as `run` and `resume` do
-      ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
       const auto report = [&](const RunProgress& rp) {
         p.run_fraction = std::min(1.0, static_cast<double>(rp.evals) / static_cast<double>(rp.budget));
         p.wall_seconds = wall();
@@ -262,6 +402,13 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         if (generalisation) generalise_run(dir, std::nullopt, *evaluator, spec.generalisation_solutions);
         else adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
         ++result.tests_done;
+      }
+      if (summary) {
+        p.phase = "summary";
+        p.wall_seconds = wall();
+        if (progress) progress(p);
+        options.summarise(dir, *summary);
+        ++result.summaries_written;
       }
     }
   }

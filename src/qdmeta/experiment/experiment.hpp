@@ -2,13 +2,16 @@
 // An experiment: conditions x replicates (seeds 1..R), each a run directory
 // OUT/<condition>/seed-<r>, then the test phase on every archive. Re-running the same command
 // skips finished runs, resumes those with a checkpoint and restarts the others, so a killed
-// experiment continues where it was.
+// experiment continues where it was. A call may run a range of the replicates, and may keep a
+// summary of each finished run in a folder of its own (a study committed run by run, continued
+// on another machine from its summaries).
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -21,6 +24,7 @@ struct ExperimentCondition {
   std::string name;               // as shown in the report, e.g. "QD-Meta Translation"
   std::string slug;               // its directory, e.g. "qd-meta-translation"
   std::filesystem::path config;   // the run config (absolute)
+  std::string config_name;        // the run config as the experiment file names it (relative to the file)
   std::optional<toml::table> set; // keys replaced in that config (e.g. qd_meta.meta_population)
   // The config in force: the file with `set` merged in, table by table.
   toml::table effective_config() const;
@@ -44,20 +48,53 @@ struct ExperimentSpec {
 ExperimentSpec load_experiment(const std::filesystem::path& file, std::optional<int> replicates,
                                std::optional<std::int64_t> evaluations);
 
+// The replicates (seeds) first..last that one call runs.
+struct ReplicateRange {
+  int first = 1;
+  int last = 1;
+};
+
+// "A-B" or "A" (qdmeta experiment --seeds), 1 <= A <= B; InputError otherwise.
+ReplicateRange parse_replicate_range(std::string_view text);
+
 // For a batch system (scripts/slurm-experiment.sh): writes DIR/experiment.toml, every condition's
 // config in force (DIR/<slug>/condition.toml: its `set` merged in and the experiment's budget
 // written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
 // them: index (1-based), condition slug, seed, config, run directory. `qdmeta run --config
 // CONFIG --seed SEED --out DIR` then gives the bits run_experiment() would, which later skips the
-// finished run. Returns the number of runs.
-int write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out);
+// finished run. Only the runs of `replicates` when given. Returns the number of runs.
+int write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
+                          std::optional<ReplicateRange> replicates = std::nullopt);
+
+// Writes the summary of the finished run in `run_dir` into `summary_file` (the CLI: by
+// tools/run_summary.py; README.md, "Experiments and the report").
+using RunSummariser = std::function<void(const std::filesystem::path& run_dir, const std::filesystem::path& summary_file)>;
+
+struct ExperimentOptions {
+  std::optional<ReplicateRange> replicates;  // default: every replicate, 1..spec.replicates
+  // Where each finished run's summary goes, SUMMARIES/<condition>/seed-<r>.json, once its test
+  // phases are done, beside SUMMARIES/experiment.toml; a run whose summary is there is skipped
+  // without its directory. Summaries made for another budget, config or tests are refused.
+  std::optional<std::filesystem::path> summaries;
+  RunSummariser summarise;  // required with summaries
+};
+
+// Checks the summaries kept in `summaries` against `spec` (InputError when another budget,
+// config or tests made them, see ExperimentOptions) and writes SUMMARIES/experiment.toml, the
+// spec in force with its configs as the experiment file names them. run_experiment does this
+// when given summaries; `qdmeta experiment --plan --summaries` does only this.
+void keep_experiment_spec(const ExperimentSpec& spec, const std::filesystem::path& summaries,
+                          std::optional<ReplicateRange> replicates = std::nullopt);
+
+// The summary of replicate `replicate` of condition `c` under `summaries`.
+std::filesystem::path summary_file(const std::filesystem::path& summaries, const ExperimentCondition& c, int replicate);
 
 struct ExperimentProgress {
   int run = 0;             // 1-based index of the current run
   int runs = 0;            // conditions x replicates
   std::string condition;
   int replicate = 0;
-  std::string phase;       // "run", "resume", "skip", "test"
+  std::string phase;       // "run", "resume", "skip", "test ...", "summary", "kept"
   double run_fraction = 0; // of the current run's budget
   double wall_seconds = 0; // since the command started
 };
@@ -66,12 +103,16 @@ using ExperimentCallback = std::function<void(const ExperimentProgress&)>;
 struct ExperimentResult {
   bool interrupted = false;
   int runs_done = 0, runs_skipped = 0, runs_resumed = 0, tests_done = 0;
+  int summaries_written = 0;
+  int runs_kept = 0;  // skipped without their directory: their summary was already kept
 };
 
-// Runs everything, writes OUT/experiment.toml (the spec in force, read by the report) first.
-// A spec whose evaluations differ from the finished runs already in OUT is refused.
+// Runs the replicates of `options` (all by default), writes OUT/experiment.toml (the spec in
+// force, read by the report) first. A spec whose evaluations differ from the finished runs
+// already in OUT, or a range past spec.replicates, is refused.
 ExperimentResult run_experiment(const ExperimentSpec& spec, const std::filesystem::path& out, int threads,
-                                const ExperimentCallback& progress, const std::atomic<bool>* stop);
+                                const ExperimentCallback& progress, const std::atomic<bool>* stop,
+                                const ExperimentOptions& options = {});
 
 // The run directory of one condition and replicate.
 std::filesystem::path replicate_dir(const std::filesystem::path& out, const ExperimentCondition& c, int replicate);
