@@ -311,6 +311,7 @@ int command_experiment(const ExperimentArgs& a) {
     fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{}{} -> {}\n", kVersion, spec.name,
                spec.conditions.size(), spec.replicates, a.seeds ? fmt::format(" (now {})", *a.seeds) : std::string(),
                spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
+  std::fflush(stdout);  // before any error line in a log that holds both
   auto last = std::make_shared<double>(-1.0);
   auto last_line = std::make_shared<std::string>();
   auto last_decile = std::make_shared<int>(0);
