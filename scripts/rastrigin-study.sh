@@ -1,44 +1,135 @@
 #!/usr/bin/env bash
-# The Rastrigin evidence of docs/results/rastrigin.md, as one command: the paper's study (four
-# conditions and QD-Meta Translation's frozen control, 20 replicates), the meta-population-size
-# study (lambda in {1, 2, 5, 10, 20}, 10 replicates) and the paper's study at the authors'
-# effective mutation SD 0.0025 (10 replicates), each with its test phase and report; then the
-# reports (report.md, figures, data/*.csv) are copied under docs/results/rastrigin/.
+# The Rastrigin studies of docs/results/rastrigin.md, one replicate range at a time, resumable
+# from what is committed: a study of 100,000,000 evaluations takes hours, so it is run in slices
+# (about two hours each) across sessions and machines.
 #
-#   scripts/rastrigin-study.sh [EVALS] [OUT]      (defaults: 100000000, results/rastrigin-study)
+#   scripts/rastrigin-study.sh --study NAME [--replicates A-B] [--evals N] [--jobs J]
+#                              [--work DIR] [--results DIR] [--report-only] [--config FILE]
 #
-# Two experiments run at once with one thread each (whole runs in parallel scale better than
-# two threads inside one run); every run gives the same bits at any thread count. Rerun the same
-# command after a crash: finished runs are skipped and unfinished ones resumed.
+# Studies (experiment files in configs/rastrigin/):
+#   paper      experiment.toml            the paper's four conditions at the authors' effective
+#                                         mutation SD 0.0025, with QD-Meta Translation's
+#                                         frozen-CMA-ES control; 20 replicates (the headline study)
+#   lambda     experiment-lambda.toml     meta-population size lambda in {1, 2, 5, 10, 20} (Fig S1)
+#                                         at SD 0.0025; 20 replicates
+#   stated-sd  experiment-stated-sd.toml  the paper's four conditions at its stated SD 0.05;
+#                                         10 replicates
+#
+# Each run of the range (default: every replicate of the study) writes its summary (kilobytes:
+# the numbers and curves the report needs, tools/runs.py) the moment it finishes, with its test
+# phases, into RESULTS/summaries/<condition>/seed-<r>.json, beside RESULTS/summaries/
+# experiment.toml; commit them as they come. A run whose summary is there is skipped, here or on
+# a fresh clone; a run whose directory (WORK/seed-<r>/<condition>/seed-<r>) holds a checkpoint
+# is resumed, so an interrupted call loses at most the unfinished runs' progress since their last
+# checkpoint, and only on the machine that ran them. Then the study's report (RESULTS/report.md,
+# figures/, data/) is built from the summaries present, whatever replicates they are; the script
+# says how many. --report-only runs nothing: it refreshes RESULTS/summaries/experiment.toml from
+# the experiment file (e.g. after its claims changed) and rebuilds the report.
+#
+# Defaults: --evals 100000000; --jobs 2 (replicates in parallel, one thread each: whole runs in
+# parallel scale better than threads inside one run, and every run gives the same bits at any
+# thread count); --work results/rastrigin-study/<budget>/<study>; --results
+# docs/results/rastrigin/<budget>/<study>, <budget> being the evaluations as 100m, 10m, 20k, ...
+# Summaries made with another budget, config or tests are refused (qdmeta experiment --summaries).
+# --config runs another experiment file under the study's name (tests/scripts/rastrigin_study_test.sh).
+# Paths given are from the current folder; the defaults are in the repository.
 set -euo pipefail
+caller=$PWD
 cd "$(dirname "$0")/.."
-EVALS=${1:-100000000}
-OUT=${2:-results/rastrigin-study}
 BIN=${QDMETA:-build/qdmeta}
-DOCS=docs/results/rastrigin
-[[ -x $BIN ]] || { echo "rastrigin-study: $BIN not found: build first (make build)" >&2; exit 2; }
+usage() { sed -n '6,7p' "$0" | sed 's/^# *//' >&2; exit 2; }
+fail() { echo "rastrigin-study: $*" >&2; exit 2; }
+from_caller() { [[ -z $1 || $1 == /* ]] && echo "$1" || echo "$caller/$1"; }
 
-experiment() {  # name config replicates
-  "$BIN" experiment --config "configs/rastrigin/$2" --out "$OUT/$1" --replicates "$3" --evals "$EVALS" --threads 1 \
-    --no-report --quiet
-  echo "rastrigin-study: $1 finished ($(date -u +%H:%M:%S))"
-}
-
-start=$(date +%s)
-experiment paper experiment.toml 20 &
-paper=$!
-{ experiment lambda experiment-lambda.toml 10 && experiment sigma experiment-sigma.toml 10; } &
-others=$!
-status=0
-wait $paper || status=$?
-wait $others || status=$?
-[[ $status == 0 ]] || { echo "rastrigin-study: an experiment failed (exit $status)" >&2; exit "$status"; }
-echo "rastrigin-study: all runs finished in $(( $(date +%s) - start )) s"
-
-for name in paper lambda sigma; do
-  "$BIN" report "$OUT/$name"
-  rm -rf "${DOCS:?}/$name"
-  mkdir -p "$DOCS/$name"
-  cp -r "$OUT/$name/report.md" "$OUT/$name/figures" "$OUT/$name/data" "$DOCS/$name/"
+study='' replicates='' evals=100000000 jobs=2 work='' results='' report_only=0 config=
+while (( $# )); do
+  case $1 in
+    --study) study=${2:-}; shift 2 || usage ;;
+    --replicates) replicates=${2:-}; shift 2 || usage ;;
+    --evals) evals=${2:-}; shift 2 || usage ;;
+    --jobs) jobs=${2:-}; shift 2 || usage ;;
+    --work) work=$(from_caller "${2:-}"); shift 2 || usage ;;
+    --results) results=$(from_caller "${2:-}"); shift 2 || usage ;;
+    --report-only) report_only=1; shift ;;
+    --config) config=$(from_caller "${2:-}"); shift 2 || usage ;;
+    *) usage ;;
+  esac
 done
-echo "rastrigin-study: reports copied to $DOCS/{paper,lambda,sigma}"
+case $study in
+  paper) config=${config:-configs/rastrigin/experiment.toml} ;;
+  lambda) config=${config:-configs/rastrigin/experiment-lambda.toml} ;;
+  stated-sd) config=${config:-configs/rastrigin/experiment-stated-sd.toml} ;;
+  *) echo "rastrigin-study: --study must be paper, lambda or stated-sd" >&2; usage ;;
+esac
+[[ -f $config ]] || fail "$config: no such experiment file"
+[[ $evals =~ ^[1-9][0-9]*$ ]] || fail "--evals must be a positive integer"
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || fail "--jobs must be a positive integer"
+[[ -x $BIN ]] || fail "$BIN not found: build first (make build)"
+
+budget_label() {  # 100000000 -> 100m, 20000 -> 20k
+  if (( $1 % 1000000 == 0 )); then echo "$(( $1 / 1000000 ))m"
+  elif (( $1 % 1000 == 0 )); then echo "$(( $1 / 1000 ))k"
+  else echo "$1"; fi
+}
+label=$(budget_label "$evals")
+work=${work:-results/rastrigin-study/$label/$study}
+results=${results:-docs/results/rastrigin/$label/$study}
+summaries=$results/summaries
+total=$(sed -n 's/^replicates *= *\([0-9][0-9]*\).*/\1/p' "$config" | head -1)
+[[ -n $total ]] || fail "$config has no replicates line"
+replicates=${replicates:-1-$total}
+[[ $replicates =~ ^([1-9][0-9]*)(-([1-9][0-9]*))?$ ]] || fail "--replicates must be A-B or A (1 <= A <= B <= $total)"
+first=${BASH_REMATCH[1]} last=${BASH_REMATCH[3]:-${BASH_REMATCH[1]}}
+(( first <= last && last <= total )) || fail "--replicates $replicates is not within the study's 1-$total"
+
+if (( ! report_only )); then
+  mkdir -p "$work"
+  echo "rastrigin-study: $study, replicates $first-$last of $total, $evals evaluations, $jobs at a time" \
+       "(logs in $work/seed-<r>.log, summaries into $summaries)"
+  declare -A seed_of=()  # the experiment running each replicate, by process id
+  launch() {  # one replicate: every condition, its tests, each run's summary as it finishes
+    "$BIN" experiment --config "$config" --out "$work/seed-$1" --seeds "$1" --evals "$evals" --threads 1 \
+      --summaries "$summaries" --no-report > "$work/seed-$1.log" 2>&1 &
+    seed_of[$!]=$1
+  }
+  reap() {  # waits for one replicate; its exit status
+    local pid status=0
+    wait -n -p pid || status=$?
+    local r=${seed_of[$pid]}
+    unset "seed_of[$pid]"
+    if (( status == 0 )); then
+      echo "rastrigin-study: seed $r done ($(tail -1 "$work/seed-$r.log"); $(date -u +%H:%M:%S))"
+    else
+      echo "rastrigin-study: seed $r stopped (exit $status):" \
+           "$(grep -m 1 '^qdmeta: error: ' "$work/seed-$r.log" || tail -1 "$work/seed-$r.log")" >&2
+    fi
+    return "$status"
+  }
+  # Ctrl-C or a kill: the runs write a checkpoint and stop (qdmeta handles SIGINT and SIGTERM).
+  trap 'kill -TERM "${!seed_of[@]}" 2>/dev/null; wait; exit 130' INT TERM
+  start=$(date +%s) status=0
+  for (( r = first; r <= last; r++ )); do
+    (( ${#seed_of[@]} < jobs )) || reap || status=$?
+    launch "$r"
+  done
+  while (( ${#seed_of[@]} > 0 )); do
+    reap || status=$?
+  done
+  trap - INT TERM
+  (( status == 0 )) || fail "a replicate failed (exit $status): its log is in $work; rerun the same command to continue"
+  echo "rastrigin-study: replicates $first-$last finished in $(( $(date +%s) - start )) s"
+else
+  # The experiment file in force (its claims may have changed): --plan runs nothing.
+  plan=$(mktemp -d)
+  trap 'rm -rf "$plan"' EXIT
+  "$BIN" experiment --config "$config" --out "$plan" --evals "$evals" --summaries "$summaries" --plan --quiet
+fi
+
+[[ -f $summaries/experiment.toml ]] || fail "no summaries in $summaries yet: run a replicate range first"
+present=()
+for d in "$summaries"/*/; do
+  present+=("$(basename "$d") $(find "$d" -maxdepth 1 -name 'seed-*.json' | wc -l)")
+done
+"$BIN" report "$summaries" --out "$results" --quiet
+echo "rastrigin-study: $results/report.md from the summaries present of $total replicates per condition:" \
+     "$(IFS=,; echo "${present[*]}" | sed 's/,/, /g')"

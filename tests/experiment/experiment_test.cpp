@@ -53,24 +53,42 @@ set = { budget = { evaluations = 1234 } }
 
 TEST(Experiment, ShippedExperimentFilesLoad) {
   const fs::path dir = fs::path(QDMETA_SOURCE_DIR) / "configs/rastrigin";
+  const auto sigma = [](const ExperimentCondition& c) { return c.effective_config()["mutation"]["sigma"].value<double>(); };
+  // The headline study: the paper's four conditions and QD-Meta Translation's frozen control at
+  // the authors' effective mutation SD, with the paper's claims.
   const ExperimentSpec paper = load_experiment(dir / "experiment.toml", std::nullopt, std::nullopt);
   EXPECT_EQ(paper.replicates, 20);
-  // The paper's four conditions and QD-Meta Translation's frozen control, with the paper's claims.
   ASSERT_EQ(paper.conditions.size(), 5u);
   EXPECT_EQ(paper.conditions[4].slug, "qd-meta-translation-frozen-cma-es");
   EXPECT_EQ(paper.claims.size(), 11u);  // 10 of the paper's and the frozen control's (source = "ours")
+  for (const auto& c : paper.conditions) EXPECT_EQ(sigma(c), 0.0025) << c.name;
+  // The meta-population-size study (Fig S1) at the same SD.
   const ExperimentSpec lambda = load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt);
-  EXPECT_EQ(lambda.conditions.size(), 5u);
+  EXPECT_EQ(lambda.replicates, 20);
+  ASSERT_EQ(lambda.conditions.size(), 5u);
   EXPECT_EQ(lambda.claims.size(), 5u);
-  // The authors' effective mutation SD, for every condition of the paper's study.
-  const ExperimentSpec sigma = load_experiment(dir / "experiment-sigma.toml", std::nullopt, std::nullopt);
-  ASSERT_EQ(sigma.conditions.size(), 4u);
-  EXPECT_EQ(sigma.claims.size(), 10u);  // all but the frozen control's
-  for (std::size_t i = 0; i < sigma.conditions.size(); ++i) {
-    EXPECT_EQ(sigma.conditions[i].slug, paper.conditions[i].slug);
-    EXPECT_EQ(sigma.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.0025);
-    EXPECT_EQ(paper.conditions[i].effective_config()["mutation"]["sigma"].value<double>(), 0.05);
+  for (const auto& c : lambda.conditions) EXPECT_EQ(sigma(c), 0.0025) << c.name;
+  EXPECT_EQ(lambda.conditions[3].effective_config()["qd_meta"]["meta_population"].value<std::int64_t>(), 10);
+  // The paper's four conditions at its stated SD.
+  const ExperimentSpec stated = load_experiment(dir / "experiment-stated-sd.toml", std::nullopt, std::nullopt);
+  EXPECT_EQ(stated.replicates, 10);
+  ASSERT_EQ(stated.conditions.size(), 4u);
+  EXPECT_EQ(stated.claims.size(), 10u);  // all but the frozen control's
+  for (std::size_t i = 0; i < stated.conditions.size(); ++i) {
+    EXPECT_EQ(stated.conditions[i].slug, paper.conditions[i].slug);
+    EXPECT_EQ(sigma(stated.conditions[i]), 0.05);
   }
+}
+
+TEST(Experiment, ReplicateRangesAreAOrAToB) {
+  EXPECT_EQ(parse_replicate_range("6-10").first, 6);
+  EXPECT_EQ(parse_replicate_range("6-10").last, 10);
+  EXPECT_EQ(parse_replicate_range("3").first, 3);
+  EXPECT_EQ(parse_replicate_range("3").last, 3);
+  EXPECT_EQ(parse_replicate_range("4-4").last, 4);
+  for (const char* bad : {"", "0", "0-3", "5-2", "-3", "3-", "a-b", "1-2-3", "1 - 2", "+1", "2-x", "99999999999"})
+    EXPECT_INPUT_ERROR(parse_replicate_range(bad), std::string("replicates '") + bad +
+                                                       "' must be a range A-B or one replicate A, with 1 <= A <= B");
 }
 
 TEST(Experiment, BadFilesAreOneLineErrors) {

@@ -182,7 +182,7 @@ def test_a_report_from_summaries_equals_the_report_from_the_run_directories(expe
     summarise(root, tmp_path / "kept")
     from_summaries = build_report(tmp_path / "kept", tmp_path / "report")
     assert sorted(from_summaries) == sorted(from_runs)
-    assert len([n for n in from_runs if n.startswith("figures/")]) == 7  # S5 and S6 included
+    assert len([n for n in from_runs if n.startswith("figures/")]) == 7  # S4 and S5 included
     for name, data in from_runs.items():
         assert from_summaries[name] == data, name
     md = from_runs["report.md"].decode()
