@@ -29,6 +29,7 @@ import sys
 import matplotlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import archive_plots  # noqa: E402  (tools/archive_plots.py: the archive pictures qdmeta.visualize draws too)
 import claims  # noqa: E402  (tools/claims.py)
 import experiment_files  # noqa: E402  (tools/experiment_files.py: every input, read and checked)
 import runs as run_data  # noqa: E402  (tools/runs.py: a run from its directory or its summary)
@@ -447,14 +448,16 @@ def figure_archives(conditions, out):
         if picture is None:
             ax.set_title(f'{c["name"]}: fewer than 2 measures')
             continue
-        image = ax.imshow(run_data.picture_values(picture), origin="lower", aspect="auto", cmap="viridis",
-                          interpolation="nearest", extent=(*picture["measures_0"], *picture["measures_1"]),
-                          vmin=picture["fitness"][0], vmax=picture["fitness"][1])
-        fig.colorbar(image, ax=ax, label="fitness")
+        # The picture is a grid of bins (rows: measure 1), drawn as qdmeta.visualize draws a grid.
+        values = run_data.picture_values(picture)
+        rows, columns = np.nonzero(np.isfinite(values))
+        archive_plots.grid_heatmap(ax, columns * values.shape[0] + rows, values[rows, columns], [values.shape[1], values.shape[0]],
+                                   lower=[picture["measures_0"][0], picture["measures_1"][0]],
+                                   upper=[picture["measures_0"][1], picture["measures_1"][1]],
+                                   vmin=picture["fitness"][0], vmax=picture["fitness"][1], colorbar=False)
+        fig.colorbar(ax.images[-1], ax=ax, label="fitness")
         ax.set_title(f'{c["name"]} (seed {run.seed}, {picture["elites"]} elites)',
                      fontsize=9)
-        ax.set_xlabel("measure 0")
-        ax.set_ylabel("measure 1")
     return save_figure(fig, out)
 
 
