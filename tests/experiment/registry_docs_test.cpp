@@ -13,7 +13,7 @@
 
 #include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {

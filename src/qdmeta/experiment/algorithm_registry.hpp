@@ -1,7 +1,8 @@
 #pragma once
 // Algorithms, found by the name that the config's `algorithm` key selects: the four built-in
-// ones (experiment/builtin_algorithms.hpp) and any a program registers. A builder reads its own
-// config tables, adds what it will allocate to the memory estimate, and builds the algorithm.
+// ones (experiment/builtin_algorithms.hpp) and any a program registers, all through
+// register_algorithm() into one Registry (plugin/registry.hpp). A builder reads its own config
+// tables, adds what it will allocate to the memory estimate, and builds the algorithm.
 #include <functional>
 #include <memory>
 #include <string>
@@ -34,8 +35,8 @@ struct AlgorithmBuild {
 // Returns the algorithm, or nullptr when !build.make.
 using AlgorithmBuilder = std::function<std::unique_ptr<Algorithm>(AlgorithmBuild& build)>;
 
-// Registers (or replaces) the builder for `name`. Thread-safe. The first registered name
-// ("map-elites") is the config's default.
+// Registers (or replaces) the builder for `name`. Thread-safe. The config's default is
+// "map-elites" where registered, else the first name registered.
 void register_algorithm(const std::string& name, AlgorithmBuilder builder);
 // The builder registered under `name`, or nullptr: a snapshot, which later registrations (of this
 // name too) leave unchanged.

@@ -14,10 +14,10 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
-#include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {
@@ -318,12 +318,11 @@ std::unique_ptr<Algorithm> build_aurora(AlgorithmBuild& b) {
 
 }  // namespace
 
-void register_builtin_algorithms() {
-  // This order is the config's list of choices; the first is the default.
-  register_algorithm("map-elites", build_map_elites);
-  register_algorithm("qd-meta", build_qd_meta);
-  register_algorithm("cvt-map-elites", build_cvt_map_elites);
-  register_algorithm("aurora", build_aurora);
+std::vector<std::pair<std::string, AlgorithmBuilder>> builtin_algorithms() {
+  return {{"map-elites", build_map_elites},
+          {"qd-meta", build_qd_meta},
+          {"cvt-map-elites", build_cvt_map_elites},
+          {"aurora", build_aurora}};
 }
 
 }  // namespace qdmeta

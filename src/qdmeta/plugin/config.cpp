@@ -1,4 +1,4 @@
-#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/plugin/config.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/toml_text.hpp"
 #include "qdmeta/io/regular_file.hpp"
+#include "qdmeta/plugin/toml_text.hpp"
 
 namespace qdmeta {
 
@@ -176,6 +176,12 @@ ConfigReader ConfigReader::table(std::string_view key) {
   if (node && !node->is_table()) type_error(key, "a table");
   auto [it, inserted] = resolved_.insert_or_assign(key, toml::table{});
   return ConfigReader(node ? *node->as_table() : kEmpty, source_, *it->second.as_table(), qualified(key));
+}
+
+void ConfigReader::not_a_valid_choice(std::string_view key, std::string_view value, std::string_view valid,
+                                      std::string_view why) const {
+  throw InputError(
+      fmt::format("{}: {} = \"{}\" is not a valid choice: use one of {}{}", source_, qualified(key), value, valid, why));
 }
 
 void ConfigReader::finish() const {
