@@ -37,7 +37,7 @@ TaskPlugin seven_gene_rastrigin() {
   return plugin;
 }
 
-std::unique_ptr<Algorithm> build_nothing(AlgorithmBuild&) { return nullptr; }
+AlgorithmMaker build_nothing(AlgorithmBuild&) { return {}; }
 
 // What a fresh process does when a user registers before anything else: returns the problems.
 std::string register_first_then_build() {

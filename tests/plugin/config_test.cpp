@@ -101,12 +101,35 @@ TEST(ConfigReader, UnknownKeyInASubTable) {
   task.integer("dimensions", 20, 1, 100);
   EXPECT_INPUT_ERROR(task.finish(),
                      "cfg.toml: unknown key 'task.dimensionz' in [task] (valid keys: dimensions, name)");
-  EXPECT_NO_THROW(root.finish());  // the root read "task"
+  // The root checks the tables opened through it: a table nobody finished is still checked.
+  EXPECT_INPUT_ERROR(root.finish(),
+                     "cfg.toml: unknown key 'task.dimensionz' in [task] (valid keys: dimensions, name)");
 
   const toml::table empty_reads = toml::parse("oops = 1\n");
   toml::table resolved2;
   ConfigReader r(empty_reads, "cfg.toml", resolved2);
   EXPECT_INPUT_ERROR(r.finish(), "cfg.toml: unknown key 'oops' at the top level (valid keys: none)");
+}
+
+// finish() on the root reaches every table opened through it, however deep, in the order they
+// were opened, and counts a key read through any copy of a table's reader.
+TEST(ConfigReader, FinishOnTheRootChecksEveryOpenedTable) {
+  const toml::table t = toml::parse("[a]\nx = 1\n[a.b]\ny = 2\nz = 3\n[c]\nw = 4\n");
+  toml::table resolved;
+  ConfigReader root(t, "cfg.toml", resolved);
+  ConfigReader a = root.table("a");
+  a.integer("x", 0, 0, 9);
+  ConfigReader b = a.table("b");
+  ConfigReader b_copy = b;
+  b_copy.integer("y", 0, 0, 9);
+  ConfigReader c = root.table("c");
+  EXPECT_NO_THROW(a.integer("x", 0, 0, 9));
+  EXPECT_INPUT_ERROR(root.finish(), "cfg.toml: unknown key 'a.b.z' in [a.b] (valid keys: y)");
+  b.integer("z", 0, 0, 9);
+  EXPECT_INPUT_ERROR(root.finish(), "cfg.toml: unknown key 'c.w' in [c] (valid keys: none)");
+  c.integer("w", 0, 0, 9);
+  EXPECT_NO_THROW(root.finish());
+  EXPECT_NO_THROW(b.finish());
 }
 
 TEST(ConfigReader, WrongTypeMessages) {

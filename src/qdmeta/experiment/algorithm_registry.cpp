@@ -1,7 +1,5 @@
 #include "qdmeta/experiment/algorithm_registry.hpp"
 
-#include "qdmeta/experiment/memory_estimate.hpp"
-#include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/registry.hpp"
 
 namespace qdmeta {
@@ -13,10 +11,6 @@ Registry<AlgorithmBuilder>& algorithms() {
 }
 
 }  // namespace
-
-void AlgorithmBuild::check_memory() const {
-  if (make) require_memory(built.memory, memory_limit(), root.source());
-}
 
 void register_algorithm(const std::string& name, AlgorithmBuilder builder) { algorithms().add(name, std::move(builder)); }
 

@@ -75,14 +75,16 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   const MutationParams mutation = read_mutation(mutation_table);
   built.evaluation_tasks.push_back(task);
 
-  AlgorithmBuild b{root, std::move(task), mutation, s, built, scope == BuildScope::kRun};
-  built.algorithm = (*builder)(b);
-  budget.finish();
-  log.finish();
-  checkpoint.finish();
-  task_table.finish();
-  mutation_table.finish();
-  root.finish();
+  // The builder protocol (algorithm_registry.hpp), the same around every builder: read and
+  // estimate, every key checked, the memory estimate checked, and only then anything allocated.
+  AlgorithmBuild b{root, std::move(task), mutation, s, built};
+  AlgorithmMaker make = (*builder)(b);
+  root.finish();  // every table opened, the builder's included, whether or not it finished them
+  if (scope == BuildScope::kRun) {
+    require_memory(built.memory, memory_limit(), source);
+    if (!make) throw Error(fmt::format("{}: the builder of algorithm '{}' returned no maker", source, s.algorithm));
+    built.algorithm = make();
+  }
   s.fingerprint = config_fingerprint(built.resolved);
   return built;
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <string>
 #include <string_view>
@@ -73,9 +74,13 @@ class ConfigReader {
     }
   }
   bool has(std::string_view key) const { return table_.contains(key); }
-  // A sub-table ([task], [archive], ...); absent means all defaults.
+  // A sub-table ([task], [archive], ...); absent means all defaults. This reader remembers it,
+  // so that finish() checks its keys too.
   ConfigReader table(std::string_view key);
-  // Throws InputError on any key that was never read. Call after reading everything.
+  // Throws InputError on any key that was never read: in every table opened through this one
+  // (in the order they were opened, each checking its own first), then in this one. build_run()
+  // calls it on the whole config after the algorithm's builder, so no builder can let a
+  // misspelt key through; a reader may call it earlier on its own table.
   void finish() const;
   const std::string& source() const { return source_; }
   // InputError "<source>: <key> = \"<value>\" is not a valid choice: use one of <valid><why>", for
@@ -90,11 +95,13 @@ class ConfigReader {
   [[noreturn]] void type_error(std::string_view key, std::string_view expected) const;
   const toml::node* lookup(std::string_view key);
 
+  struct Scope;  // the keys read and the tables opened, shared by copies of a reader
+
   const toml::table& table_;
   std::string source_;
   toml::table& resolved_;
   std::string prefix_;
-  std::set<std::string, std::less<>> known_;
+  std::shared_ptr<Scope> scope_;
 };
 
 // Runs `f` (e.g. a task's constructor, which checks its own parameters) and prefixes the
