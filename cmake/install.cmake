@@ -16,7 +16,8 @@ endif()
 if(QDMETA_WITH_MPI)
   list(APPEND qdmeta_exported qdmeta_mpi)
 else()
-  list(APPEND qdmeta_header_excludes PATTERN mpi EXCLUDE)
+  # eval/mpi/ and the command line's MPI Distribution (cli/mpi_distribution.hpp).
+  list(APPEND qdmeta_header_excludes PATTERN mpi EXCLUDE PATTERN mpi_distribution.hpp EXCLUDE)
 endif()
 
 install(TARGETS ${qdmeta_exported} EXPORT qdmetaTargets

@@ -19,8 +19,12 @@ step() { echo "test-installed-package: $*"; }
 step "installing into $prefix"
 rm -rf "$prefix" "$example"
 cmake --install "$build" --prefix "$prefix" > /dev/null
+# plugin/: the config reader and the registries; experiment/config.hpp and task_registry.hpp: their
+# 0.1 paths, still included by programs written then.
 for f in bin/qdmeta share/qdmeta/tools/report.py include/qdmeta/cli/run_cli.hpp lib/cmake/qdmeta/qdmetaConfig.cmake \
-         lib/cmake/qdmeta/qdmetaConfigVersion.cmake; do
+         lib/cmake/qdmeta/qdmetaConfigVersion.cmake include/qdmeta/plugin/config.hpp include/qdmeta/plugin/registry.hpp \
+         include/qdmeta/plugin/task_registry.hpp include/qdmeta/experiment/config.hpp \
+         include/qdmeta/experiment/task_registry.hpp; do
   [[ -e $prefix/$f ]] || fail "the install lacks $f"
 done
 "$prefix/bin/qdmeta" --version > /dev/null || fail "the installed qdmeta does not start"

@@ -1,7 +1,7 @@
 #include "arm_plugin.hpp"
 
-#include <qdmeta/experiment/config.hpp>
-#include <qdmeta/experiment/task_registry.hpp>
+#include <qdmeta/plugin/config.hpp>
+#include <qdmeta/plugin/task_registry.hpp>
 
 #include "arm_task.hpp"
 #include "locked_joint.hpp"

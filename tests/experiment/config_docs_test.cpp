@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/plugin/config.hpp"
 #ifdef QDMETA_TEST_RHEX
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #endif

@@ -13,7 +13,7 @@
 
 #include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {
@@ -141,7 +141,7 @@ TEST_F(RegistryDocs, ALookupSurvivesReRegistration) {
   ASSERT_NE(builder, nullptr);
   register_algorithm("map-elites-snapshot", *builder);
   const auto held_builder = find_algorithm("map-elites-snapshot");
-  register_algorithm("map-elites-snapshot", [](AlgorithmBuild&) -> std::unique_ptr<Algorithm> { return nullptr; });
+  register_algorithm("map-elites-snapshot", [](AlgorithmBuild&) -> AlgorithmMaker { return {}; });
   EXPECT_NE(held_builder.get(), find_algorithm("map-elites-snapshot").get());
   EXPECT_TRUE(static_cast<bool>(*held_builder));
 }

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "qdmeta/experiment/config.hpp"
 #include "qdmeta/io/csv.hpp"
+#include "qdmeta/plugin/config.hpp"
 
 namespace qdmeta {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/toml_text.hpp"
+#include "qdmeta/plugin/toml_text.hpp"
 
 namespace qdmeta::fuzz {
 namespace {

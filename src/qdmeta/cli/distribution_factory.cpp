@@ -1,7 +1,7 @@
 #include "qdmeta/cli/distribution_factory.hpp"
 
 #ifdef QDMETA_WITH_MPI
-#include "qdmeta/eval/mpi/mpi_distribution.hpp"
+#include "qdmeta/cli/mpi_distribution.hpp"
 #endif
 
 namespace qdmeta {

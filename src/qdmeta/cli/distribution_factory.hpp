@@ -2,7 +2,7 @@
 // The one place the command line chooses between MPI and a single process.
 #include <memory>
 
-#include "qdmeta/experiment/distribution.hpp"
+#include "qdmeta/cli/distribution.hpp"
 
 namespace qdmeta {
 

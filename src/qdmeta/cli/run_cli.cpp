@@ -17,11 +17,14 @@
 #include <sstream>
 #include <string_view>
 
+#include "qdmeta/cli/distribution.hpp"
+#include "qdmeta/cli/distribution_factory.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
+#include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/experiment/core_plugins.hpp"
 #include "qdmeta/experiment/experiment.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
@@ -29,10 +32,8 @@
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/io/subprocess.hpp"
-#include "qdmeta/cli/distribution_factory.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/distribution.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace fs = std::filesystem;
@@ -356,6 +357,7 @@ int command_experiment(const ExperimentArgs& a) {
 
 int run_cli_with_tools(int argc, char** argv, const fs::path& tools) {
   g_tools_dir = tools;
+  ensure_core_plugins();  // as build_run() would, so that --help lists them in any program
   // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command line.
   const std::unique_ptr<Distribution> distribution = make_distribution(argc, argv);
   if (const std::optional<int> status = distribution->serve_if_worker()) return *status;

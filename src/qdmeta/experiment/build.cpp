@@ -8,19 +8,15 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
-#include "qdmeta/experiment/config.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/registry.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
-
-std::string quoted(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", n);
-  return out;
-}
 
 MutationParams read_mutation(ConfigReader& m) {
   MutationParams p;
@@ -40,6 +36,7 @@ MutationParams read_mutation(ConfigReader& m) {
 
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
                    BuildScope scope) {
+  ensure_core_plugins();
   toml::table effective = config;
   // A run's own config.toml carries a [provenance] table; it describes, it does not configure,
   // so a resolved config can be run again as it is.
@@ -54,12 +51,12 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   ConfigReader root(effective, source, built.resolved);
   RunSettings& s = built.settings;
   const std::vector<std::string> algorithms = registered_algorithm_names();
-  const std::string valid_algorithms = quoted(algorithms);
-  s.algorithm = root.string("algorithm", algorithms.front(), valid_algorithms);
+  if (algorithms.empty()) throw InputError(fmt::format("{}: no algorithm is registered", source));
+  const std::string valid_algorithms = quoted_names(algorithms);
+  const bool has_default = std::find(algorithms.begin(), algorithms.end(), "map-elites") != algorithms.end();
+  s.algorithm = root.string("algorithm", has_default ? "map-elites" : algorithms.front(), valid_algorithms);
   const auto builder = find_algorithm(s.algorithm);
-  if (builder == nullptr)
-    throw InputError(fmt::format("{}: algorithm = \"{}\" is not a valid choice: use one of {}", source, s.algorithm,
-                                 valid_algorithms));
+  if (builder == nullptr) root.not_a_valid_choice("algorithm", s.algorithm, valid_algorithms);
   s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0, kMaxInt));
 
   ConfigReader budget = root.table("budget");
@@ -78,14 +75,16 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   const MutationParams mutation = read_mutation(mutation_table);
   built.evaluation_tasks.push_back(task);
 
-  AlgorithmBuild b{root, std::move(task), mutation, s, built, scope == BuildScope::kRun};
-  built.algorithm = (*builder)(b);
-  budget.finish();
-  log.finish();
-  checkpoint.finish();
-  task_table.finish();
-  mutation_table.finish();
-  root.finish();
+  // The builder protocol (algorithm_registry.hpp), the same around every builder: read and
+  // estimate, every key checked, the memory estimate checked, and only then anything allocated.
+  AlgorithmBuild b{root, std::move(task), mutation, s, built};
+  AlgorithmMaker make = (*builder)(b);
+  root.finish();  // every table opened, the builder's included, whether or not it finished them
+  if (scope == BuildScope::kRun) {
+    require_memory(built.memory, memory_limit(), source);
+    if (!make) throw Error(fmt::format("{}: the builder of algorithm '{}' returned no maker", source, s.algorithm));
+    built.algorithm = make();
+  }
   s.fingerprint = config_fingerprint(built.resolved);
   return built;
 }
@@ -102,6 +101,7 @@ std::string listed(const std::vector<std::string>& names) {
 
 std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& config, const std::string& source,
                                                         std::string_view test, std::uint64_t seed) {
+  ensure_core_plugins();
   toml::table resolved;
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");
@@ -118,6 +118,7 @@ std::unique_ptr<AdaptationTests> build_adaptation_tests(const toml::table& confi
 
 std::vector<std::unique_ptr<AdaptationTests>> build_generalisation_groups(const toml::table& config,
                                                                          const std::string& source, std::uint64_t seed) {
+  ensure_core_plugins();
   toml::table resolved;
   ConfigReader root(config, source, resolved);
   ConfigReader task_table = root.table("task");

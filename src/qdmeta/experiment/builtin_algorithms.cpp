@@ -14,10 +14,10 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
-#include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {
@@ -187,24 +187,22 @@ AuroraParams read_aurora(ConfigReader& a) {
   return p;
 }
 
-std::unique_ptr<Algorithm> build_map_elites(AlgorithmBuild& b) {
+AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
   ConfigReader me = b.root.table("map_elites");
   const MapElitesParams p = read_map_elites(me);
   ConfigReader archive_table = b.root.table("archive");
   std::vector<int> measures;
   GridArchiveParams grid = read_grid(archive_table, &measures, b.task.base_feature_size());
   auto feature_map = std::make_unique<SelectFeatureMap>(b.task.base_feature_size(), measures);
-  me.finish();
-  archive_table.finish();
   b.built.memory.add("the archive", "archive.bins (cells) x genes", grid_bytes(grid, b.task, false));
   add_map_elites_memory(b.built.memory, p, b.task);
-  b.check_memory();
-  if (!b.make) return nullptr;
-  return std::make_unique<MapElites>(p, std::move(b.task), std::move(feature_map), std::move(grid), b.mutation,
-                                     b.settings.seed);
+  return [p, task = std::move(b.task), feature_map = std::move(feature_map), grid = std::move(grid),
+          mutation = b.mutation, seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
+    return std::make_unique<MapElites>(p, std::move(task), std::move(feature_map), std::move(grid), mutation, seed);
+  };
 }
 
-std::unique_ptr<Algorithm> build_cvt_map_elites(AlgorithmBuild& b) {
+AlgorithmMaker build_cvt_map_elites(AlgorithmBuild& b) {
   ConfigReader me = b.root.table("map_elites");
   ConfigReader cvt = b.root.table("cvt");
   CvtMapElitesParams p = read_cvt(cvt);
@@ -212,8 +210,6 @@ std::unique_ptr<Algorithm> build_cvt_map_elites(AlgorithmBuild& b) {
   // The descriptors' centroids depend on every task setting (episode length, features ...).
   if (const auto* task_resolved = b.built.resolved["task"].as_table())
     p.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
-  me.finish();
-  cvt.finish();
   {
     const auto cells = static_cast<double>(p.kmeans.centroids);
     const auto nb = static_cast<double>(b.task.base_feature_size());
@@ -228,12 +224,13 @@ std::unique_ptr<Algorithm> build_cvt_map_elites(AlgorithmBuild& b) {
                            static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
     add_map_elites_memory(b.built.memory, p.map_elites, b.task);
   }
-  b.check_memory();
-  if (!b.make) return nullptr;
-  return std::make_unique<CvtMapElites>(std::move(p), std::move(b.task), b.mutation, b.settings.seed);
+  return [p = std::move(p), task = std::move(b.task), mutation = b.mutation,
+          seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
+    return std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, seed);
+  };
 }
 
-std::unique_ptr<Algorithm> build_qd_meta(AlgorithmBuild& b) {
+AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   ConfigReader q = b.root.table("qd_meta");
   QdMetaParams p;
   p.meta_population = q.integer("meta_population", p.meta_population, 1, 10'000);
@@ -254,7 +251,6 @@ std::unique_ptr<Algorithm> build_qd_meta(AlgorithmBuild& b) {
   for (Task& t : objective->tasks()) b.built.evaluation_tasks.push_back(std::move(t));
   ConfigReader archive_table = b.root.table("archive");
   GridArchiveParams grid = read_grid(archive_table, nullptr, b.task.base_feature_size());
-  for (const ConfigReader* r : {&q, &cma, &control, &meta_fitness, &archive_table}) r->finish();
   {
     const auto lambda = static_cast<double>(p.meta_population);
     const auto n = static_cast<double>(b.task.genotype_size());
@@ -277,16 +273,16 @@ std::unique_ptr<Algorithm> build_qd_meta(AlgorithmBuild& b) {
     b.built.memory.add("the initial population", "qd_meta.initial_population x genes",
                        offspring_bytes(static_cast<double>(p.initial_population), b.task));
   }
-  b.check_memory();
-  if (!b.make) return nullptr;
-  return std::make_unique<QdMeta>(p, std::move(b.task), std::move(objective), std::move(grid), b.mutation,
-                                  std::move(controller), b.settings.seed);
+  return [p, task = std::move(b.task), objective = std::move(objective), grid = std::move(grid), mutation = b.mutation,
+          controller = std::move(controller), seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
+    return std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
+                                    std::move(controller), seed);
+  };
 }
 
-std::unique_ptr<Algorithm> build_aurora(AlgorithmBuild& b) {
+AlgorithmMaker build_aurora(AlgorithmBuild& b) {
   ConfigReader a = b.root.table("aurora");
   const AuroraParams p = read_aurora(a);
-  a.finish();
   {
     std::vector<double> widths{static_cast<double>(b.task.base_feature_size())};
     for (Index h : p.hidden) widths.push_back(static_cast<double>(h));
@@ -307,23 +303,23 @@ std::unique_ptr<Algorithm> build_aurora(AlgorithmBuild& b) {
     b.built.memory.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
                        offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), b.task));
   }
-  b.check_memory();
-  if (!b.make) return nullptr;
-  try {
-    return std::make_unique<Aurora>(p, std::move(b.task), b.mutation, b.settings.seed);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", a.source(), e.what()));
-  }
+  return [p, task = std::move(b.task), mutation = b.mutation, seed = b.settings.seed,
+          source = a.source()]() mutable -> std::unique_ptr<Algorithm> {
+    try {
+      return std::make_unique<Aurora>(p, std::move(task), mutation, seed);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+  };
 }
 
 }  // namespace
 
-void register_builtin_algorithms() {
-  // This order is the config's list of choices; the first is the default.
-  register_algorithm("map-elites", build_map_elites);
-  register_algorithm("qd-meta", build_qd_meta);
-  register_algorithm("cvt-map-elites", build_cvt_map_elites);
-  register_algorithm("aurora", build_aurora);
+std::vector<std::pair<std::string, AlgorithmBuilder>> builtin_algorithms() {
+  return {{"map-elites", build_map_elites},
+          {"qd-meta", build_qd_meta},
+          {"cvt-map-elites", build_cvt_map_elites},
+          {"aurora", build_aurora}};
 }
 
 }  // namespace qdmeta

@@ -1,7 +1,14 @@
 #pragma once
 // The built-in algorithms' builders (experiment/algorithm_registry.hpp): "map-elites",
 // "qd-meta", "cvt-map-elites" and "aurora", each reading its own config tables
-// (docs/config.md). The library registers them before any registry lookup.
+// (docs/config.md). ensure_core_plugins() registers them (experiment/core_plugins.hpp).
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "qdmeta/experiment/algorithm_registry.hpp"
+
 namespace qdmeta {
-void register_builtin_algorithms();
+// In the order of the config's list of choices.
+std::vector<std::pair<std::string, AlgorithmBuilder>> builtin_algorithms();
 }  // namespace qdmeta

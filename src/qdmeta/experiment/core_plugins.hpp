@@ -1,12 +1,15 @@
 #pragma once
 // What every build of the library offers without asking: the Rastrigin task with its
 // meta-objectives and test families, the four algorithms, and a hint for the RHex task of a build
-// without DART. Every registry lookup registers them first (once, thread-safely), so a program
-// that only calls build_run() needs no set-up; a plugin registered under the same name before
-// or after replaces the built-in one.
+// without DART. They register as a user's plugins do, through register_task_plugin() and
+// register_algorithm(); the registries themselves know nothing of them.
 namespace qdmeta {
 
-// Registers the built-in plugins now if no lookup has yet; idempotent.
+// Registers the built-in plugins once per process (later calls do nothing), each only where no
+// plugin of its name is registered yet: a user's plugin of a built-in name wins, whether it was
+// registered before this call or after. build_run() and the other config readers of
+// experiment/build.hpp call it, so a program that only builds runs needs no set-up; a main calls
+// it through register_builtin_plugins() (cli/builtin_plugins.hpp).
 void ensure_core_plugins();
 
 }  // namespace qdmeta

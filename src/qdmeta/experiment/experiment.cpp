@@ -11,12 +11,12 @@
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/claim_rules.hpp"
-#include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_lock.hpp"
+#include "qdmeta/plugin/config.hpp"
 
 namespace fs = std::filesystem;
 

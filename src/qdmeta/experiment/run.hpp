@@ -16,8 +16,8 @@
 #include "qdmeta/experiment/run_observer.hpp"
 #include "qdmeta/experiment/run_progress.hpp"
 #include "qdmeta/experiment/run_result.hpp"
+#include "qdmeta/experiment/run_tables.hpp"
 #include "qdmeta/experiment/summary.hpp"
-#include "qdmeta/io/run_tables.hpp"
 
 namespace qdmeta {
 

@@ -8,11 +8,11 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/version.hpp"
-#include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/regular_file.hpp"
+#include "qdmeta/plugin/config.hpp"
 
 namespace fs = std::filesystem;
 

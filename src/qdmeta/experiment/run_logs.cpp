@@ -1,6 +1,6 @@
 #include "qdmeta/experiment/run_logs.hpp"
 
-#include "qdmeta/io/run_tables.hpp"
+#include "qdmeta/experiment/run_tables.hpp"
 
 namespace qdmeta {
 

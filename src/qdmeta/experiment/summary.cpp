@@ -5,9 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/run_tables.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/regular_file.hpp"
-#include "qdmeta/io/run_tables.hpp"
 
 namespace qdmeta {
 

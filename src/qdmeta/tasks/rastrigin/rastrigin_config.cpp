@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/config.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 #include "qdmeta/tasks/rastrigin/test_functions.hpp"

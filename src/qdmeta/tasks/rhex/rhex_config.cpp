@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "qdmeta/experiment/config.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 #include "qdmeta/tasks/rhex/rhex_adaptation.hpp"
 #include "qdmeta/tasks/rhex/rhex_meta_fitness.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"

@@ -1,4 +1,4 @@
-#include "qdmeta/eval/mpi/mpi_distribution.hpp"
+#include "qdmeta/cli/mpi_distribution.hpp"
 
 #include <fmt/format.h>
 

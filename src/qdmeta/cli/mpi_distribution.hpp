@@ -1,9 +1,9 @@
 #pragma once
-// The MPI implementation of the command line's Distribution (experiment/distribution.hpp).
+// The MPI implementation of the command line's Distribution (cli/distribution.hpp).
 // No MPI header here.
 #include <memory>
 
-#include "qdmeta/experiment/distribution.hpp"
+#include "qdmeta/cli/distribution.hpp"
 
 namespace qdmeta {
 

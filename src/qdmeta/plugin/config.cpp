@@ -1,4 +1,4 @@
-#include "qdmeta/experiment/config.hpp"
+#include "qdmeta/plugin/config.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/toml_text.hpp"
 #include "qdmeta/io/regular_file.hpp"
+#include "qdmeta/plugin/toml_text.hpp"
 
 namespace qdmeta {
 
@@ -59,8 +59,17 @@ void ConfigReader::record(std::string_view key, std::string type, std::string fa
   if (t_key_log) t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range)});
 }
 
+struct ConfigReader::Scope {
+  std::set<std::string, std::less<>> known;  // the keys read
+  std::vector<ConfigReader> opened;          // the tables opened through this one, in order
+};
+
 ConfigReader::ConfigReader(const toml::table& table, std::string source, toml::table& resolved, std::string prefix)
-    : table_(table), source_(std::move(source)), resolved_(resolved), prefix_(std::move(prefix)) {}
+    : table_(table),
+      source_(std::move(source)),
+      resolved_(resolved),
+      prefix_(std::move(prefix)),
+      scope_(std::make_shared<Scope>()) {}
 
 std::string ConfigReader::qualified(std::string_view key) const {
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
@@ -74,7 +83,7 @@ void ConfigReader::type_error(std::string_view key, std::string_view expected) c
 }
 
 const toml::node* ConfigReader::lookup(std::string_view key) {
-  known_.emplace(key);
+  scope_->known.emplace(key);
   return table_.get(key);
 }
 
@@ -175,14 +184,24 @@ ConfigReader ConfigReader::table(std::string_view key) {
   const toml::node* node = lookup(key);
   if (node && !node->is_table()) type_error(key, "a table");
   auto [it, inserted] = resolved_.insert_or_assign(key, toml::table{});
-  return ConfigReader(node ? *node->as_table() : kEmpty, source_, *it->second.as_table(), qualified(key));
+  ConfigReader sub(node ? *node->as_table() : kEmpty, source_, *it->second.as_table(), qualified(key));
+  scope_->opened.push_back(sub);  // a copy sharing sub's scope: what the caller reads, finish() sees
+  return sub;
+}
+
+void ConfigReader::not_a_valid_choice(std::string_view key, std::string_view value, std::string_view valid,
+                                      std::string_view why) const {
+  throw InputError(
+      fmt::format("{}: {} = \"{}\" is not a valid choice: use one of {}{}", source_, qualified(key), value, valid, why));
 }
 
 void ConfigReader::finish() const {
+  for (const ConfigReader& sub : scope_->opened) sub.finish();
+  const auto& known = scope_->known;
   for (auto&& [k, v] : table_) {
-    if (known_.contains(k.str())) continue;
+    if (known.contains(k.str())) continue;
     std::string valid;
-    for (const auto& name : known_) valid += (valid.empty() ? "" : ", ") + name;
+    for (const auto& name : known) valid += (valid.empty() ? "" : ", ") + name;
     const std::string where = prefix_.empty() ? "at the top level" : "in [" + prefix_ + "]";
     throw InputError(fmt::format("{}: unknown key '{}' {} (valid keys: {})", source_, qualified(k.str()), where,
                                  valid.empty() ? "none" : valid));

@@ -1,6 +1,6 @@
 #pragma once
 // Where a run's evaluations go beyond this process: nowhere (this class, a single process with
-// threads) or over MPI ranks (eval/mpi/mpi_distribution.hpp, in the qdmeta_mpi library). The
+// threads) or over MPI ranks (cli/mpi_distribution.hpp, built with the MPI component). The
 // command line holds one and never asks which it is, so MPI stays out of its code.
 #include <atomic>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "qdmeta/io/run_tables.hpp"
+#include "qdmeta/experiment/run_tables.hpp"
 
 namespace qdmeta {
 

@@ -1,4 +1,4 @@
-// Tests of src/qdmeta/experiment/toml_text.{hpp,cpp}: what toml++ alone would read wrongly
+// Tests of src/qdmeta/plugin/toml_text.{hpp,cpp}: what toml++ alone would read wrongly
 // (a NUL byte) or crash on (keys and headers nested 100,000 deep) is refused with one line naming
 // source, line and column; everything a config legitimately holds passes.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/toml_text.hpp"
+#include "qdmeta/plugin/toml_text.hpp"
 
 namespace qdmeta {
 namespace {

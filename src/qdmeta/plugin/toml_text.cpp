@@ -1,4 +1,4 @@
-#include "qdmeta/experiment/toml_text.hpp"
+#include "qdmeta/plugin/toml_text.hpp"
 
 #include <fmt/format.h>
 
