@@ -275,7 +275,7 @@ TEST(Mutation, KindNamesRoundTrip) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
                  "mutation.kind = \"gauss\" is not a valid choice: use one of \"gaussian\", \"discrete-step\", "
-                 "\"uniform-resample\"");
+                 "\"uniform-resample\", \"iso-line\"");
   }
 }
 

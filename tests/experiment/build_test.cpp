@@ -160,6 +160,8 @@ TEST(BuildRun, OtherBadConfigs) {
       {"sed = 3\n", "unknown key 'sed' at the top level"},
       {"[budget]\ncounts = \"everything\"\n", "budget.counts = \"everything\" is not a valid choice: use one of \"bottom\", \"all\""},
       {"[mutation]\nrate = 1.5\n", "mutation.rate = 1.5 is out of range"},
+      {"[mutation]\nkind = \"iso-line\"\nline_sigma = -0.5\n", "mutation.line_sigma = -0.5 is out of range"},
+      {"[mutation]\nkind = \"iso-line\"\niso_sigma = -1\n", "mutation.iso_sigma = -1 is out of range"},
       {"[archive]\nbins = [100, 0]\n", "archive.bins holds 0, out of range"},
       {"[archive]\nbins = [10, 10]\nmeasures = [0, 25]\n", "archive.measures holds 25, out of range"},
       {"[archive]\nbins = [10, 10]\nmeasures = [0]\n", "archive.measures has 1 entries"},

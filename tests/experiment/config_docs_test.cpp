@@ -30,7 +30,7 @@ std::vector<std::string> every_kind_of_config() {
   std::vector<std::string> configs;
   for (const std::string& task : tasks) {
     const std::string head = "[task]\nname = \"" + task + "\"\n";
-    for (const char* mutation : {"gaussian", "discrete-step", "uniform-resample"})
+    for (const char* mutation : {"gaussian", "discrete-step", "uniform-resample", "iso-line"})
       configs.push_back(head + "[mutation]\nkind = \"" + mutation + "\"\n");
     configs.push_back("algorithm = \"map-elites\"\n" + head);
     for (const char* points : {"uniform", "random-descriptors"})

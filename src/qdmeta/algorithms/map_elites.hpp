@@ -29,12 +29,37 @@ struct MapElitesParams {
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
 void random_genotypes(RowMatrix& genotypes, Rng& rng);
 // Fills `offspring` (rows already sized) with mutated copies of parents, all drawn first:
-// pick_parent(rng) returns a pointer to one parent's genes (any archive's selection).
+// pick_parent(rng) returns a pointer to one parent's genes (any archive's selection). Iso+line
+// draws, row by row, the parent, the second parent, then the row's variation.
 template <class PickParent>
 void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
   const Index n = offspring.cols();
+  if (mutation.needs_two_parents()) {
+    for (Index r = 0; r < offspring.rows(); ++r) {
+      Real* child = offspring.row(r).data();
+      copy_row(pick_parent(rng), n, child);
+      mutation.apply_iso_line(child, pick_parent(rng), n, rng);
+    }
+    return;
+  }
   for (Index r = 0; r < offspring.rows(); ++r) copy_row(pick_parent(rng), n, offspring.row(r).data());
   mutation.apply(offspring, rng);
+}
+
+// Iso+line offspring of uniformly drawn elites: for each row in order, its parent cell, its
+// second parent cell (independent, so possibly the same), then its variation.
+template <EliteArchive Archive>
+void generate_iso_line_offspring(const Archive& archive, const Mutation& mutation, Rng& rng, RowMatrix& offspring,
+                                 std::vector<Index>* parents) {
+  const Index n = offspring.cols();
+  for (Index r = 0; r < offspring.rows(); ++r) {
+    const Index cell = archive.sample_cell(rng);
+    const Index other = archive.sample_cell(rng);
+    Real* child = offspring.row(r).data();
+    copy_row(archive.solution(cell), n, child);
+    mutation.apply_iso_line(child, archive.solution(other), n, rng);
+    if (parents) (*parents)[static_cast<std::size_t>(r)] = cell;
+  }
 }
 
 // Fills `offspring` (rows already sized) with mutated copies of uniformly drawn elites of any
@@ -45,6 +70,10 @@ void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& r
   const Index n = offspring.cols();
   const Index rows = offspring.rows();
   if (parents) parents->resize(static_cast<std::size_t>(rows));
+  if (mutation.needs_two_parents()) {
+    generate_iso_line_offspring(archive, mutation, rng, offspring, parents);
+    return;
+  }
   // In chunks: the chunk's parents drawn (in row order, as before), their rows prefetched, then
   // copied; the elites are random rows of a table larger than L2, so the copies would otherwise
   // wait on one cache miss after another.

@@ -9,7 +9,13 @@ void MutationParams::validate() const {
   require_range("mutation.rate", rate, 0.0, 1.0);
   if (kind == MutationKind::kGaussian && !(sigma > 0.0 && std::isfinite(sigma)))
     throw InputError(fmt::format("mutation.sigma = {} is out of range: must be a positive number", sigma));
-  if (kind != MutationKind::kGaussian) {
+  if (kind == MutationKind::kIsoLine) {
+    if (!(iso_sigma >= 0.0 && std::isfinite(iso_sigma)))
+      throw InputError(fmt::format("mutation.iso_sigma = {} is out of range: must be a number >= 0", iso_sigma));
+    if (!(line_sigma >= 0.0 && std::isfinite(line_sigma)))
+      throw InputError(fmt::format("mutation.line_sigma = {} is out of range: must be a number >= 0", line_sigma));
+  }
+  if (kind == MutationKind::kDiscreteStep || kind == MutationKind::kUniformResample) {
     if (!(step > 0.0 && step <= 1.0))
       throw InputError(fmt::format("mutation.step = {} is out of range: must be in (0, 1]", step));
     const double steps = 1.0 / step;
@@ -21,7 +27,7 @@ void MutationParams::validate() const {
 Mutation::Mutation(MutationParams params) : params_(params) {
   params_.validate();
   if (params_.rate > 0.0 && params_.rate < 1.0) inv_log1m_rate_ = static_cast<float>(1.0 / std::log1p(-params_.rate));
-  if (params_.kind != MutationKind::kGaussian) grid_steps_ = static_cast<int>(std::lround(1.0 / params_.step));
+  if (params_.kind == MutationKind::kDiscreteStep || params_.kind == MutationKind::kUniformResample) grid_steps_ = static_cast<int>(std::lround(1.0 / params_.step));
 }
 
 Real Mutation::mutate_gene(Real gene, Rng& rng) const {
@@ -39,6 +45,8 @@ Real Mutation::mutate_gene(Real gene, Rng& rng) const {
       const auto k = static_cast<double>(rng.below(static_cast<std::uint64_t>(grid_steps_) + 1));
       return static_cast<Real>(k / grid_steps_);
     }
+    case MutationKind::kIsoLine:
+      break;  // needs a second parent: apply() refuses it
   }
   return gene;
 }
@@ -59,7 +67,17 @@ void Mutation::apply_gaussian(Real* genes, std::uint64_t n, Rng& rng) const {
   rng = local;
 }
 
+void Mutation::apply_iso_line(Real* genes, const Real* other, Index n, Rng& rng) const {
+  const auto iso = static_cast<Real>(params_.iso_sigma);
+  const Real line = static_cast<Real>(params_.line_sigma) * rng.normal_float();
+  for (Index k = 0; k < n; ++k) {
+    const Real g = genes[k] + iso * rng.normal_float() + line * (other[k] - genes[k]);
+    genes[k] = std::clamp(g, Real{0}, Real{1});
+  }
+}
+
 void Mutation::apply(Real* genes, Index count, Rng& rng) const {
+  if (needs_two_parents()) throw Error("the iso-line operator needs two parents per offspring (apply_iso_line)");
   if (params_.rate <= 0.0 || count <= 0) return;
   if (params_.kind == MutationKind::kGaussian && params_.rate < 1.0) {
     apply_gaussian(genes, static_cast<std::uint64_t>(count), rng);

@@ -1,7 +1,9 @@
 #pragma once
 // Mutation operators over a block of genotypes in [0, 1]. Each gene mutates independently with
 // probability `rate`; the mask is drawn by geometric skipping over the whole block, so the cost
-// is proportional to the number of mutated genes, not to the block size.
+// is proportional to the number of mutated genes, not to the block size. The iso+line operator
+// is the exception: it varies every gene of a parent along the line to a second parent, so its
+// callers draw two parents per offspring (needs_two_parents) and call apply_iso_line.
 #include <cstdint>
 #include <string_view>
 
@@ -14,17 +16,21 @@ namespace qdmeta {
 enum class MutationKind {
   kGaussian,        // gene += N(0, sigma), clamped to [0, 1] (Rastrigin)
   kDiscreteStep,    // gene moves one step up or down on the grid {0, step, ..., 1}, clamped (RHex, paper)
-  kUniformResample  // gene redrawn uniformly on the grid (RHex, the authors' QD-Meta/CVT code)
+  kUniformResample, // gene redrawn uniformly on the grid (RHex, the authors' QD-Meta/CVT code)
+  kIsoLine          // x_i + iso_sigma N(0, I) + line_sigma N(0, 1) (x_j - x_i), clamped (Vassiliades & Mouret 2018)
 };
-inline constexpr EnumNames<MutationKind, 3> kMutationKindNames{{{MutationKind::kGaussian, "gaussian"},
+inline constexpr EnumNames<MutationKind, 4> kMutationKindNames{{{MutationKind::kGaussian, "gaussian"},
                                                                  {MutationKind::kDiscreteStep, "discrete-step"},
-                                                                 {MutationKind::kUniformResample, "uniform-resample"}}};
+                                                                 {MutationKind::kUniformResample, "uniform-resample"},
+                                                                 {MutationKind::kIsoLine, "iso-line"}}};
 
 struct MutationParams {
   MutationKind kind = MutationKind::kGaussian;  // which operator
-  double rate = 0.10;                           // per-gene mutation probability, in [0, 1]
+  double rate = 0.10;                           // per-gene mutation probability, in [0, 1] (not iso-line)
   double sigma = 0.05;                          // Gaussian SD (kGaussian only), > 0
   double step = 0.025;                          // grid step (kDiscreteStep, kUniformResample), in (0, 1]
+  double iso_sigma = 0.01;                      // kIsoLine: SD of the isotropic noise on every gene, >= 0
+  double line_sigma = 0.2;                      // kIsoLine: SD of the step along x_j - x_i, >= 0
   void validate() const;
 };
 
@@ -32,10 +38,16 @@ class Mutation {
  public:
   explicit Mutation(MutationParams params);
   const MutationParams& params() const { return params_; }
+  // True for iso+line: each offspring needs a second parent and apply_iso_line, not apply.
+  bool needs_two_parents() const { return params_.kind == MutationKind::kIsoLine; }
   // Mutates every row of `genotypes` in place.
   void apply(RowMatrix& genotypes, Rng& rng) const;
   // Mutates `count` contiguous genes in place (the rows of a block, flattened).
   void apply(Real* genes, Index count, Rng& rng) const;
+  // Iso+line: `genes` (n of them) holds the first parent x_i and becomes
+  // clamp(x_i + iso_sigma z + line_sigma w (x_j - x_i), 0, 1), x_j = `other`. The draws, all
+  // rng.normal_float(): w first, then z_0 .. z_{n-1}.
+  void apply_iso_line(Real* genes, const Real* other, Index n, Rng& rng) const;
 
  private:
   Real mutate_gene(Real gene, Rng& rng) const;

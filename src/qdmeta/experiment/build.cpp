@@ -24,6 +24,8 @@ MutationParams read_mutation(ConfigReader& m) {
   p.rate = m.number("rate", p.rate, 0.0, 1.0);
   p.sigma = m.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
   p.step = m.number("step", p.step, 0.0, 1.0, Open::kLower);
+  p.iso_sigma = m.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
+  p.line_sigma = m.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
   try {
     p.validate();
   } catch (const InputError& e) {
