@@ -7,8 +7,9 @@ The C++ library behind the `qdmeta` command line, from Python:
 - ``MetaObjective(function, name)``: QD-Meta's meta-fitness written in numpy.
 - ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``: iterated
   over, ``retrieve(measures)``, ``sample_elites(n)``, as pyribs's archives.
-- ``Algorithm(config, task=..., meta_objective=...)``: any registered algorithm, driven by
-  ``ask()``/``tell()`` or ``step()``; ``archive`` and ``retrieve(measures)`` show its archive.
+- ``Algorithm(config, task=..., meta_objective=..., variation=...)``: any registered algorithm,
+  driven by ``ask()``/``tell()`` or ``step()``; ``archive`` and ``retrieve(measures)`` show its
+  archive; ``variation`` gives MAP-Elites a variation operator written in numpy.
 
 Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``

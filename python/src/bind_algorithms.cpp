@@ -19,6 +19,8 @@
 #include "python_build.hpp"
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
+#include "python_variation.hpp"
+#include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
@@ -32,10 +34,19 @@ namespace {
 // A built run held for Python: the algorithm, its settings and its resolved config.
 class PyAlgorithm {
  public:
-  PyAlgorithm(const py::dict& config, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective)
+  PyAlgorithm(const py::dict& config, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective,
+              const py::object& variation)
       : built_(build_from_python(config, PythonParts{task, objective})),
         task_(std::move(task)),
-        objective_(std::move(objective)) {}
+        objective_(std::move(objective)) {
+    if (variation.is_none()) return;
+    auto* map_elites = dynamic_cast<MapElites*>(&algorithm());
+    if (map_elites == nullptr)
+      throw py::value_error(fmt::format("Algorithm(variation=...) serves algorithm \"map-elites\" only, not \"{}\"",
+                                        algorithm().name()));
+    variation_ = variation;
+    map_elites->set_variation(PythonVariation(variation));
+  }
 
   Algorithm& algorithm() { return *built_.algorithm; }
   const Algorithm& algorithm() const { return *built_.algorithm; }
@@ -116,7 +127,7 @@ class PyAlgorithm {
   const BuiltRun& built() const { return built_; }
 
   // Pickling: (format, resolved config, Python task or None, meta-objective or None, the
-  // algorithm's checkpoint bytes). A built-in task is in the config already.
+  // algorithm's checkpoint bytes, variation or None). A built-in task is in the config already.
   py::tuple state() const {
     if (algorithm().step_in_progress())
       throw Error(fmt::format("{}: cannot pickle in the middle of a step (a request is pending or more are due); "
@@ -126,18 +137,20 @@ class PyAlgorithm {
     algorithm().save(out);
     const py::object task = task_ && is_python_task(*task_) ? py::cast(*task_) : py::none();
     const py::object objective = objective_ ? py::cast(objective_) : py::none();
-    return py::make_tuple(kStateFormat, dict_from_table(built_.resolved), task, objective, py::bytes(out.bytes()));
+    return py::make_tuple(kStateFormat, dict_from_table(built_.resolved), task, objective, py::bytes(out.bytes()),
+                          variation_);
   }
 
   static std::unique_ptr<PyAlgorithm> from_state(const py::tuple& s) {
-    if (s.size() != 5 || !py::isinstance<py::int_>(s[0]) || !py::isinstance<py::dict>(s[1]) ||
+    if ((s.size() != 5 && s.size() != 6) || !py::isinstance<py::int_>(s[0]) || !py::isinstance<py::dict>(s[1]) ||
         !py::isinstance<py::bytes>(s[4]))
       throw InputError("unpickling a qdmeta.Algorithm: the state is not one qdmeta made");
     if (s[0].cast<int>() != kStateFormat)
       throw InputError(fmt::format("unpickling a qdmeta.Algorithm: state format {}, but this qdmeta reads format {}",
                                    s[0].cast<int>(), kStateFormat));
     auto a = std::make_unique<PyAlgorithm>(s[1].cast<py::dict>(), s[2].cast<std::optional<Task>>(),
-                                           s[3].cast<std::shared_ptr<PythonMetaObjective>>());
+                                           s[3].cast<std::shared_ptr<PythonMetaObjective>>(),
+                                           s.size() == 6 ? py::object(s[5]) : py::object(py::none()));
     const std::string bytes = s[4].cast<std::string>();
     BinaryReader in(bytes, "the pickled qdmeta.Algorithm");
     {
@@ -171,6 +184,7 @@ class PyAlgorithm {
   BuiltRun built_;
   std::optional<Task> task_;  // as given, for pickling
   std::shared_ptr<PythonMetaObjective> objective_;
+  py::object variation_ = py::none();  // as given, for pickling
   std::span<const EvaluationJob> jobs_;
   std::unique_ptr<Evaluator> evaluator_;
   int threads_ = -1;
@@ -184,13 +198,16 @@ Any registered algorithm ("map-elites", "cvt-map-elites", "aurora", "qd-meta"), 
 config dict with the keys of a TOML config (docs/config.md), e.g.
 {"algorithm": "map-elites", "seed": 1, "archive": {"bins": [50, 50]}}. `task` (a qdmeta.Task)
 replaces [task]; `meta_objective` (a qdmeta.MetaObjective) becomes QD-Meta's [meta_fitness].
+`variation` (MAP-Elites only): f(parents, partners, seed) -> offspring, each row from two elites
+drawn by the algorithm and f's own generator seeded with `seed`, genes in [0, 1].
 
 ask() -> genotypes (n, genotype_size); evaluate them; tell(fitness, base_features, valid=None).
 QD-Meta's requests may hold several jobs (its meta-objective's batches): ask_jobs() ->
 [(task, genotypes)], tell_jobs([(fitness, base_features[, valid])]). step(threads=0) does one
 step with the library's evaluator. The same config and seed give the same bits either way.)doc")
-      .def(py::init<const py::dict&, std::optional<Task>, std::shared_ptr<PythonMetaObjective>>(), py::arg("config"),
-           py::arg("task") = py::none(), py::arg("meta_objective") = py::none())
+      .def(py::init<const py::dict&, std::optional<Task>, std::shared_ptr<PythonMetaObjective>, const py::object&>(),
+           py::arg("config"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(),
+           py::arg("variation") = py::none())
       .def("ask", &PyAlgorithm::ask, "The next batch of genotypes to evaluate (a one-job request)")
       .def("ask_jobs", &PyAlgorithm::ask_jobs, "The next request as a list of (task, genotypes)")
       .def("tell", &PyAlgorithm::tell, py::arg("fitness"), py::arg("base_features"), py::arg("valid") = py::none(),

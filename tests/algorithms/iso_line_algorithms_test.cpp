@@ -1,6 +1,6 @@
 // The iso+line operator in the algorithms: the order of the draws behind each offspring (two
 // elites, then the variation), and MAP-Elites, CVT-MAP-Elites and QD-Meta with it giving the
-// same bits at any thread count.
+// same bits at any thread count; and MAP-Elites with a variation function of the caller's.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -100,6 +100,43 @@ TEST(IsoLine, MapElitesSameBitsAtAnyThreadCount) {
   MapElites gaussian = rastrigin_map_elites(7, {});
   for (int g = 0; g < 40; ++g) gaussian.step(serial);
   EXPECT_NE(gaussian.elites().objective, results[0].objective);
+}
+
+// A caller's variation sees two elites of the archive per offspring; its offspring are the
+// ones evaluated; a run with it gives the same bits at any thread count.
+TEST(VariationFunction, MapElitesTakesItsOffspringFromTheFunction) {
+  std::vector<EliteTable> results;
+  for (int threads : {1, 3}) {
+    auto evaluator = make_evaluator(threads);
+    MapElites me = rastrigin_map_elites(3, {});
+    int calls = 0;
+    me.set_variation([&](const RowMatrix& parents, const RowMatrix& partners, std::uint64_t seed, RowMatrix& out) {
+      ++calls;
+      const EliteTable elites = me.elites();
+      auto is_elite = [&](const RowMatrix& rows, Index r) {
+        for (Index e = 0; e < elites.size(); ++e)
+          if (elites.solutions.row(e) == rows.row(r)) return true;
+        return false;
+      };
+      ASSERT_EQ(parents.rows(), out.rows());
+      for (Index r = 0; r < out.rows(); r += 37) {
+        EXPECT_TRUE(is_elite(parents, r)) << r;
+        EXPECT_TRUE(is_elite(partners, r)) << r;
+      }
+      Rng rng(seed);
+      const Mutation iso(iso_line());
+      out = parents;
+      for (Index r = 0; r < out.rows(); ++r) iso.apply_iso_line(out.row(r).data(), partners.row(r).data(), out.cols(), rng);
+    });
+    for (int g = 0; g < 20; ++g) me.step(*evaluator);
+    EXPECT_EQ(calls, 19);  // every generation but the random first
+    results.push_back(me.elites());
+  }
+  expect_same_elites(results[0], results[1]);
+  SerialEvaluator serial;
+  MapElites plain = rastrigin_map_elites(3, {});
+  for (int g = 0; g < 20; ++g) plain.step(serial);
+  EXPECT_NE(plain.elites().objective, results[0].objective);
 }
 
 CvtMapElites rastrigin_cvt(std::uint64_t seed, CvtSearch search) {

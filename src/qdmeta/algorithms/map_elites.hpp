@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <concepts>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -117,6 +118,28 @@ void next_genotypes(const Archive& archive, const MapElitesParams& params, const
     generate_offspring(archive, mutation, rng, genotypes, parents);
   }
 }
+// A variation operator supplied by the caller (the Python module's `variation=`): fills
+// `offspring` (rows already sized) from rows r of `parents` and `partners`, two elites per
+// offspring, and `seed`, a number for its own generator.
+using VariationFunction = std::function<void(const RowMatrix& parents, const RowMatrix& partners, std::uint64_t seed,
+                                             RowMatrix& offspring)>;
+
+// Offspring by `variation`: per row, in order, its parent and its second parent drawn from
+// `rng` as iso+line draws them, then the seed from `rng`, so the call is as deterministic as
+// the function is given its seed.
+template <EliteArchive Archive>
+void vary_by_function(const Archive& archive, const VariationFunction& variation, Rng& rng, RowMatrix& parents,
+                      RowMatrix& partners, RowMatrix& offspring) {
+  const Index n = offspring.cols();
+  parents.resize(offspring.rows(), n);
+  partners.resize(offspring.rows(), n);
+  for (Index r = 0; r < offspring.rows(); ++r) {
+    copy_row(archive.solution(archive.sample_cell(rng)), n, parents.row(r).data());
+    copy_row(archive.solution(archive.sample_cell(rng)), n, partners.row(r).data());
+  }
+  variation(parents, partners, rng(), offspring);
+}
+
 // Maps base features to target features and adds the valid rows in batch order
 // (archive.add_batch; base features go along when the archive keeps them). `targets` is a
 // scratch buffer. Returns the number of rows that entered the archive.
@@ -155,6 +178,9 @@ class BasicMapElites final : public Algorithm {
   ArchiveStats stats() const override { return archive_.stats(); }
   EliteTable elites() const override { return archive_.elites(); }
   const Archive& archive() const { return archive_; }
+  // From then on, offspring come from `variation` instead of the [mutation] operator (the
+  // initial population stays random); not saved by save(): a loaded run needs it again.
+  void set_variation(VariationFunction variation) { variation_ = std::move(variation); }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
@@ -179,10 +205,12 @@ class BasicMapElites final : public Algorithm {
   std::unique_ptr<FeatureMap> feature_map_;
   Archive archive_;
   Mutation mutation_;
+  VariationFunction variation_;
   std::uint64_t seed_;
   std::int64_t generation_ = 0;
   EvaluationCounters counters_;
   RowMatrix genotypes_;
+  RowMatrix parents_, partners_;  // the variation function's input
   EvaluationBatch evaluations_;
   RowMatrix targets_;
 };
@@ -211,7 +239,13 @@ BasicMapElites<Archive>::BasicMapElites(MapElitesParams params, Task task, std::
 template <EliteArchive Archive>
 void BasicMapElites<Archive>::next_request(std::vector<EvaluationJob>& jobs) {
   const Index n = task_.genotype_size();
-  next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
+  if (variation_ && !archive_.empty()) {
+    genotypes_.resize(params_.batch_size, n);
+    Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(generation_)});
+    vary_by_function(archive_, variation_, rng, parents_, partners_, genotypes_);
+  } else {
+    next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
+  }
   evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
   jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
 }
