@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_same_elites.hpp"
+
 #include <cmath>
 
 #include "qdmeta/algorithms/map_elites.hpp"
@@ -37,15 +39,6 @@ struct BowlTask {
     }
   }
 };
-
-void expect_same_elites(const EliteTable& a, const EliteTable& b) {
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.objective, b.objective);  // bit-identical floats
-  EXPECT_TRUE(a.solutions == b.solutions);
-  EXPECT_TRUE(a.measures == b.measures);
-  EXPECT_TRUE(a.base_features == b.base_features);
-}
 
 AuroraParams quick() {
   AuroraParams p;

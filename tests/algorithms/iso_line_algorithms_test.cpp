@@ -3,6 +3,8 @@
 // same bits at any thread count; and MAP-Elites with a variation function of the caller's.
 #include <gtest/gtest.h>
 
+#include "expect_same_elites.hpp"
+
 #include <vector>
 
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
@@ -23,14 +25,6 @@ MutationParams iso_line(double iso_sigma = 0.01, double line_sigma = 0.2) {
   p.iso_sigma = iso_sigma;
   p.line_sigma = line_sigma;
   return p;
-}
-
-void expect_same_elites(const EliteTable& a, const EliteTable& b) {
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.objective, b.objective);  // bit-identical floats
-  EXPECT_TRUE(a.solutions == b.solutions);
-  EXPECT_TRUE(a.measures == b.measures);
 }
 
 // MAP-Elites's offspring of a grid archive: per row its parent cell, its second parent cell

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_same_elites.hpp"
+
 #include <atomic>
 #include <cmath>
 
@@ -19,14 +21,6 @@ MapElites make_rastrigin(std::uint64_t seed, int dimensions = 20) {
   rp.dimensions = dimensions;
   return MapElites({}, Task(RastriginTask(rp)), std::make_unique<SelectFeatureMap>(dimensions, std::vector<int>{0, 1}),
                    {}, {}, seed);
-}
-
-void expect_same_elites(const EliteTable& a, const EliteTable& b) {
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.objective, b.objective);  // bit-identical floats
-  EXPECT_TRUE(a.solutions == b.solutions);
-  EXPECT_TRUE(a.measures == b.measures);
 }
 
 TEST(MapElites, SameSeedSameBitsAtAnyThreadCount) {

@@ -3,6 +3,8 @@
 // against values computed from its definition, and its moments along and across the line.
 #include <gtest/gtest.h>
 
+#include "expect_input_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -23,12 +25,7 @@ MutationParams iso_line(double iso_sigma = 0.01, double line_sigma = 0.2) {
 }
 
 std::string message_of(const MutationParams& p) {
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no exception)";
+  return input_error_message([&] { p.validate(); });
 }
 
 TEST(IsoLine, DefaultsArePyribsAndNamed) {

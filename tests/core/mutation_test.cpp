@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_input_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -40,12 +42,7 @@ bool is_on_grid(Real g) {
 }
 
 std::string message_of(const MutationParams& p) {
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no exception)";
+  return input_error_message([&] { p.validate(); });
 }
 
 TEST(Mutation, DefaultParamsAreValidAndMatchThePaper) {

@@ -21,15 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string input_error(auto&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
-
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 const std::string kShipped = std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml";
@@ -126,7 +117,7 @@ TEST(BuildRun, EmptyConfigUsesDefaults) {
 TEST(BuildRun, MisspelledTaskKeyIsNamed) {
   toml::table cfg = shipped();
   cfg["task"].as_table()->insert_or_assign("dimensionz", 3);
-  const std::string msg = input_error([&] { build_run(cfg, "bad.toml", {}); });
+  const std::string msg = input_error_message([&] { build_run(cfg, "bad.toml", {}); });
   EXPECT_TRUE(contains(msg, "bad.toml")) << msg;
   EXPECT_TRUE(contains(msg, "unknown key 'task.dimensionz' in [task]")) << msg;
   EXPECT_TRUE(contains(msg, "dimensions")) << msg;
@@ -135,7 +126,7 @@ TEST(BuildRun, MisspelledTaskKeyIsNamed) {
 TEST(BuildRun, MisspelledAlgorithmListsValidNames) {
   toml::table cfg = shipped();
   cfg.insert_or_assign("algorithm", "map-elite");
-  const std::string msg = input_error([&] { build_run(cfg, "bad.toml", {}); });
+  const std::string msg = input_error_message([&] { build_run(cfg, "bad.toml", {}); });
   EXPECT_TRUE(msg.starts_with("bad.toml: algorithm = \"map-elite\" is not a valid choice: use one of ")) << msg;
   EXPECT_TRUE(contains(msg, "\"map-elites\"")) << msg;
 }
@@ -147,7 +138,7 @@ TEST(BuildRun, ZeroBudgetFails) {
                      "bad.toml: budget.evaluations = 0 is out of range: must be in [1, 9223372036854775807]");
   Overrides o;
   o.evaluations = 0;
-  const std::string msg = input_error([&] { build_run(shipped(), "x.toml", o); });
+  const std::string msg = input_error_message([&] { build_run(shipped(), "x.toml", o); });
   EXPECT_TRUE(contains(msg, "budget.evaluations = 0 is out of range")) << msg;
 }
 
@@ -179,7 +170,7 @@ TEST(BuildRun, OtherBadConfigs) {
   };
   for (const auto& c : cases) {
     const toml::table cfg = toml::parse(c.toml_text);
-    const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+    const std::string msg = input_error_message([&] { build_run(cfg, "case.toml", {}); });
     EXPECT_TRUE(contains(msg, "case.toml")) << c.toml_text << " -> " << msg;
     EXPECT_TRUE(contains(msg, c.expected)) << c.toml_text << " -> " << msg;
   }
@@ -221,7 +212,7 @@ TEST(BuildRun, BadCvtConfigs) {
   };
   for (const auto& c : cases) {
     const toml::table cfg = toml::parse(c.toml_text);
-    const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+    const std::string msg = input_error_message([&] { build_run(cfg, "case.toml", {}); });
     EXPECT_TRUE(contains(msg, "case.toml")) << c.toml_text << " -> " << msg;
     EXPECT_TRUE(contains(msg, c.expected)) << c.toml_text << " -> " << msg;
   }
@@ -232,7 +223,7 @@ TEST(BuildRun, MutationStepThatDoesNotDivideOneNamesTheFile) {
   // mutation.step passes its range check but fails MutationParams::validate (0.3 does not
   // divide 1); that message must carry the file name like every other config error.
   const toml::table cfg = toml::parse("[mutation]\nkind = \"discrete-step\"\nstep = 0.3\n");
-  const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+  const std::string msg = input_error_message([&] { build_run(cfg, "case.toml", {}); });
   EXPECT_TRUE(contains(msg, "mutation.step = 0.3")) << msg;
   EXPECT_TRUE(msg.starts_with("case.toml: ")) << msg;
 }
@@ -275,7 +266,7 @@ TEST(BuildRun, BadAuroraConfigsNameTheKey) {
   };
   for (const auto& c : cases) {
     const toml::table cfg = toml::parse(c.toml_text);
-    const std::string msg = input_error([&] { build_run(cfg, "case.toml", {}); });
+    const std::string msg = input_error_message([&] { build_run(cfg, "case.toml", {}); });
     EXPECT_TRUE(msg.starts_with("case.toml")) << c.toml_text << " -> " << msg;
     EXPECT_TRUE(contains(msg, c.expected)) << c.toml_text << " -> " << msg;
   }

@@ -60,14 +60,7 @@ TEST(BuilderProtocol, TheMemoryEstimateIsCheckedBeforeTheMakerRunsAndOnlyForARun
   if (!memory_limit()) GTEST_SKIP() << "no memory limit can be read on this machine";
   int calls = 0;
   register_careless(1e30, calls);
-  const std::string message = [&] {
-    try {
-      build_run(config("a = 1\n"), "x.toml", {});
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no InputError)");
-  }();
+  const std::string message = input_error_message([&] { build_run(config("a = 1\n"), "x.toml", {}); });
   EXPECT_TRUE(message.starts_with("x.toml: this run needs at least ")) << message;
   EXPECT_NE(message.find("for a careless buffer (careless.a)"), std::string::npos) << message;
   EXPECT_EQ(calls, 0);

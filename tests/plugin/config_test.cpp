@@ -23,15 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string input_error(auto&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
-
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 
@@ -190,7 +181,7 @@ TEST(ConfigReader, IntegersListChecks) {
   EXPECT_INPUT_ERROR(r.integers("three", {}, 1, 100, 1, 2), "test.toml: three has 3 entries: must have between 1 and 2");
   EXPECT_INPUT_ERROR(r.integers("empty", {}, 1, 100, 1, 2), "test.toml: empty has 0 entries: must have between 1 and 2");
   EXPECT_INPUT_ERROR(r.integers("bad", {}, 1, 100, 1, 2), "test.toml: bad holds 200, out of range: each must be in [1, 100]");
-  const std::string mixed = input_error([&] { r.integers("mixed", {}, 1, 100, 1, 2); });
+  const std::string mixed = input_error_message([&] { r.integers("mixed", {}, 1, 100, 1, 2); });
   EXPECT_TRUE(contains(mixed, "test.toml: mixed must be an array of integers")) << mixed;
   EXPECT_EQ(r.integers("three", {}, 1, 100, 3, 3), (std::vector<std::int64_t>{10, 20, 30}));
   // The fallback is checked as well.
@@ -205,7 +196,7 @@ TEST(ConfigReader, ChoiceListsValidValues) {
   ConfigReader m = r.table("mutation");
   EXPECT_INPUT_ERROR(m.choice("kind", MutationKind::kGaussian, kMutationKindNames),
                      "test.toml: mutation.kind = \"gauss\" is not a valid choice: use one of \"gaussian\", "
-                     "\"discrete-step\", \"uniform-resample\"");
+                     "\"discrete-step\", \"uniform-resample\", \"iso-line\"");
   ConfigReader o = r.table("other");
   EXPECT_EQ(o.choice("kind", MutationKind::kGaussian, kMutationKindNames), MutationKind::kDiscreteStep);
   EXPECT_EQ(resolved["other"]["kind"].value<std::string>(), "discrete-step");
@@ -252,13 +243,13 @@ TEST(ConfigReader, DefaultsAreRecordedInTheResolvedTable) {
 
 TEST_F(ConfigFile, LoadTomlMissingFile) {
   const fs::path missing = dir_ / "nope.toml";
-  const std::string msg = input_error([&] { load_toml(missing); });
+  const std::string msg = input_error_message([&] { load_toml(missing); });
   EXPECT_EQ(msg, "config file " + missing.string() + " does not exist");
 }
 
 TEST_F(ConfigFile, LoadTomlSyntaxErrorNamesFileAndLine) {
   const fs::path p = write("broken.toml", "a = 1\n\nb = = 2\n");
-  const std::string msg = input_error([&] { load_toml(p); });
+  const std::string msg = input_error_message([&] { load_toml(p); });
   EXPECT_TRUE(msg.starts_with(p.string() + ":3:")) << msg;
   const fs::path ok = write("ok.toml", "a = 1\n[t]\nb = \"x\"\n");
   const toml::table t = load_toml(ok);
