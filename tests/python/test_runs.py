@@ -12,6 +12,15 @@ import pytest
 import qdmeta
 from test_algorithms import QD, numpy_rastrigin
 
+@pytest.fixture(autouse=True)
+def ctrl_c_raises_keyboard_interrupt():
+    """SIGINT as an interactive Python has it: a process started in the background (a CI job, nohup,
+    `cmd &` in a script) inherits SIGINT ignored, and the Ctrl-C tests below would then test nothing."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 CONFIG = {"algorithm": "map-elites", "seed": 3, "budget": {"evaluations": 6000},
           "archive": {"bins": [20, 20]}, "map_elites": {"batch_size": 100, "initial_population": 500},
           "checkpoint": {"every_seconds": 0.0}}
