@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -61,7 +65,7 @@ Autoencoder make_autoencoder(const AuroraParams& p, const Task& task, std::uint6
 
 // 0.5 (V / target)^(1/d), V the product of the descriptors' ranges along their principal axes
 // (AURORA's volume-based initial threshold).
-double initial_threshold(const RowMatrix& descriptors, double factor, Index target) {
+double initial_threshold(const Eigen::Ref<const RowMatrix>& descriptors, double factor, Index target) {
   Eigen::MatrixXd centred = descriptors.cast<double>();
   centred.rowwise() -= centred.colwise().mean();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> pca(centred.transpose() * centred);
@@ -92,6 +96,42 @@ RowMatrix Aurora::describe(const Real* base_features, Index count) const {
   return codes.cast<Real>();
 }
 
+Eigen::Map<Eigen::MatrixXd> Aurora::encode(const Real* base_features, Index count) {
+  const Index latent = params_.latent_size, inputs = task_.base_feature_size();
+  if (codes_.size() < count * latent) codes_.resize(count * latent);
+  Eigen::Map<Eigen::MatrixXd> codes(codes_.data(), count, latent);
+  // Chunks of whole row panels (Autoencoder::encode), the last one taking the rest: the bits
+  // of one call, on any number of threads.
+  constexpr Index kChunk = 20 * 48;
+  const Index chunks = std::max<Index>(1, count / kChunk);
+  if (static_cast<Index>(workspaces_.size()) < chunks) workspaces_.resize(static_cast<std::size_t>(chunks));
+  const auto encode_chunk = [&](Index c) {
+    const Index first = c * kChunk, rows = c + 1 == chunks ? count - first : kChunk;
+    autoencoder_.encode(base_features + first * inputs, rows, codes.middleRows(first, rows),
+                        workspaces_[static_cast<std::size_t>(c)]);
+  };
+  if (chunks == 1) {
+    encode_chunk(0);
+  } else {
+    tbb::parallel_for(
+        tbb::blocked_range<Index>(0, chunks, 1),
+        [&](const tbb::blocked_range<Index>& range) {
+          for (Index c = range.begin(); c < range.end(); ++c) encode_chunk(c);
+        },
+        tbb::simple_partitioner());
+  }
+  return codes;
+}
+
+void Aurora::z_score(const Eigen::Map<Eigen::MatrixXd>& codes) {
+  const Index count = codes.rows(), latent = codes.cols();
+  descriptors_.resize(static_cast<std::size_t>(count * latent));
+  for (Index i = 0; i < count; ++i)
+    for (Index j = 0; j < latent; ++j)
+      descriptors_[static_cast<std::size_t>(i * latent + j)] =
+          static_cast<Real>((codes(i, j) - latent_mean_[j]) / latent_scale_[j]);
+}
+
 void Aurora::train(const RowMatrix& base_features) {
   Rng rng = Rng::stream(seed_, {key(StreamKey::kAutoencoder), 0, static_cast<std::uint64_t>(generation_)});
   last_training_ = autoencoder_.train(base_features, rng);
@@ -99,46 +139,49 @@ void Aurora::train(const RowMatrix& base_features) {
   trained_ = true;
 }
 
-void Aurora::refill(const RowMatrix& solutions, const std::vector<Real>& objectives, const RowMatrix& base_features,
+void Aurora::refill(Index count, const Real* solutions, const Real* objectives, const Real* base_features,
                     bool initialise_threshold) {
-  const Index count = solutions.rows();
-  const Eigen::MatrixXd codes = autoencoder_.encode(base_features.data(), count);
-  // z-scoring over the members (population SD; a constant code keeps scale 1).
+  const Index latent = params_.latent_size;
+  const Eigen::Map<Eigen::MatrixXd> codes = encode(base_features, count);
+  // z-scoring over the members (population SD; a constant code keeps scale 1). The centred
+  // codes sit in an Eigen-allocated buffer, aligned as a Matrix of their own would be, so the
+  // sums run in the same order.
   latent_mean_ = codes.colwise().mean();
-  const Eigen::MatrixXd centred = codes.rowwise() - latent_mean_;
+  if (centred_.size() < count * latent) centred_.resize(count * latent);
+  Eigen::Map<Eigen::MatrixXd> centred(centred_.data(), count, latent);
+  centred = codes.rowwise() - latent_mean_;
   latent_scale_ = (centred.colwise().squaredNorm() / static_cast<double>(count)).cwiseSqrt();
   for (Index j = 0; j < latent_scale_.size(); ++j)
     if (!(latent_scale_[j] > 1e-12)) latent_scale_[j] = 1.0;
-  const RowMatrix descriptors = describe(base_features.data(), count);
+  z_score(codes);
 
-  if (initialise_threshold) threshold_ = initial_threshold(descriptors, params_.threshold_factor, params_.target_size);
+  if (initialise_threshold)
+    threshold_ = initial_threshold(Eigen::Map<const RowMatrix>(descriptors_.data(), count, latent),
+                                   params_.threshold_factor, params_.target_size);
   else control_size();
 
-  archive_.clear();
-  const double relaxed = threshold_ * (1.0 - params_.eps);
-  for (Index i = 0; i < count; ++i)
-    archive_.add(solutions.row(i).data(), objectives[static_cast<std::size_t>(i)], descriptors.row(i).data(),
-                 base_features.row(i).data(), relaxed);
+  archive_.refill(count, solutions, objectives, descriptors_.data(), task_.base_feature_size() > 0 ? base_features : nullptr,
+                  threshold_ * (1.0 - params_.eps));
 }
 
 void Aurora::rebuild() {
-  const Index m = archive_.size();
-  RowMatrix solutions(m, task_.genotype_size());
-  RowMatrix base(m, task_.base_feature_size());
-  std::vector<Real> objectives(static_cast<std::size_t>(m));
+  const Index m = archive_.size(), genes = task_.genotype_size(), inputs = task_.base_feature_size();
+  member_solutions_.resize(static_cast<std::size_t>(m * genes));
+  member_base_.resize(static_cast<std::size_t>(m * inputs));
+  member_objectives_.resize(static_cast<std::size_t>(m));
   for (Index i = 0; i < m; ++i) {
-    std::copy_n(archive_.solution(i), solutions.cols(), solutions.row(i).data());
-    std::copy_n(archive_.base_features(i), base.cols(), base.row(i).data());
-    objectives[static_cast<std::size_t>(i)] = archive_.objective(i);
+    std::copy_n(archive_.solution(i), genes, member_solutions_.data() + i * genes);
+    std::copy_n(archive_.base_features(i), inputs, member_base_.data() + i * inputs);
+    member_objectives_[static_cast<std::size_t>(i)] = archive_.objective(i);
   }
   if (generation_ == next_retraining_) {
-    train(base);
+    train(Eigen::Map<const RowMatrix>(member_base_.data(), m, inputs));
     ++scheduled_trainings_;
     next_retraining_ =
         generation_ + std::min<std::int64_t>(std::int64_t{params_.retrain_period_step} * (scheduled_trainings_ + 1),
                                              params_.retrain_period_max);
   }
-  refill(solutions, objectives, base, false);
+  refill(m, member_solutions_.data(), member_objectives_.data(), member_base_.data(), false);
 }
 
 void Aurora::control_size() {
@@ -163,41 +206,44 @@ void Aurora::next_request(std::vector<EvaluationJob>& jobs) {
 }
 
 bool Aurora::take_results() {
-  const Index n = task_.genotype_size();
+  const Index n = task_.genotype_size(), inputs = task_.base_feature_size();
   counters_.bottom += genotypes_.rows();
 
-  std::vector<Index> valid;
+  valid_.clear();
   for (Index r = 0; r < genotypes_.rows(); ++r)
-    if (evaluations_.valid[static_cast<std::size_t>(r)]) valid.push_back(r);
+    if (evaluations_.valid[static_cast<std::size_t>(r)]) valid_.push_back(r);
+  const auto count = static_cast<Index>(valid_.size());
 
   if (!trained_) {
     // The first valid rows are the first training set and the first archive content.
-    if (!valid.empty()) {
-      const auto count = static_cast<Index>(valid.size());
-      RowMatrix solutions(count, n), base(count, task_.base_feature_size());
-      std::vector<Real> objectives(valid.size());
+    if (count > 0) {
+      RowMatrix solutions(count, n), base(count, inputs);
+      std::vector<Real> objectives(valid_.size());
       for (Index i = 0; i < count; ++i) {
-        const Index r = valid[static_cast<std::size_t>(i)];
+        const Index r = valid_[static_cast<std::size_t>(i)];
         solutions.row(i) = genotypes_.row(r);
         base.row(i) = evaluations_.base_features.row(r);
         objectives[static_cast<std::size_t>(i)] = evaluations_.fitness[r];
       }
       train(base);
       next_retraining_ = generation_ + 1;
-      refill(solutions, objectives, base, true);
+      refill(count, solutions.data(), objectives.data(), base.data(), true);
     }
   } else {
     if (generation_ == next_retraining_ || generation_ % params_.rebuild_every == 0) rebuild();
     control_size();
-    if (!valid.empty()) {
+    if (count > 0) {
       // Offspring rows are encoded as one block, then inserted in batch order.
-      RowMatrix base(static_cast<Index>(valid.size()), task_.base_feature_size());
-      for (std::size_t i = 0; i < valid.size(); ++i) base.row(static_cast<Index>(i)) = evaluations_.base_features.row(valid[i]);
-      const RowMatrix descriptors = describe(base.data(), base.rows());
-      for (std::size_t i = 0; i < valid.size(); ++i) {
-        const Index r = valid[i];
-        archive_.add(genotypes_.row(r).data(), evaluations_.fitness[r], descriptors.row(static_cast<Index>(i)).data(),
-                     base.row(static_cast<Index>(i)).data(), threshold_);
+      offspring_base_.resize(static_cast<std::size_t>(count * inputs));
+      for (Index i = 0; i < count; ++i)
+        std::copy_n(evaluations_.base_features.row(valid_[static_cast<std::size_t>(i)]).data(), inputs,
+                    offspring_base_.data() + i * inputs);
+      z_score(encode(offspring_base_.data(), count));
+      const Index latent = params_.latent_size;
+      for (Index i = 0; i < count; ++i) {
+        const Index r = valid_[static_cast<std::size_t>(i)];
+        archive_.add(genotypes_.row(r).data(), evaluations_.fitness[r], descriptors_.data() + i * latent,
+                     offspring_base_.data() + i * inputs, threshold_);
       }
     }
   }

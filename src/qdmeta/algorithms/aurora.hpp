@@ -73,18 +73,26 @@ class Aurora final : public Algorithm {
   RowMatrix describe(const Real* base_features, Index count) const;
 
  protected:
-  // One request per step, one job; tell() trains, rebuilds and inserts on the calling thread.
+  // One request per step, one job; tell() trains, rebuilds and inserts, a rebuild's
+  // independent parts spread over the evaluator's workers (the bits do not depend on them).
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
+  bool parallel_inside() const override { return true; }
   // A step changes the state only in its one tell(): undoing it is dropping its request.
   void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
   void load_undo(BinaryReader& in) override { load_generation_undo(in); }
 
  private:
   void train(const RowMatrix& base_features);
-  // Re-encodes the given members, sets the latent z-scoring from them, sets l (initialised from
-  // the latent volume, or one CSC step) and re-adds them all with the threshold l (1 - eps).
-  void refill(const RowMatrix& solutions, const std::vector<Real>& objectives, const RowMatrix& base_features,
+  // Latent codes (count x latent_size, column-major, in codes_) of raw base-feature rows, in
+  // chunks spread over the evaluator's workers; the same bits as one Autoencoder::encode().
+  Eigen::Map<Eigen::MatrixXd> encode(const Real* base_features, Index count);
+  // The codes z-scored with the scaling in force, as floats, row-major, into descriptors_.
+  void z_score(const Eigen::Map<Eigen::MatrixXd>& codes);
+  // Re-encodes the given members (row-major arrays), sets the latent z-scoring from them, sets
+  // l (initialised from the latent volume, or one CSC step) and re-adds them all with the
+  // threshold l (1 - eps).
+  void refill(Index count, const Real* solutions, const Real* objectives, const Real* base_features,
               bool initialise_threshold);
   void rebuild();
   void control_size();
@@ -107,9 +115,15 @@ class Aurora final : public Algorithm {
   std::int64_t generation_ = 0;
   EvaluationCounters counters_;
   TrainingReport last_training_;
-  // Scratch.
+  // Scratch, kept so that a generation allocates nothing once warm.
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
+  std::vector<Index> valid_;
+  std::vector<Real> member_solutions_, member_base_, member_objectives_;  // a rebuild's copy of the archive
+  std::vector<Real> offspring_base_;                                      // the valid offspring's base features
+  std::vector<Real> descriptors_;                                         // z-scored codes, row-major
+  Eigen::VectorXd codes_, centred_;  // count x latent_size buffers, Eigen-allocated (aligned as a Matrix)
+  std::vector<Autoencoder::Workspace> workspaces_;  // one per encoding chunk
 };
 
 }  // namespace qdmeta

@@ -82,9 +82,49 @@ Autoencoder::Matrix Autoencoder::normalise(const Real* inputs, Index count) cons
 }
 
 Autoencoder::Matrix Autoencoder::encode(const Real* inputs, Index count) const {
-  std::vector<Matrix> a;
-  forward(normalise(inputs, count), encoder_layers_, a);
-  return std::move(a.back());
+  Matrix codes(count, params_.latent_size);
+  Workspace workspace;
+  encode(inputs, count, codes, workspace);
+  return codes;
+}
+
+Eigen::Map<Autoencoder::Matrix> Autoencoder::Workspace::view(std::size_t index, Index rows, Index cols) {
+  if (buffers_.size() <= index) buffers_.resize(index + 1);
+  Eigen::VectorXd& b = buffers_[index];
+  if (b.size() < rows * cols) b.resize(rows * cols);
+  return Eigen::Map<Matrix>(b.data(), rows, cols);
+}
+
+namespace {
+// One layer of forward() on views: out = act(in W^T + b), in the same operations.
+template <class In, class Out>
+void apply_layer(const In& in, const Eigen::Map<const Autoencoder::Matrix>& w,
+                 const Eigen::Map<const Eigen::RowVectorXd>& b, bool relu, Out& out) {
+  out.noalias() = in * w.transpose();
+  out.rowwise() += b;
+  if (relu) out = out.cwiseMax(0.0);
+}
+}  // namespace
+
+void Autoencoder::encode(const Real* inputs, Index count, CodesRef codes, Workspace& workspace) const {
+  Eigen::Map<Matrix> x = workspace.view(0, count, params_.input_size);
+  x = Eigen::Map<const RowMatrix>(inputs, count, params_.input_size).cast<double>();
+  x.rowwise() -= input_mean_;
+  x.array().rowwise() /= input_scale_.array();
+  const double* in = x.data();  // each layer's input: count x L.in, in buffers 0, 1, 2, 1, 2, ...
+  for (std::size_t l = 0; l < encoder_layers_; ++l) {
+    const Layer& L = layers_[l];
+    const Eigen::Map<const Matrix> input(in, count, L.in);
+    const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
+    const Eigen::Map<const Eigen::RowVectorXd> b(parameters_.data() + L.offset + L.in * L.out, L.out);
+    if (l + 1 == encoder_layers_) {
+      apply_layer(input, w, b, L.relu, codes);
+    } else {
+      Eigen::Map<Matrix> out = workspace.view(1 + l % 2, count, L.out);
+      apply_layer(input, w, b, L.relu, out);
+      in = out.data();
+    }
+  }
 }
 
 Autoencoder::Matrix Autoencoder::reconstruct(const Matrix& x) const {

@@ -75,6 +75,24 @@ class Autoencoder {
   Matrix normalise(const Real* inputs, Index count) const;
   // Raw rows -> latent codes (count x latent_size).
   Matrix encode(const Real* inputs, Index count) const;
+
+  // Scratch of the encode() below: Eigen-allocated buffers (so aligned as a Matrix is) that
+  // only grow, so a warm workspace makes encoding allocate nothing. One per concurrent call.
+  class Workspace {
+   public:
+    // A rows x cols view of buffer `index`, grown when too small.
+    Eigen::Map<Matrix> view(std::size_t index, Index rows, Index cols);
+
+   private:
+    std::vector<Eigen::VectorXd> buffers_;
+  };
+  // encode() into `codes` (count x latent_size; a block of rows of a larger matrix will do):
+  // the same bits. Eigen's product computes a row the same way wherever it sits, except the
+  // rows after the last multiple of its row panel (at most 48), so a block that starts at a
+  // multiple of 48 rows and, unless it is the last, ends at one, gives the rows of one whole call
+  // (tests/featuremap/autoencoder_test.cpp checks it).
+  using CodesRef = Eigen::Ref<Matrix, 0, Eigen::OuterStride<>>;
+  void encode(const Real* inputs, Index count, CodesRef codes, Workspace& workspace) const;
   // z-scored inputs -> reconstructions (still z-scored).
   Matrix reconstruct(const Matrix& x) const;
   // Mean over all entries of (reconstruction - x)^2, for z-scored inputs x.
