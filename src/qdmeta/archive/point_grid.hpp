@@ -48,9 +48,12 @@ inline Index key_slot(NeighbourKey key) { return static_cast<Index>(key & 0xffff
 // sorted array: the count is a novelty's k, about 15).
 class NearestKeys {
  public:
-  void reset(std::size_t count) {
+  // Empties it for the `count` smallest keys; keys farther than `ceiling` (a squared distance
+  // known to bound the count-th) need not be offered.
+  void reset(std::size_t count, Real ceiling = std::numeric_limits<Real>::infinity()) {
     keys_.resize(count);
     size_ = 0;
+    ceiling_ = ceiling;
   }
   void offer(NeighbourKey key) {
     std::size_t i;
@@ -67,18 +70,16 @@ class NearestKeys {
   bool full() const { return size_ == keys_.size(); }
   NeighbourKey operator[](std::size_t i) const { return keys_[i]; }
   NeighbourKey back() const { return keys_[size_ - 1]; }
-  // The squared distance a point must not exceed to be kept: the count-th one's, or +infinity
-  // while there are fewer.
-  Real bar() const {
-    return size_ == keys_.size() && size_ > 0 ? key_squared_distance(keys_[size_ - 1])
-                                              : std::numeric_limits<Real>::infinity();
-  }
+  // The squared distance a point must not exceed to be kept: the count-th one's, or the
+  // ceiling while there are fewer.
+  Real bar() const { return size_ == keys_.size() && size_ > 0 ? key_squared_distance(keys_[size_ - 1]) : ceiling_; }
   // sqrt of the i-th squared distance, in double (the insertion rule's distances).
   double distance(std::size_t i) const { return std::sqrt(static_cast<double>(key_squared_distance(keys_[i]))); }
 
  private:
   std::vector<NeighbourKey> keys_;
   std::size_t size_ = 0;
+  Real ceiling_ = std::numeric_limits<Real>::infinity();
 };
 
 // Squared Euclidean distance in float, coordinates in order, one fused multiply-add each:

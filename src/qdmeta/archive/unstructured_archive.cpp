@@ -112,7 +112,8 @@ AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, co
     const double member_fitness = objectives_[static_cast<std::size_t>(slot)];
     if (!eps_fitness_allows(objective, member_fitness, params_.eps)) return AddStatus::kNotAdded;
     if (reach != kEverywhere && !(near_.full() && near_.distance(k) < reach)) continue;
-    if (!member_neighbours(slot, near_.distance(0), reach)) continue;
+    const double farthest = near_.full() ? near_.distance(k) : kEverywhere;
+    if (!member_neighbours(slot, near_.distance(0), farthest, reach)) continue;
     double candidate_novelty = 0.0, member_novelty = 0.0;
     for (std::size_t i = 1; i < near_.size(); ++i) candidate_novelty += near_.distance(i);
     candidate_novelty /= static_cast<double>(near_.size() - 1);
@@ -125,15 +126,18 @@ AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, co
   }
 }
 
-bool UnstructuredArchive::member_neighbours(Index slot, double nearest, double reach) {
+bool UnstructuredArchive::member_neighbours(Index slot, double nearest, double farthest, double reach) {
   // The member's k nearest others among the points seen around the candidate, which hold every
   // member within `reach` of the candidate: exact once `nearest` (candidate to member) plus
-  // the member's k-th is within reach (triangle inequality).
+  // the member's k-th is within reach (triangle inequality). The candidate's k nearest others
+  // (within `farthest` of it) lie within nearest + farthest of the member, which bounds its
+  // k-th from the start (1e-5 spares float rounding).
   const Index d = params_.descriptor_size;
   const auto k = static_cast<std::size_t>(params_.novelty_neighbours);
   Real* m = member_.data();
   for (Index j = 0; j < d; ++j) m[j] = coordinates_[static_cast<std::size_t>(j)][static_cast<std::size_t>(slot)];
-  around_.reset(k);
+  const double ceiling = (nearest + farthest) * (1.0 + 1e-5);
+  around_.reset(k, std::nextafter(static_cast<Real>(ceiling * ceiling), std::numeric_limits<Real>::infinity()));
   for (const PointGrid::Span& span : spans_) grid_.offer(span, m, slot, around_);
   return reach == std::numeric_limits<double>::infinity() ||
          (around_.full() && nearest + around_.distance(k - 1) < reach);

@@ -98,7 +98,7 @@ class UnstructuredArchive {
   void check_finite(const Real* descriptor) const;
   // add()'s novelty of the nearest member `slot` (into around_) from the points gathered around
   // the candidate; false when those do not yet reach far enough to make it exact.
-  bool member_neighbours(Index slot, double nearest, double reach);
+  bool member_neighbours(Index slot, double nearest, double farthest, double reach);
 
   UnstructuredArchiveParams params_;
   std::vector<Real> objectives_;

@@ -80,5 +80,9 @@ class RastriginTranslationMeta final : public MetaObjective {
 // coordinate differences, every sum in an order the code fixes (the same bits on any CPU);
 // memory O(rows x columns). 0 for fewer than 2 rows. Exposed for tests and benchmarks.
 double pairwise_distance_sum(const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>& points);
+// The same sums in plain loops: pairwise_distance_sum() on a CPU without AVX2 and FMA, and on
+// one with them the bits that its vector steps (sixteen pairs at a time) reproduce (tested).
+double pairwise_distance_sum_portable(
+    const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>& points);
 
 }  // namespace qdmeta
