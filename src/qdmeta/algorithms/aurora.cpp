@@ -101,8 +101,8 @@ Eigen::Map<Eigen::MatrixXd> Aurora::encode(const Real* base_features, Index coun
   if (codes_.size() < count * latent) codes_.resize(count * latent);
   Eigen::Map<Eigen::MatrixXd> codes(codes_.data(), count, latent);
   // Chunks of whole row panels (Autoencoder::encode), the last one taking the rest: the bits
-  // of one call, on any number of threads.
-  constexpr Index kChunk = 20 * 48;
+  // of one call, on any number of threads. A generation's offspring (400 rows) make two.
+  const Index kChunk = count < 4 * 960 ? 4 * 48 : 20 * 48;
   const Index chunks = std::max<Index>(1, count / kChunk);
   if (static_cast<Index>(workspaces_.size()) < chunks) workspaces_.resize(static_cast<std::size_t>(chunks));
   const auto encode_chunk = [&](Index c) {

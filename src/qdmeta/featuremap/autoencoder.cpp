@@ -59,18 +59,19 @@ void Autoencoder::set_parameters(const Eigen::VectorXd& parameters) {
   parameters_ = parameters;
 }
 
-void Autoencoder::forward(const Matrix& x, std::size_t layers, std::vector<Matrix>& activations) const {
-  activations.resize(layers + 1);
-  activations[0] = x;
+const Autoencoder::Matrix& Autoencoder::forward(const Matrix& x, std::size_t layers, Scratch& scratch) const {
+  std::vector<Matrix>& a = scratch.activations;
+  if (a.size() < layers + 1) a.resize(layers + 1);
   for (std::size_t l = 0; l < layers; ++l) {
     const Layer& L = layers_[l];
     const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
     const Eigen::Map<const Eigen::RowVectorXd> b(parameters_.data() + L.offset + L.in * L.out, L.out);
-    Matrix& a = activations[l + 1];
-    a.noalias() = activations[l] * w.transpose();
-    a.rowwise() += b;
-    if (L.relu) a = a.cwiseMax(0.0);
+    Matrix& out = a[l + 1];
+    out.noalias() = (l == 0 ? x : a[l]) * w.transpose();
+    out.rowwise() += b;
+    if (L.relu) out = out.cwiseMax(0.0);
   }
+  return layers == 0 ? x : a[layers];
 }
 
 Autoencoder::Matrix Autoencoder::normalise(const Real* inputs, Index count) const {
@@ -128,36 +129,48 @@ void Autoencoder::encode(const Real* inputs, Index count, CodesRef codes, Worksp
 }
 
 Autoencoder::Matrix Autoencoder::reconstruct(const Matrix& x) const {
-  std::vector<Matrix> a;
-  forward(x, layers_.size(), a);
-  return std::move(a.back());
+  Scratch scratch;
+  return forward(x, layers_.size(), scratch);
 }
 
 double Autoencoder::loss(const Matrix& x) const {
+  Scratch scratch;
+  return loss(x, scratch);
+}
+
+double Autoencoder::loss(const Matrix& x, Scratch& scratch) const {
   if (x.size() == 0) return 0.0;
-  return (reconstruct(x) - x).squaredNorm() / static_cast<double>(x.size());
+  return (forward(x, layers_.size(), scratch) - x).squaredNorm() / static_cast<double>(x.size());
 }
 
 double Autoencoder::loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient) const {
+  Scratch scratch;
+  return loss_and_gradient(x, gradient, scratch);
+}
+
+double Autoencoder::loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient, Scratch& scratch) const {
   gradient.setZero(parameters_.size());
   if (x.size() == 0) return 0.0;
-  std::vector<Matrix> a;
-  forward(x, layers_.size(), a);
-  Matrix delta = a.back() - x;
-  const double loss = delta.squaredNorm() / static_cast<double>(x.size());
-  delta *= 2.0 / static_cast<double>(x.size());  // d loss / d output
+  forward(x, layers_.size(), scratch);
+  const std::vector<Matrix>& a = scratch.activations;
+  std::vector<Matrix>& deltas = scratch.deltas;
+  if (deltas.size() < layers_.size() + 1) deltas.resize(layers_.size() + 1);
+  Matrix* delta = &deltas[layers_.size()];
+  *delta = a[layers_.size()] - x;
+  const double loss = delta->squaredNorm() / static_cast<double>(x.size());
+  *delta *= 2.0 / static_cast<double>(x.size());  // d loss / d output
   for (std::size_t l = layers_.size(); l-- > 0;) {
     const Layer& L = layers_[l];
     // ReLU passes the gradient where its output was positive.
-    if (L.relu) delta = (a[l + 1].array() > 0.0).select(delta, 0.0);
+    if (L.relu) *delta = (a[l + 1].array() > 0.0).select(*delta, 0.0);
     Eigen::Map<Matrix> dw(gradient.data() + L.offset, L.out, L.in);
     Eigen::Map<Eigen::RowVectorXd> db(gradient.data() + L.offset + L.in * L.out, L.out);
-    dw.noalias() = delta.transpose() * a[l];
-    db = delta.colwise().sum();
+    dw.noalias() = delta->transpose() * (l == 0 ? x : a[l]);
+    db = delta->colwise().sum();
     if (l > 0) {
       const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
-      Matrix previous = delta * w;
-      delta = std::move(previous);
+      deltas[l].noalias() = *delta * w;
+      delta = &deltas[l];
     }
   }
   return loss;
@@ -209,6 +222,7 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
   std::iota(order.begin(), order.end(), Index{0});
   Matrix train_x, validation_x;
   Eigen::VectorXd gradient;
+  Scratch fit_scratch, validation_scratch;
   std::vector<double> validation_losses;
   const auto window = static_cast<std::size_t>(params_.stopping_window);
   for (int epoch = 0; epoch < params_.max_epochs; ++epoch) {
@@ -222,9 +236,9 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
         validation_x.row(i) = x.row(order[static_cast<std::size_t>(training_rows + i)]);
     }
     const Matrix& fit_on = split ? train_x : x;
-    const double training_loss = loss_and_gradient(fit_on, gradient);
+    const double training_loss = loss_and_gradient(fit_on, gradient, fit_scratch);
     adam_step(gradient);
-    const double validation_loss = loss(split ? validation_x : x);
+    const double validation_loss = loss(split ? validation_x : x, split ? validation_scratch : fit_scratch);
     if (epoch == 0) report.initial_training_loss = training_loss;
     report.final_training_loss = training_loss;
     report.final_validation_loss = validation_loss;

@@ -111,8 +111,16 @@ class Autoencoder {
     Index offset = 0;  // of W in parameters_; b follows W
     bool relu = false;
   };
-  // Activations of every layer for a batch (activations[0] = x).
-  void forward(const Matrix& x, std::size_t layers, std::vector<Matrix>& activations) const;
+  // Buffers of one batch shape, kept across a training's epochs so that they are not
+  // allocated again (Eigen-allocated, so aligned and summed as fresh matrices are).
+  struct Scratch {
+    std::vector<Matrix> activations;  // [l]: the output of layer l - 1 ([0] unused: the input)
+    std::vector<Matrix> deltas;       // [l]: d loss / d (layer l's output)
+  };
+  // Activations of the first `layers` layers for a batch; the last one's is returned.
+  const Matrix& forward(const Matrix& x, std::size_t layers, Scratch& scratch) const;
+  double loss(const Matrix& x, Scratch& scratch) const;
+  double loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient, Scratch& scratch) const;
   void adam_step(const Eigen::VectorXd& gradient);
 
   AutoencoderParams params_;
