@@ -96,18 +96,29 @@ RowMatrix Aurora::describe(const Real* base_features, Index count) const {
   return codes.cast<Real>();
 }
 
-Eigen::Map<Eigen::MatrixXd> Aurora::encode(const Real* base_features, Index count) {
-  const Index latent = params_.latent_size, inputs = task_.base_feature_size();
-  if (codes_.size() < count * latent) codes_.resize(count * latent);
-  Eigen::Map<Eigen::MatrixXd> codes(codes_.data(), count, latent);
-  // Chunks of whole row panels (Autoencoder::encode), the last one taking the rest: the bits
-  // of one call, on any number of threads. A generation's offspring (400 rows) make two.
-  const Index kChunk = count < 4 * 960 ? 4 * 48 : 20 * 48;
-  const Index chunks = std::max<Index>(1, count / kChunk);
+namespace {
+// A rows x cols column-major view of `buffer`, grown when too small (Eigen-allocated, so it
+// starts where a Matrix of its own would: its column sums run in the same order).
+Eigen::Map<Eigen::MatrixXd> grown(Eigen::VectorXd& buffer, Index rows, Index cols) {
+  if (buffer.size() < rows * cols) buffer.resize(rows * cols);
+  return Eigen::Map<Eigen::MatrixXd>(buffer.data(), rows, cols);
+}
+
+// Rows of Eigen's product panels (Autoencoder::encode): a row before the last whole panel of a
+// call always takes the same arithmetic, the rows after it an arithmetic of their own.
+constexpr Index kPanelRows = 48;
+}  // namespace
+
+void Aurora::encode_batch(const Real* base_features, Index count, Autoencoder::CodesRef out) {
+  const Index inputs = task_.base_feature_size();
+  // Chunks of whole row panels, the last one taking the rest: the bits of one call, on any
+  // number of threads. A generation's offspring (400 rows) make two.
+  const Index chunk = count < 4 * 960 ? 4 * kPanelRows : 20 * kPanelRows;
+  const Index chunks = std::max<Index>(1, count / chunk);
   if (static_cast<Index>(workspaces_.size()) < chunks) workspaces_.resize(static_cast<std::size_t>(chunks));
   const auto encode_chunk = [&](Index c) {
-    const Index first = c * kChunk, rows = c + 1 == chunks ? count - first : kChunk;
-    autoencoder_.encode(base_features + first * inputs, rows, codes.middleRows(first, rows),
+    const Index first = c * chunk, rows = c + 1 == chunks ? count - first : chunk;
+    autoencoder_.encode(base_features + first * inputs, rows, out.middleRows(first, rows),
                         workspaces_[static_cast<std::size_t>(c)]);
   };
   if (chunks == 1) {
@@ -120,7 +131,55 @@ Eigen::Map<Eigen::MatrixXd> Aurora::encode(const Real* base_features, Index coun
         },
         tbb::simple_partitioner());
   }
+}
+
+Eigen::Map<Eigen::MatrixXd> Aurora::encode(const Real* base_features, Index count) {
+  Eigen::Map<Eigen::MatrixXd> codes = grown(codes_, count, params_.latent_size);
+  encode_batch(base_features, count, codes);
   return codes;
+}
+
+Eigen::Map<Eigen::MatrixXd> Aurora::encode_members(const Real* base_features, Index count) {
+  const Index whole = count / kPanelRows * kPanelRows;
+  if (!codes_current_ || whole < 2 * kPanelRows) return encode(base_features, count);
+  const Index inputs = task_.base_feature_size(), latent = params_.latent_size;
+  Eigen::Map<Eigen::MatrixXd> codes = grown(codes_, count, latent);
+  // The rows from the last whole panel on, after the panel before them, as a call of their own:
+  // each row the same distance from the end, so the same arithmetic as in one call over all.
+  const Index tail = whole - kPanelRows;
+  encode_batch(base_features + tail * inputs, count - tail, codes.middleRows(tail, count - tail));
+  // Before them, the codes kept since the members were encoded (on a main path, with this
+  // network), and the others gathered into whole panels (rows of zeros pad the last one).
+  missing_.clear();
+  for (Index i = 0; i < tail; ++i) {
+    if (static_cast<std::size_t>(i) < slot_code_ok_.size() && slot_code_ok_[static_cast<std::size_t>(i)]) {
+      for (Index j = 0; j < latent; ++j) codes(i, j) = slot_codes_[static_cast<std::size_t>(i * latent + j)];
+    } else {
+      missing_.push_back(i);
+    }
+  }
+  if (!missing_.empty()) {
+    const auto m = static_cast<Index>(missing_.size());
+    const Index padded = (m + kPanelRows - 1) / kPanelRows * kPanelRows;
+    gathered_.assign(static_cast<std::size_t>(padded * inputs), 0.0f);
+    for (Index k = 0; k < m; ++k)
+      std::copy_n(base_features + missing_[static_cast<std::size_t>(k)] * inputs, inputs, gathered_.data() + k * inputs);
+    Eigen::Map<Eigen::MatrixXd> fresh = grown(gathered_codes_, padded, latent);
+    encode_batch(gathered_.data(), padded, fresh);
+    for (Index k = 0; k < m; ++k) codes.row(missing_[static_cast<std::size_t>(k)]) = fresh.row(k);
+  }
+  return codes;
+}
+
+void Aurora::keep_code(Index slot, const Eigen::Map<Eigen::MatrixXd>& codes, Index row, bool main_path) {
+  const Index latent = params_.latent_size;
+  const auto s = static_cast<std::size_t>(slot);
+  if (slot_code_ok_.size() <= s) {
+    slot_code_ok_.resize(s + 1, 0);
+    slot_codes_.resize((s + 1) * static_cast<std::size_t>(latent));
+  }
+  for (Index j = 0; j < latent; ++j) slot_codes_[s * static_cast<std::size_t>(latent) + static_cast<std::size_t>(j)] = codes(row, j);
+  slot_code_ok_[s] = main_path ? 1 : 0;
 }
 
 void Aurora::z_score(const Eigen::Map<Eigen::MatrixXd>& codes) {
@@ -137,12 +196,13 @@ void Aurora::train(const RowMatrix& base_features) {
   last_training_ = autoencoder_.train(base_features, rng);
   ++trainings_;
   trained_ = true;
+  codes_current_ = false;  // kept codes are the old network's
 }
 
 void Aurora::refill(Index count, const Real* solutions, const Real* objectives, const Real* base_features,
                     bool initialise_threshold) {
   const Index latent = params_.latent_size;
-  const Eigen::Map<Eigen::MatrixXd> codes = encode(base_features, count);
+  const Eigen::Map<Eigen::MatrixXd> codes = encode_members(base_features, count);
   // z-scoring over the members (population SD; a constant code keeps scale 1). The centred
   // codes sit in an Eigen-allocated buffer, aligned as a Matrix of their own would be, so the
   // sums run in the same order.
@@ -161,7 +221,15 @@ void Aurora::refill(Index count, const Real* solutions, const Real* objectives, 
   else control_size();
 
   archive_.refill(count, solutions, objectives, descriptors_.data(), task_.base_feature_size() > 0 ? base_features : nullptr,
-                  threshold_ * (1.0 - params_.eps));
+                  threshold_ * (1.0 - params_.eps), &refill_rows_);
+  // Each slot keeps its member's code for the next rebuild.
+  const Index whole = count / kPanelRows * kPanelRows;
+  slot_code_ok_.clear();
+  for (Index s = 0; s < archive_.size(); ++s) {
+    const Index row = refill_rows_[static_cast<std::size_t>(s)];
+    keep_code(s, codes, row, row < whole);
+  }
+  codes_current_ = true;
 }
 
 void Aurora::rebuild() {
@@ -238,12 +306,15 @@ bool Aurora::take_results() {
       for (Index i = 0; i < count; ++i)
         std::copy_n(evaluations_.base_features.row(valid_[static_cast<std::size_t>(i)]).data(), inputs,
                     offspring_base_.data() + i * inputs);
-      z_score(encode(offspring_base_.data(), count));
-      const Index latent = params_.latent_size;
+      const Eigen::Map<Eigen::MatrixXd> codes = encode(offspring_base_.data(), count);
+      z_score(codes);
+      const Index latent = params_.latent_size, whole = count / kPanelRows * kPanelRows;
       for (Index i = 0; i < count; ++i) {
         const Index r = valid_[static_cast<std::size_t>(i)];
+        Index slot = -1;
         archive_.add(genotypes_.row(r).data(), evaluations_.fitness[r], descriptors_.data() + i * latent,
-                     offspring_base_.data() + i * inputs, threshold_);
+                     offspring_base_.data() + i * inputs, threshold_, &slot);
+        if (slot >= 0) keep_code(slot, codes, i, i < whole);
       }
     }
   }
@@ -319,6 +390,7 @@ void Aurora::load(BinaryReader& in) {
   last_training_.initial_training_loss = in.value<double>("last training loss");
   last_training_.final_training_loss = in.value<double>("last training loss");
   last_training_.final_validation_loss = in.value<double>("last validation loss");
+  codes_current_ = false;  // codes are not saved: the next rebuild encodes every member
 }
 
 }  // namespace qdmeta

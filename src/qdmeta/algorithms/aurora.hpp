@@ -66,6 +66,9 @@ class Aurora final : public Algorithm {
   const UnstructuredArchive& archive() const { return archive_; }
   const Autoencoder& autoencoder() const { return autoencoder_; }
   double threshold() const { return threshold_; }
+  // The latent z-scoring in force (set at every rebuild from the members' codes).
+  const Eigen::RowVectorXd& latent_mean() const { return latent_mean_; }
+  const Eigen::RowVectorXd& latent_scale() const { return latent_scale_; }
   std::int64_t trainings() const { return trainings_; }
   std::int64_t next_retraining() const { return next_retraining_; }
   const TrainingReport& last_training() const { return last_training_; }
@@ -84,9 +87,17 @@ class Aurora final : public Algorithm {
 
  private:
   void train(const RowMatrix& base_features);
-  // Latent codes (count x latent_size, column-major, in codes_) of raw base-feature rows, in
-  // chunks spread over the evaluator's workers; the same bits as one Autoencoder::encode().
+  // Latent codes of raw base-feature rows into `out` (count x latent_size), in chunks spread
+  // over the evaluator's workers; the same bits as one Autoencoder::encode().
+  void encode_batch(const Real* base_features, Index count, Autoencoder::CodesRef out);
+  // The same into codes_ (column-major).
   Eigen::Map<Eigen::MatrixXd> encode(const Real* base_features, Index count);
+  // The same for the members of a rebuild (row i = slot i), with the codes kept since they were
+  // encoded where the network has not changed since and one call would give them the same bits.
+  Eigen::Map<Eigen::MatrixXd> encode_members(const Real* base_features, Index count);
+  // Keeps row `row` of `codes` as slot `slot`'s code; `main_path` when a call over any rows
+  // gives a row those bits (it sat before the last whole panel of its call).
+  void keep_code(Index slot, const Eigen::Map<Eigen::MatrixXd>& codes, Index row, bool main_path);
   // The codes z-scored with the scaling in force, as floats, row-major, into descriptors_.
   void z_score(const Eigen::Map<Eigen::MatrixXd>& codes);
   // Re-encodes the given members (row-major arrays), sets the latent z-scoring from them, sets
@@ -124,6 +135,15 @@ class Aurora final : public Algorithm {
   std::vector<Real> descriptors_;                                         // z-scored codes, row-major
   Eigen::VectorXd codes_, centred_;  // count x latent_size buffers, Eigen-allocated (aligned as a Matrix)
   std::vector<Autoencoder::Workspace> workspaces_;  // one per encoding chunk
+  // Each slot's latent code (raw, before z-scoring) while the network stays the same, so that a
+  // rebuild re-encodes only the members that came in since the last one: not checkpointed
+  // (speed only), dropped by a training or a load.
+  std::vector<double> slot_codes_;           // slot x latent_size
+  std::vector<std::uint8_t> slot_code_ok_;   // by slot
+  bool codes_current_ = false;
+  std::vector<Index> refill_rows_, missing_;
+  std::vector<Real> gathered_;
+  Eigen::VectorXd gathered_codes_;
 };
 
 }  // namespace qdmeta

@@ -74,17 +74,19 @@ void UnstructuredArchive::check_finite(const Real* descriptor) const {
 }
 
 AddStatus UnstructuredArchive::add(const Real* solution, Real objective, const Real* descriptor,
-                                   const Real* base_features, double threshold) {
+                                   const Real* base_features, double threshold, Index* slot) {
   check_finite(descriptor);
   if (empty()) {
+    if (slot) *slot = size();
     append(solution, objective, descriptor, base_features);
     return AddStatus::kNew;
   }
-  return add_near(solution, objective, descriptor, base_features, threshold);
+  return add_near(solution, objective, descriptor, base_features, threshold, slot);
 }
 
 AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, const Real* descriptor,
-                                        const Real* base_features, double threshold) {
+                                        const Real* base_features, double threshold, Index* written) {
+  if (written) *written = -1;
   // One pass over rings of grid cells around the candidate answers every question of the rule
   // in turn, each as soon as the points seen so far decide it. The answers are those of exact
   // queries (PointGrid::nearest): a distance counts only once the rings reach past it.
@@ -99,6 +101,7 @@ AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, co
     for (std::size_t i = before; i < spans_.size(); ++i) grid_.offer(spans_[i], descriptor, -1, near_);
     // Added when the nearest member is farther than l (reach is +infinity once all is seen).
     if (!(near_.size() > 0 && near_.distance(0) <= threshold) && reach > threshold) {
+      if (written) *written = size();
       append(solution, objective, descriptor, base_features);
       return AddStatus::kNew;
     }
@@ -122,6 +125,7 @@ AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, co
     if (!eps_dominates(objective, candidate_novelty, member_fitness, member_novelty, params_.eps))
       return AddStatus::kNotAdded;
     overwrite(slot, solution, objective, descriptor, base_features);
+    if (written) *written = slot;
     return AddStatus::kImproved;
   }
 }
@@ -144,8 +148,10 @@ bool UnstructuredArchive::member_neighbours(Index slot, double nearest, double f
 }
 
 void UnstructuredArchive::refill(Index count, const Real* solutions, const Real* objectives,
-                                 const Real* descriptors, const Real* base_features, double threshold) {
+                                 const Real* descriptors, const Real* base_features, double threshold,
+                                 std::vector<Index>* rows) {
   clear();
+  if (rows) rows->clear();
   const Index d = params_.descriptor_size, g = params_.solution_size, b = params_.base_feature_size;
   // Rows up to the first non-finite descriptor go in, then that row's add() throws, as one by one.
   Index finite = 0;
@@ -156,8 +162,13 @@ void UnstructuredArchive::refill(Index count, const Real* solutions, const Real*
   const std::vector<std::uint8_t> apart = rows_apart_from_earlier(descriptors, finite, d, threshold);
   for (Index i = 0; i < finite; ++i) {
     const Real* base = base_features ? base_features + i * b : nullptr;
+    Index slot = size();
     if (apart[static_cast<std::size_t>(i)] || empty()) append(solutions + i * g, objectives[i], descriptors + i * d, base);
-    else add_near(solutions + i * g, objectives[i], descriptors + i * d, base, threshold);
+    else add_near(solutions + i * g, objectives[i], descriptors + i * d, base, threshold, &slot);
+    if (rows && slot >= 0) {
+      if (slot == static_cast<Index>(rows->size())) rows->push_back(i);
+      else (*rows)[static_cast<std::size_t>(slot)] = i;
+    }
   }
   if (finite < count) check_finite(descriptors + finite * d);
 }

@@ -56,15 +56,17 @@ class UnstructuredArchive {
   bool empty() const { return objectives_.empty(); }
 
   // Applies the insertion rule above with threshold l (> 0). kImproved means a replacement.
+  // `slot`, when given, receives the slot written (kNew, kImproved) or -1.
   AddStatus add(const Real* solution, Real objective, const Real* descriptor, const Real* base_features,
-                double threshold);
+                double threshold, Index* slot = nullptr);
   // Empties the archive and adds `count` rows (row-major: solutions, descriptors and base
   // features, the latter null when base_feature_size = 0) in order with threshold l: the archive
   // that clear() and one add() per row would leave, and the same error at the first
   // non-finite descriptor. A row farther than l from every earlier row enters without a query
   // (no earlier row, hence no member, is near it); those rows are found on oneTBB's threads.
+  // `rows`, when given, receives the row each slot holds after the refill.
   void refill(Index count, const Real* solutions, const Real* objectives, const Real* descriptors,
-              const Real* base_features, double threshold);
+              const Real* base_features, double threshold, std::vector<Index>* rows = nullptr);
   void clear();
   // Checkpoints: every member in slot order; load() re-adds them in that order (slots and the
   // neighbour grid as before; queries do not depend on the order inside a grid cell).
@@ -92,7 +94,7 @@ class UnstructuredArchive {
  private:
   // add() once the descriptor is known to be finite and the archive not empty.
   AddStatus add_near(const Real* solution, Real objective, const Real* descriptor, const Real* base_features,
-                     double threshold);
+                     double threshold, Index* slot);
   void append(const Real* solution, Real objective, const Real* descriptor, const Real* base_features);
   void overwrite(Index slot, const Real* solution, Real objective, const Real* descriptor, const Real* base_features);
   void check_finite(const Real* descriptor) const;
