@@ -224,7 +224,8 @@ void Aurora::refill(Index count, const Real* solutions, const Real* objectives, 
                   threshold_ * (1.0 - params_.eps), &refill_rows_);
   // Each slot keeps its member's code for the next rebuild.
   const Index whole = count / kPanelRows * kPanelRows;
-  slot_code_ok_.clear();
+  slot_code_ok_.assign(static_cast<std::size_t>(archive_.size()), 0);
+  slot_codes_.resize(static_cast<std::size_t>(archive_.size() * params_.latent_size));
   for (Index s = 0; s < archive_.size(); ++s) {
     const Index row = refill_rows_[static_cast<std::size_t>(s)];
     keep_code(s, codes, row, row < whole);

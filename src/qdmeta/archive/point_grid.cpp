@@ -157,11 +157,18 @@ void PointGrid::clear() {
 }
 
 void PointGrid::reserve(const Real* points, Index count) {
-  clear();
-  std::vector<std::int32_t> wanted(count_.size(), 0);
-  for (Index i = 0; i < count; ++i) ++wanted[static_cast<std::size_t>(cell_of(points + i * d_))];
-  count_.clear();  // nothing to keep
-  lay_out(wanted);
+  // A new layout in place (the buffers keep their capacity): each cell's room from the points
+  // that will come to it.
+  const std::size_t cells = count_.size();
+  start_.assign(cells + 1, 0);
+  for (Index i = 0; i < count; ++i) ++start_[static_cast<std::size_t>(cell_of(points + i * d_)) + 1];
+  for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c] + kSpareRoom;
+  const auto places = static_cast<std::size_t>(start_[cells]);
+  for (auto& x : coordinates_) x.assign(places + 7, kFree);  // as lay_out(): room to read past the end
+  slots_.assign(places, -1);
+  count_.assign(cells, 0);
+  place_.clear();
+  size_ = 0;
 }
 
 template <class Visit>
@@ -227,14 +234,20 @@ double PointGrid::ring_spans(const Real* query, int r, std::vector<Span>& spans)
   return ring_distance(query, cx, cy, r + 1);
 }
 
-std::vector<std::uint8_t> rows_apart_from_earlier(const Real* points, Index count, Index d, double radius) {
-  std::vector<std::uint8_t> apart(static_cast<std::size_t>(std::max<Index>(count, 0)), 1);
-  if (count < 2) return apart;
-  if (radius < 0) return apart;  // every distance exceeds it
-  if (!std::isfinite(radius)) {   // none exceeds +infinity or NaN
-    std::fill(apart.begin() + 1, apart.end(), std::uint8_t{0});
-    return apart;
+const std::vector<std::uint8_t>& RowsApart::find(const Real* points, Index count, Index d, double radius) {
+  apart_.assign(static_cast<std::size_t>(std::max<Index>(count, 0)), 1);
+  if (count < 2 || radius < 0) return apart_;  // every distance exceeds a negative radius
+  if (!std::isfinite(radius)) {                // none exceeds +infinity or NaN
+    std::fill(apart_.begin() + 1, apart_.end(), std::uint8_t{0});
+    return apart_;
   }
+  // The largest float squared distance whose square root, in double, is not beyond the
+  // radius: "near" is then one float comparison, the rule's own answer.
+  auto within = [&](Real t) { return std::sqrt(static_cast<double>(t)) <= radius; };
+  Real bar = static_cast<Real>(radius * radius);
+  while (!within(bar)) bar = std::nextafter(bar, 0.0f);
+  while (within(std::nextafter(bar, std::numeric_limits<Real>::infinity())))
+    bar = std::nextafter(bar, std::numeric_limits<Real>::infinity());
   // A static grid over the points' bounding box (first two coordinates) with cells wider than
   // the radius, so that any point within the radius of another lies in one of the 3 x 3 cells
   // around it; at most about 4 cells per point.
@@ -258,45 +271,51 @@ std::vector<std::uint8_t> rows_apart_from_earlier(const Real* points, Index coun
     const double c = std::floor((static_cast<double>(points[i * d + a]) - lo[a]) / side[a]);
     return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(cells[a] - 1)));
   };
-  // Rows sorted by cell (counting sort, so each cell lists its rows in increasing order).
+  // Rows sorted by cell, column-major (counting sort), with their coordinates beside: the
+  // three cells of a column around a row are one range.
   const auto total = static_cast<std::size_t>(cells[0]) * static_cast<std::size_t>(cells[1]);
-  std::vector<std::int32_t> cell_of(static_cast<std::size_t>(count)), start(total + 1, 0);
-  std::vector<std::int32_t> rows(static_cast<std::size_t>(count));
+  cell_of_.resize(static_cast<std::size_t>(count));
+  start_.assign(total + 1, 0);
   for (Index i = 0; i < count; ++i) {
     const int c = axis_cell(i, 0) * cells[1] + (axes > 1 ? axis_cell(i, 1) : 0);
-    cell_of[static_cast<std::size_t>(i)] = c;
-    ++start[static_cast<std::size_t>(c) + 1];
+    cell_of_[static_cast<std::size_t>(i)] = c;
+    ++start_[static_cast<std::size_t>(c) + 1];
   }
-  for (std::size_t c = 0; c < total; ++c) start[c + 1] += start[c];
-  {
-    std::vector<std::int32_t> next(start.begin(), start.end() - 1);
-    for (Index i = 0; i < count; ++i)
-      rows[static_cast<std::size_t>(next[static_cast<std::size_t>(cell_of[static_cast<std::size_t>(i)])]++)] =
-          static_cast<std::int32_t>(i);
+  for (std::size_t c = 0; c < total; ++c) start_[c + 1] += start_[c];
+  next_.assign(start_.begin(), start_.end() - 1);
+  rows_.resize(static_cast<std::size_t>(count));
+  sorted_.resize(static_cast<std::size_t>(count * d));
+  for (Index i = 0; i < count; ++i) {
+    const auto k = static_cast<std::size_t>(next_[static_cast<std::size_t>(cell_of_[static_cast<std::size_t>(i)])]++);
+    rows_[k] = static_cast<std::int32_t>(i);
+    std::copy_n(points + i * d, d, sorted_.data() + k * static_cast<std::size_t>(d));
   }
   tbb::parallel_for(tbb::blocked_range<Index>(1, count, 256), [&](const tbb::blocked_range<Index>& range) {
     for (Index i = range.begin(); i < range.end(); ++i) {
       const Real* p = points + i * d;
-      const int c = cell_of[static_cast<std::size_t>(i)];
+      const int c = cell_of_[static_cast<std::size_t>(i)];
       const int cx = c / cells[1], cy = c % cells[1];
+      const int y0 = std::max(cy - 1, 0), y1 = std::min(cy + 1, cells[1] - 1);
       bool near = false;
       for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cells[0] - 1) && !near; ++x) {
-        for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, cells[1] - 1) && !near; ++y) {
-          const auto cell = static_cast<std::size_t>(x * cells[1] + y);
-          for (auto k = start[cell]; k < start[cell + 1]; ++k) {
-            const Index j = rows[static_cast<std::size_t>(k)];
-            if (j >= i) break;  // the cell's later rows do not count
-            if (!(std::sqrt(static_cast<double>(float_squared_distance(points + j * d, p, d))) > radius)) {
-              near = true;
-              break;
-            }
+        const auto first = static_cast<std::size_t>(start_[static_cast<std::size_t>(x * cells[1] + y0)]);
+        const auto last = static_cast<std::size_t>(start_[static_cast<std::size_t>(x * cells[1] + y1) + 1]);
+        for (std::size_t k = first; k < last; ++k) {
+          if (rows_[k] < i && float_squared_distance(sorted_.data() + k * static_cast<std::size_t>(d), p, d) <= bar) {
+            near = true;
+            break;
           }
         }
       }
-      apart[static_cast<std::size_t>(i)] = near ? 0 : 1;
+      apart_[static_cast<std::size_t>(i)] = near ? 0 : 1;
     }
   });
-  return apart;
+  return apart_;
+}
+
+std::vector<std::uint8_t> rows_apart_from_earlier(const Real* points, Index count, Index d, double radius) {
+  RowsApart finder;
+  return finder.find(points, count, d, radius);
 }
 
 }  // namespace qdmeta

@@ -155,4 +155,15 @@ class PointGrid {
 // oneTBB's threads; the result does not depend on how many.
 std::vector<std::uint8_t> rows_apart_from_earlier(const Real* points, Index count, Index d, double radius);
 
+// The same, keeping its buffers from one call to the next.
+class RowsApart {
+ public:
+  const std::vector<std::uint8_t>& find(const Real* points, Index count, Index d, double radius);
+
+ private:
+  std::vector<std::uint8_t> apart_;
+  std::vector<std::int32_t> cell_of_, start_, next_, rows_;
+  std::vector<Real> sorted_;  // the points in cell order
+};
+
 }  // namespace qdmeta

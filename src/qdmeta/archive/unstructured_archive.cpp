@@ -159,7 +159,7 @@ void UnstructuredArchive::refill(Index count, const Real* solutions, const Real*
                                        [](Real x) { return std::isfinite(x); }))
     ++finite;
   grid_.reserve(descriptors, finite);
-  const std::vector<std::uint8_t> apart = rows_apart_from_earlier(descriptors, finite, d, threshold);
+  const std::vector<std::uint8_t>& apart = rows_apart_.find(descriptors, finite, d, threshold);
   for (Index i = 0; i < finite; ++i) {
     const Real* base = base_features ? base_features + i * b : nullptr;
     Index slot = size();

@@ -112,6 +112,7 @@ class UnstructuredArchive {
   std::vector<PointGrid::Span> spans_;
   NearestKeys near_, around_;
   std::vector<Real> member_;  // the nearest member's descriptor
+  RowsApart rows_apart_;      // refill()'s
 };
 
 }  // namespace qdmeta
