@@ -220,9 +220,13 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
   const Index training_rows = n - validation_rows;
   std::vector<Index> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), Index{0});
-  Matrix train_x, validation_x;
+  // Buffers of the same shapes at every training (the matrices are reassigned, so they keep
+  // their memory unless the row count changes).
+  Matrix& train_x = training_.train_x;
+  Matrix& validation_x = training_.validation_x;
   Eigen::VectorXd gradient;
-  Scratch fit_scratch, validation_scratch;
+  Scratch& fit_scratch = training_.fit;
+  Scratch& validation_scratch = training_.validation;
   std::vector<double> validation_losses;
   const auto window = static_cast<std::size_t>(params_.stopping_window);
   for (int epoch = 0; epoch < params_.max_epochs; ++epoch) {

@@ -132,6 +132,12 @@ class Autoencoder {
   Eigen::VectorXd adam_m_;
   Eigen::VectorXd adam_v_;
   std::int64_t adam_t_ = 0;
+  // train()'s buffers, kept from one training to the next (not state: never saved).
+  struct TrainingBuffers {
+    Matrix train_x, validation_x;
+    Scratch fit, validation;
+  };
+  TrainingBuffers training_;
 };
 
 }  // namespace qdmeta
