@@ -15,7 +15,7 @@ namespace {
 
 UnstructuredArchiveParams params2d() {
   UnstructuredArchiveParams p;
-  p.descriptor_size = 2;
+  p.measure_size = 2;
   p.solution_size = 1;
   p.base_feature_size = 1;
   p.target_size = 4;
@@ -169,7 +169,7 @@ TEST(UnstructuredArchive, TheGridIndexDecidesExactlyAsABruteForceReference) {
   const std::pair<Index, double> setups[] = {{1, 2.5}, {2, 1.0}, {2, 3.0}, {4, 0.4}};
   for (const auto& [d, spread] : setups) {
     UnstructuredArchiveParams p = params2d();
-    p.descriptor_size = d;
+    p.measure_size = d;
     UnstructuredArchive a(p);
     ReferenceArchive ref;
     ref.d = d;
@@ -206,7 +206,7 @@ TEST(UnstructuredArchive, RefillLeavesTheArchiveThatAddingRowByRowLeaves) {
     int statuses[3] = {0, 0, 0};  // over the thresholds
     for (const double l : {0.05, 0.25, 1.0}) {
       UnstructuredArchiveParams p = params2d();
-      p.descriptor_size = d;
+      p.measure_size = d;
       p.solution_size = 3;
       p.base_feature_size = 2;
       Rng rng(static_cast<std::uint64_t>(d) * 31 + static_cast<std::uint64_t>(l * 100));

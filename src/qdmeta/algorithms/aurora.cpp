@@ -43,7 +43,7 @@ AutoencoderParams autoencoder_params(const AuroraParams& p, const Task& task) {
 
 UnstructuredArchiveParams archive_params(const AuroraParams& p, const Task& task) {
   UnstructuredArchiveParams a;
-  a.descriptor_size = p.latent_size;
+  a.measure_size = p.latent_size;
   a.solution_size = task.genotype_size();
   a.base_feature_size = task.base_feature_size();
   a.target_size = p.target_size;
@@ -77,6 +77,28 @@ double initial_threshold(const Eigen::Ref<const RowMatrix>& descriptors, double 
 }
 
 }  // namespace
+
+void add_aurora_memory(MemoryEstimate& m, const AuroraParams& p, const Task& task) {
+  constexpr auto kFloat = static_cast<double>(sizeof(Real));
+  std::vector<double> widths{static_cast<double>(task.base_feature_size())};
+  for (Index h : p.hidden) widths.push_back(static_cast<double>(h));
+  widths.push_back(static_cast<double>(p.latent_size));
+  for (auto h = p.hidden.rbegin(); h != p.hidden.rend(); ++h) widths.push_back(static_cast<double>(*h));
+  widths.push_back(static_cast<double>(task.base_feature_size()));
+  double weights = 0, units = 0;
+  for (std::size_t i = 0; i + 1 < widths.size(); ++i) weights += (widths[i] + 1) * widths[i + 1];
+  for (double w : widths) units += w;
+  const double rows = static_cast<double>(std::min(p.max_training_rows, 2 * p.target_size));
+  m.add("the autoencoder's weights, gradients and Adam moments", "aurora.hidden, aurora.latent_size",
+        4 * weights * sizeof(double));
+  m.add("the autoencoder's activations over a training set", "aurora.max_training_rows x (aurora.hidden widths)",
+        2 * rows * units * sizeof(double));
+  m.add("the archive", "aurora.target_size x (genes + base features)",
+        2 * static_cast<double>(p.target_size) * kFloat *
+            static_cast<double>(task.genotype_size() + task.base_feature_size() + p.latent_size + 2));
+  m.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
+        offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
+}
 
 Aurora::Aurora(AuroraParams params, Task task, MutationParams mutation, std::uint64_t seed)
     : params_(checked(params)),
@@ -276,7 +298,6 @@ void Aurora::next_request(std::vector<EvaluationJob>& jobs) {
 
 bool Aurora::take_results() {
   const Index n = task_.genotype_size(), inputs = task_.base_feature_size();
-  counters_.bottom += genotypes_.rows();
 
   valid_.clear();
   for (Index r = 0; r < genotypes_.rows(); ++r)
@@ -353,7 +374,7 @@ void Aurora::save(BinaryWriter& out) const {
   require_between_steps("save()");
   out.tag("aurora");
   out.value(generation_);
-  save_counters(out, counters_);
+  save_counters(out, counters());
   autoencoder_.save(out);
   archive_.save(out);
   out.matrix(latent_mean_);
@@ -375,7 +396,7 @@ void Aurora::load(BinaryReader& in) {
   require_between_steps("load()");
   in.expect_tag("aurora");
   generation_ = in.value<std::int64_t>("generation");
-  counters_ = load_counters(in);
+  restore_counters(load_counters(in));
   autoencoder_.load(in);
   archive_.load(in);
   in.matrix(latent_mean_, "latent mean");

@@ -23,6 +23,7 @@
 
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/archive/unstructured_archive.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/autoencoder.hpp"
@@ -48,13 +49,15 @@ struct AuroraParams {
   void validate() const;
 };
 
+// What AURORA allocates: the autoencoder and its training activations, the archive, offspring.
+void add_aurora_memory(MemoryEstimate& m, const AuroraParams& p, const Task& task);
+
 class Aurora final : public Algorithm {
  public:
   Aurora(AuroraParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "aurora"; }
   std::int64_t generation() const override { return generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
   // index = archive slot, measures = descriptor (z-scored latent code), base = base features.
   EliteTable elites() const override;
@@ -124,7 +127,6 @@ class Aurora final : public Algorithm {
   std::int64_t scheduled_trainings_ = 0; // k of the retraining schedule
   std::int64_t next_retraining_ = 1;
   std::int64_t generation_ = 0;
-  EvaluationCounters counters_;
   TrainingReport last_training_;
   // Scratch, kept so that a generation allocates nothing once warm.
   RowMatrix genotypes_;

@@ -11,6 +11,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/archive/cvt_archive.hpp"
 #include "qdmeta/archive/kmeans.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/io/centroid_cache.hpp"
@@ -43,13 +44,15 @@ struct CvtMapElitesParams {
   void validate() const;
 };
 
+// What CVT-MAP-Elites allocates: its archive and neighbour lists, k-means's points, offspring.
+void add_cvt_map_elites_memory(MemoryEstimate& m, const CvtMapElitesParams& p, const Task& task);
+
 class CvtMapElites final : public Algorithm {
  public:
   CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "cvt-map-elites"; }
   std::int64_t generation() const override { return generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override;
   // index = centroid index, measures = descriptor (base features), solutions = genotypes.
   EliteTable elites() const override;
@@ -87,7 +90,6 @@ class CvtMapElites final : public Algorithm {
   CacheOutcome cache_outcome_ = CacheOutcome::kDisabled;
   std::int64_t generation_ = 0;
   std::int64_t searched_ = 0;
-  EvaluationCounters counters_;
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
   std::vector<Index> parents_;

@@ -11,7 +11,7 @@
 namespace qdmeta {
 
 void UnstructuredArchiveParams::validate() const {
-  require_range("aurora.latent_size", descriptor_size, Index{1}, Index{1'000});
+  require_range("aurora.latent_size", measure_size, Index{1}, Index{1'000});
   require_at_least("archive solution size", solution_size, Index{1});
   require_at_least("archive base-feature size", base_feature_size, Index{0});
   require_range("aurora.target_size", target_size, Index{1}, Index{100'000'000});
@@ -45,9 +45,9 @@ const UnstructuredArchiveParams& checked(const UnstructuredArchiveParams& p) {
 }  // namespace
 
 UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params)
-    : params_(checked(params)), grid_(params_.descriptor_size) {
-  coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
-  member_.resize(static_cast<std::size_t>(params_.descriptor_size));
+    : params_(checked(params)), grid_(params_.measure_size) {
+  coordinates_.resize(static_cast<std::size_t>(params_.measure_size));
+  member_.resize(static_cast<std::size_t>(params_.measure_size));
 }
 
 std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
@@ -69,7 +69,7 @@ double UnstructuredArchive::member_novelty(Index slot) const {
 }
 
 void UnstructuredArchive::check_finite(const Real* descriptor) const {
-  for (Index j = 0; j < params_.descriptor_size; ++j)
+  for (Index j = 0; j < params_.measure_size; ++j)
     if (!std::isfinite(descriptor[j])) throw Error(fmt::format("unstructured archive: descriptor {} is not finite", j));
 }
 
@@ -136,7 +136,7 @@ bool UnstructuredArchive::member_neighbours(Index slot, double nearest, double f
   // the member's k-th is within reach (triangle inequality). The candidate's k nearest others
   // (within `farthest` of it) lie within nearest + farthest of the member, which bounds its
   // k-th from the start (1e-5 spares float rounding).
-  const Index d = params_.descriptor_size;
+  const Index d = params_.measure_size;
   const auto k = static_cast<std::size_t>(params_.novelty_neighbours);
   Real* m = member_.data();
   for (Index j = 0; j < d; ++j) m[j] = coordinates_[static_cast<std::size_t>(j)][static_cast<std::size_t>(slot)];
@@ -152,7 +152,7 @@ void UnstructuredArchive::refill(Index count, const Real* solutions, const Real*
                                  std::vector<Index>* rows) {
   clear();
   if (rows) rows->clear();
-  const Index d = params_.descriptor_size, g = params_.solution_size, b = params_.base_feature_size;
+  const Index d = params_.measure_size, g = params_.solution_size, b = params_.base_feature_size;
   // Rows up to the first non-finite descriptor go in, then that row's add() throws, as one by one.
   Index finite = 0;
   while (finite < count && std::all_of(descriptors + finite * d, descriptors + (finite + 1) * d,
@@ -217,7 +217,7 @@ ArchiveStats UnstructuredArchive::stats() const {
 
 void UnstructuredArchive::save(BinaryWriter& out) const {
   out.tag("unstructured_archive");
-  out.value<std::int64_t>(params_.descriptor_size);
+  out.value<std::int64_t>(params_.measure_size);
   out.value<std::int64_t>(params_.solution_size);
   out.value<std::int64_t>(params_.base_feature_size);
   out.values(objectives_);
@@ -231,7 +231,7 @@ void UnstructuredArchive::load(BinaryReader& in) {
   const auto dims = in.value<std::int64_t>("archive descriptor size");
   const auto genes = in.value<std::int64_t>("archive solution size");
   const auto base = in.value<std::int64_t>("archive base-feature size");
-  if (dims != params_.descriptor_size || genes != params_.solution_size || base != params_.base_feature_size)
+  if (dims != params_.measure_size || genes != params_.solution_size || base != params_.base_feature_size)
     in.fail("unstructured archive of another shape than this run's");
   const auto objectives = in.values<Real>("archive objectives");
   const auto solutions = in.values<Real>("archive solutions");

@@ -29,7 +29,7 @@
 namespace qdmeta {
 
 struct UnstructuredArchiveParams {
-  Index descriptor_size = 2;    // dimensions of the descriptor (AURORA: the latent size), >= 1
+  Index measure_size = 2;       // dimensions of a measure (AURORA: the latent size), >= 1
   Index solution_size = 0;      // genes per solution, >= 1
   Index base_feature_size = 0;  // base features kept per elite (0: none)
   Index target_size = 10'000;   // the size AURORA steers toward; coverage = min(1, size / target)
@@ -106,7 +106,7 @@ class UnstructuredArchive {
   std::vector<Real> objectives_;
   std::vector<Real> solutions_;                  // size x solution_size
   std::vector<Real> base_;                       // size x base_feature_size
-  std::vector<std::vector<Real>> coordinates_;   // descriptor_size arrays of size entries, by slot
+  std::vector<std::vector<Real>> coordinates_;   // measure_size arrays of size entries, by slot
   PointGrid grid_;                               // the members' descriptors by slot
   // add()'s scratch: the cells seen around the candidate, its nearest and its nearest's nearest.
   std::vector<PointGrid::Span> spans_;

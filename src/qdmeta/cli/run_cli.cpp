@@ -20,6 +20,7 @@
 #include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/cli/distribution_factory.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
@@ -181,7 +182,7 @@ int command_adapt(const AdaptArgs& a) {
   if (a.test == "generalisation") {
     if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
     const GeneralisationReport g =
-        generalise_run(a.run, a.seed, *evaluator, a.solutions ? std::optional<Index>(*a.solutions) : std::nullopt);
+        generalise_run(RunState(a.run), a.seed, *evaluator, a.solutions ? std::optional<Index>(*a.solutions) : std::nullopt);
     if (!a.quiet) {
       const Index scored = g.rows.empty() ? g.archive_size : g.rows.front().solutions;
       fmt::print("test 'generalisation': {} of {} archive solutions, mean score per group (+- SE over environments):\n",
@@ -193,7 +194,7 @@ int command_adapt(const AdaptArgs& a) {
     return 0;
   }
   if (a.solutions) throw InputError("--solutions applies to --test generalisation only");
-  const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
+  const AdaptationReport r = adapt_run(RunState(a.run), a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
                                        *evaluator);
   if (!a.quiet)
     fmt::print("test '{}': {} functions x {} evaluations over {} archive solutions; best after 1: {:.6g} +- {:.3g}, "
@@ -357,6 +358,7 @@ int command_experiment(const ExperimentArgs& a) {
 
 int run_cli_with_tools(int argc, char** argv, const fs::path& tools) {
   g_tools_dir = tools;
+  if (!has_notice_sink()) set_notice_sink(print_notice_to_stderr);  // a program's own sink stays
   ensure_core_plugins();  // as build_run() would, so that --help lists them in any program
   // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command line.
   const std::unique_ptr<Distribution> distribution = make_distribution(argc, argv);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -73,7 +74,17 @@ class ConfigReader {
       throw InputError(fmt::format("{}: {}", source_, e.what()));
     }
   }
+  // An integer that may be absent (nullopt), with no default standing in for it.
+  std::optional<std::int64_t> optional_integer(std::string_view key, std::int64_t lo, std::int64_t hi);
+  std::vector<std::string> strings(std::string_view key, const std::vector<std::string>& fallback);
   bool has(std::string_view key) const { return table_.contains(key); }
+  // An array of tables ([[key]]), one reader each, named key[1], key[2], ... in messages; finish()
+  // checks their keys too. Absent: none.
+  std::vector<ConfigReader> tables(std::string_view key);
+  // A table or an array of tables taken as it is, for a caller that checks its contents itself
+  // (an experiment's `set`, its claims); null when absent. Copied to the resolved table as it is.
+  const toml::table* raw_table(std::string_view key);
+  const toml::array* raw_tables(std::string_view key);
   // A sub-table ([task], [archive], ...); absent means all defaults. This reader remembers it,
   // so that finish() checks its keys too.
   ConfigReader table(std::string_view key);
