@@ -356,7 +356,7 @@ int command_experiment(const ExperimentArgs& a) {
 
 }  // namespace
 
-int run_cli_with_tools(int argc, char** argv, const fs::path& tools) {
+int run_cli_with_tools(int argc, char** argv, const fs::path& tools, DistributionFactory make_distribution) {
   g_tools_dir = tools;
   if (!has_notice_sink()) set_notice_sink(print_notice_to_stderr);  // a program's own sink stays
   ensure_core_plugins();  // as build_run() would, so that --help lists them in any program

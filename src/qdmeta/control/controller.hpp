@@ -2,12 +2,12 @@
 // Dynamic parameter control of QD-Meta: how many MAP-Elites generations each meta-generation
 // runs (one G shared by all maps of the meta-generation). The static controller fixes G; the
 // SARSA(lambda) controller learns it (docs/specification.md, SARSA(lambda) control).
-#include <Eigen/Core>
 #include <cstdint>
 #include <span>
 #include <string>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/eigen.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {

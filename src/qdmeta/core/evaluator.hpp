@@ -6,6 +6,7 @@
 #include <functional>
 #include <span>
 
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/task.hpp"
 
 namespace qdmeta {

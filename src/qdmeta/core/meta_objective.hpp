@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"

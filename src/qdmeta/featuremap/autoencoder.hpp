@@ -9,10 +9,10 @@
 // rows costs well under a second either way, and double keeps the gradient check against finite
 // differences tight and the training free of float round-off drift. Everything is serial and
 // deterministic given the Rng passed in.
-#include <Eigen/Core>
 #include <vector>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/eigen.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
