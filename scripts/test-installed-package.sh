@@ -8,7 +8,8 @@
 # installation lacks, or that names nothing, is refused in one message. Then it builds
 # examples/own-task against it (also for the baseline) with find_package(qdmeta), and runs that
 # program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run resumed
-# to the same archive, the test phase, an experiment with its report (by the installed
+# to the same archive, arm-parts (the task handed to build_run as a value) killed at a checkpoint
+# and resumed to arm-qd's archive, the test phase, an experiment with its report (by the installed
 # report.py), a misspelt [task] key refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -169,6 +170,20 @@ elif [[ $status -eq 0 ]]; then
 else
   fail "the interrupted run exited with status $status"
 fi
+
+step "a program that registers nothing (arm-parts): killed at its first checkpoint, resumed"
+parts_config=$runs/parts.toml  # QD-Meta's config with [task] naming the part only
+sed '/^joints = /d' "$root/examples/own-task/configs/qd-meta.toml" > "$parts_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$parts_config"
+status=0
+message=$("$example/arm-parts" run "$root/examples/own-task/configs/qd-meta.toml" "$runs/parts-keys" 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'task.joints'"* ]] || fail "arm-parts took a [task] key: $status $message"
+status=0
+QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$example/arm-parts" run "$parts_config" "$runs/parts" || status=$?
+[[ $status -eq 137 && -e $runs/parts/checkpoint.bin ]] || fail "arm-parts was not killed at its checkpoint ($status)"
+"$example/arm-parts" resume "$runs/parts" || fail "arm-parts resume"
+check_run "$runs/parts"
+cmp -s "$runs/qd-meta/archive.csv" "$runs/parts/archive.csv" || fail "arm-parts's archive differs from arm-qd's"
 
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"

@@ -54,4 +54,11 @@ void LockedJointTests::score(qdmeta::Index test, const qdmeta::RowMatrix& genoty
   for (qdmeta::Index i = 0; i < fitness.size(); ++i) out[static_cast<std::size_t>(i)] = fitness[i];
 }
 
+std::unique_ptr<qdmeta::MetaObjective> read_locked_joint(qdmeta::ConfigReader& meta_fitness, const qdmeta::Task& task,
+                                                         std::uint64_t /*seed*/) {
+  const auto joint = meta_fitness.integer("joint", 0, 0, task.genotype_size() - 1);
+  const double fraction = meta_fitness.number("sample_fraction", 0.1, 0.0, 1.0, qdmeta::Open::kLower);
+  return std::make_unique<LockedJointMeta>(task, static_cast<int>(joint), fraction);
+}
+
 }  // namespace arm

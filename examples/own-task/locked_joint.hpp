@@ -4,7 +4,10 @@
 // estimated from a sample of its elites re-evaluated so; the test family locks each joint in turn.
 #include <qdmeta/core/adaptation_tests.hpp>
 #include <qdmeta/core/meta_objective.hpp>
+#include <qdmeta/plugin/config.hpp>
 
+#include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 
@@ -42,5 +45,9 @@ class LockedJointTests final : public qdmeta::AdaptationTests {
  private:
   qdmeta::Task arm_;
 };
+
+// [meta_fitness] kind = "locked-joint": keys `joint` (default 0) and `sample_fraction` (0.1).
+std::unique_ptr<qdmeta::MetaObjective> read_locked_joint(qdmeta::ConfigReader& meta_fitness, const qdmeta::Task& task,
+                                                         std::uint64_t seed);
 
 }  // namespace arm
