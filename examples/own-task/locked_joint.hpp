@@ -21,9 +21,9 @@ class LockedJointMeta final : public qdmeta::MetaObjective {
   LockedJointMeta(qdmeta::Task arm, int joint, double sample_fraction);
   std::string name() const override { return "arm-locked-joint"; }
   // The sample to re-evaluate, with the joint locked: one batch of tasks()[0].
-  qdmeta::MetaPlan plan(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng) const override;
+  qdmeta::MetaPlan plan(const qdmeta::MetaArchive& archive, qdmeta::Rng& rng) const override;
   // The estimate from that batch's fitness.
-  qdmeta::MetaFitnessResult score(const qdmeta::RowMatrix& elites, const qdmeta::MetaPlan& plan,
+  qdmeta::MetaFitnessResult score(const qdmeta::MetaArchive& archive, const qdmeta::MetaPlan& plan,
                                   std::span<const qdmeta::EvaluationBatch> results) const override;
   std::vector<qdmeta::Task> tasks() const override { return {arm_}; }
 

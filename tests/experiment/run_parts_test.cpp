@@ -43,8 +43,9 @@ struct Plane {
 class MeanFirstGene final : public MetaObjective {
  public:
   std::string name() const override { return "mean-first-gene"; }
-  MetaPlan plan(const RowMatrix&, Rng&) const override { return {}; }
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan&, std::span<const EvaluationBatch>) const override {
+  MetaPlan plan(const MetaArchive&, Rng&) const override { return {}; }
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan&, std::span<const EvaluationBatch>) const override {
+    const RowMatrix& elites = archive.genotypes();
     return {elites.rows() == 0 ? 0.0 : static_cast<double>(elites.col(0).mean()), 0};
   }
 };

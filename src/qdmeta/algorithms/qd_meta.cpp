@@ -79,6 +79,9 @@ void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArch
   m.add("every map's offspring of one meta-generation",
         "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
         lambda * offspring_bytes(static_cast<double>(max_generations) * static_cast<double>(p.batch_size), task));
+  m.add("the archives as the meta-objective reads them", "qd_meta.meta_population x archive.bins (cells) x "
+        "(genes + target features + base features + 1)",
+        lambda * grid_cells(grid) * kFloat * (n + dims + nb + 1));
   m.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
         4 * k * k * sizeof(double) + lambda * k * sizeof(double));
   m.add("the initial population", "qd_meta.initial_population x genes",
@@ -269,13 +272,23 @@ void QdMeta::plan_map(Index i) {
   planned_[m] = 0;
   meta_results_[m] = {};
   if (archive.empty()) return;
-  RowMatrix& elites = elites_[m];
-  elites.resize(archive.size(), n);
+  Elites& elites = elites_[m];
+  const Index count = archive.size(), dims = archive.dimensions(), nb = archive.base_feature_size();
+  elites.genotypes.resize(count, n);
+  elites.fitness.resize(count);
+  elites.measures.resize(count, dims);
+  elites.base_features.resize(count, nb);
   Index row = 0;
-  for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
+  for (Index cell : archive.filled_cells()) {
+    std::copy_n(archive.solution(cell), n, elites.genotypes.row(row).data());
+    elites.fitness[row] = archive.objective(cell);
+    std::copy_n(archive.measures(cell), dims, elites.measures.row(row).data());
+    std::copy_n(archive.base_features(cell), nb, elites.base_features.row(row).data());
+    ++row;
+  }
   Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), static_cast<std::uint64_t>(meta_generation_),
                                 static_cast<std::uint64_t>(i)});
-  plans_[m] = meta_objective_->plan(elites, rng);
+  plans_[m] = meta_objective_->plan(elites.view(), rng);
   check_meta_plan(*meta_objective_, plans_[m], meta_tasks_);
   meta_evaluations_[m].resize(plans_[m].batches.size());
   for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
@@ -295,7 +308,7 @@ void QdMeta::score_meta_fitness() {
   for_each_map(params_.meta_population, task_.shareable(), [&](Index i) {
     const auto m = static_cast<std::size_t>(i);
     if (!planned_[m]) return;
-    const MetaFitnessResult result = meta_objective_->score(elites_[m], plans_[m], meta_evaluations_[m]);
+    const MetaFitnessResult result = meta_objective_->score(elites_[m].view(), plans_[m], meta_evaluations_[m]);
     if (!std::isfinite(result.value))
       throw Error(fmt::format("meta-objective '{}' returned {} for map {} of meta-generation {}", meta_objective_->name(),
                               result.value, i, meta_generation_ + 1));

@@ -116,7 +116,14 @@ class QdMeta final : public Algorithm {
   std::vector<EvaluationBatch> block_evaluations_; // per map: their evaluations (the request's outputs)
   std::vector<RowMatrix> targets_;                 // per map: insertion scratch
   std::vector<Task> meta_tasks_;                   // the meta-objective's tasks(), which its batches index
-  std::vector<RowMatrix> elites_;                  // per map: the genotypes scored by the meta-objective
+  struct Elites {                                  // a map's archive as its meta-objective reads it
+    RowMatrix genotypes;
+    Vector fitness;
+    RowMatrix measures;
+    RowMatrix base_features;
+    MetaArchive view() const { return {genotypes, fitness, measures, base_features}; }
+  };
+  std::vector<Elites> elites_;                     // per map, filled cells in cell order
   std::vector<MetaPlan> plans_;                    // per map: its meta-objective plan (empty archive: none)
   std::vector<std::uint8_t> planned_;              // per map: 1 when plans_ holds a plan to score
   std::vector<std::vector<EvaluationBatch>> meta_evaluations_;  // per map: its plan's batches' results

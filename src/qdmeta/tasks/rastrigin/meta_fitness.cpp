@@ -211,9 +211,11 @@ RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::
   }
 }
 
-MetaPlan RastriginDimensionMeta::plan(const RowMatrix& elites, Rng& rng) const { return analytic_plan(compute(elites, rng)); }
+MetaPlan RastriginDimensionMeta::plan(const MetaArchive& archive, Rng& rng) const {
+  return analytic_plan(compute(archive.genotypes(), rng));
+}
 
-MetaFitnessResult RastriginDimensionMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+MetaFitnessResult RastriginDimensionMeta::score(const MetaArchive& /*archive*/, const MetaPlan& plan,
                                                 std::span<const EvaluationBatch> /*results*/) const {
   return analytic_result(plan, name());
 }
@@ -256,11 +258,11 @@ RastriginTranslationMeta::RastriginTranslationMeta(RastriginMetaParams params) :
   params_.validate();
 }
 
-MetaPlan RastriginTranslationMeta::plan(const RowMatrix& elites, Rng& rng) const {
-  return analytic_plan(compute(elites, rng));
+MetaPlan RastriginTranslationMeta::plan(const MetaArchive& archive, Rng& rng) const {
+  return analytic_plan(compute(archive.genotypes(), rng));
 }
 
-MetaFitnessResult RastriginTranslationMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+MetaFitnessResult RastriginTranslationMeta::score(const MetaArchive& /*archive*/, const MetaPlan& plan,
                                                   std::span<const EvaluationBatch> /*results*/) const {
   return analytic_result(plan, name());
 }

@@ -46,8 +46,8 @@ class RastriginDimensionMeta final : public MetaObjective {
   // of them, distinct and non-negative (checked against the genotype size in evaluate()).
   RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions);
   std::string name() const override { return "rastrigin-dimension"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,
                           std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   const std::vector<int>& dimensions() const { return dimensions_; }
@@ -65,8 +65,8 @@ class RastriginTranslationMeta final : public MetaObjective {
  public:
   explicit RastriginTranslationMeta(RastriginMetaParams params = {});
   std::string name() const override { return "rastrigin-translation"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,
                           std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   int transform_count() const { return 8 * params_.transform_repetitions; }
