@@ -204,6 +204,11 @@ else  # no matplotlib here: the installed script was found and ran, which is wha
   [[ $message == *"$prefix/share/qdmeta/tools/report.py"* ]] || fail "arm-qd report did not use the installed script: $message"
 fi
 
+step "arm-qd --help lists the arm beside the built-in parts"
+message=$("$arm" --help)
+[[ $message == *'[task] name = "arm": [meta_fitness] kind locked-joint; adapt --test locked'* &&
+   $message == *'[task] name = "rastrigin"'* ]] || fail "arm-qd --help: $message"
+
 step "a misspelt [task] key is refused"
 bad=$runs/bad.toml
 sed 's/^joints = /jionts = /' "$root/examples/own-task/configs/map-elites.toml" > "$bad"

@@ -377,10 +377,30 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
+// The top-level help's footer: what a config of this program may name, from the registries (a
+// program that registers its own task or algorithm sees it listed here).
+std::string describe_registered_parts() {
+  std::string out = fmt::format("Registered in this program (what a config may name):\n  algorithm: {}\n",
+                                joined(registered_algorithm_names()));
+  for (const std::string& name : registered_task_names()) {
+    const auto plugin = find_task_plugin(name);
+    if (plugin == nullptr) continue;
+    std::vector<std::string> kinds, tests = plugin->adaptation_tests;
+    for (const auto& [kind, reader] : plugin->meta_objectives) kinds.push_back(kind);
+    if (!plugin->generalisation_groups.empty()) tests.push_back("generalisation");
+    out += fmt::format("  [task] name = \"{}\": [meta_fitness] kind {}; adapt --test {}\n", name,
+                       kinds.empty() ? "(none)" : joined(kinds), tests.empty() ? "(none)" : joined(tests));
+  }
+  if (const auto missing = unavailable_task_names(); !missing.empty())
+    out += fmt::format("  not in this build: {}\n", joined(missing));
+  return out;
+}
+
 int parse_and_run(int argc, char** argv) {
   const int ranks = g_distribution->ranks();
   CLI::App app{"qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites and AURORA"};
   app.set_version_flag("--version", std::string(kVersion));
+  app.footer(describe_registered_parts());
   app.require_subcommand(1);
 
   RunArgs run;

@@ -66,12 +66,12 @@ class ConfigReader {
   E choice(std::string_view key, E fallback, const EnumNames<E, N>& names) {
     const std::string text = read_string(key, enum_to_string(names, fallback));
     std::string valid;
-    for (const auto& [e, name] : names) valid += fmt::format("{}\"{}\"", valid.empty() ? "" : ", ", name);
-    record(key, "string", fmt::format("\"{}\"", enum_to_string(names, fallback)), valid);
+    for (const auto& [e, name] : names) valid.append(valid.empty() ? "" : ", ").append("\"").append(name).append("\"");
+    record(key, "string", "\"" + std::string(enum_to_string(names, fallback)) + "\"", valid);
     try {
       return enum_from_string(names, qualified(key), text);
     } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", source_, e.what()));
+      throw InputError(source_ + ": " + e.what());
     }
   }
   // An integer that may be absent (nullopt), with no default standing in for it.
