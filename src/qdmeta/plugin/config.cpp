@@ -59,6 +59,25 @@ void ConfigReader::record(std::string_view key, std::string type, std::string fa
   if (t_key_log) t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range)});
 }
 
+namespace {
+std::string quoted_list(const std::vector<std::string_view>& choices) {
+  std::string out;
+  for (std::string_view c : choices) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", c);
+  return out;
+}
+}  // namespace
+
+void ConfigReader::record_choice(std::string_view key, std::string_view fallback,
+                                 const std::vector<std::string_view>& choices) const {
+  record(key, "string", fmt::format("\"{}\"", fallback), quoted_list(choices));
+}
+
+void ConfigReader::refuse_choice(std::string_view key, std::string_view text,
+                                 const std::vector<std::string_view>& choices) const {
+  throw InputError(fmt::format("{}: {} = \"{}\" is not a valid choice: use one of {}", source_, qualified(key), text,
+                               quoted_list(choices)));
+}
+
 struct ConfigReader::Scope {
   std::set<std::string, std::less<>> known;  // the keys read
   std::vector<ConfigReader> opened;          // the tables opened through this one, in order
