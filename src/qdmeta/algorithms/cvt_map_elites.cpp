@@ -20,11 +20,16 @@ void CvtMapElitesParams::validate() const {
   require_range("cvt.max_attempts", max_attempts, Index{0}, Index{1'000'000'000'000});
 }
 
+CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions) {
+  if (search != CvtSearch::kAuto) return search;
+  return dimensions > CentroidGrid::kMaxDimensions ? CvtSearch::kParentBound : CvtSearch::kBruteForce;
+}
+
 void add_cvt_map_elites_memory(MemoryEstimate& m, const CvtMapElitesParams& p, const Task& task) {
   constexpr auto kFloat = static_cast<double>(sizeof(Real));
   const auto cells = static_cast<double>(p.kmeans.centroids);
   const auto nb = static_cast<double>(task.base_feature_size());
-  const double lists = p.search == CvtSearch::kParentBound
+  const double lists = resolve_cvt_search(p.search, task.base_feature_size()) == CvtSearch::kParentBound
                            ? static_cast<double>(std::min(p.neighbours, p.kmeans.centroids)) * sizeof(Index)
                            : 0.0;
   m.add("the archive and its neighbour lists", "cvt.centroids x (genes + base features + cvt.neighbours)",
@@ -36,7 +41,11 @@ void add_cvt_map_elites_memory(MemoryEstimate& m, const CvtMapElitesParams& p, c
 }
 
 CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
-    : params_(std::move(params)), task_(std::move(task)), mutation_(mutation), seed_(seed) {
+    : params_(std::move(params)),
+      task_(std::move(task)),
+      mutation_(mutation),
+      seed_(seed),
+      search_(resolve_cvt_search(params_.search, task_.base_feature_size())) {
   params_.validate();
 }
 
@@ -72,7 +81,7 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
   }
   if (!made.warning.empty()) notice(NoticeKind::kWarning, made.warning);
   cache_outcome_ = made.outcome;
-  const Index lists = params_.search == CvtSearch::kParentBound ? params_.neighbours : 0;
+  const Index lists = search_ == CvtSearch::kParentBound ? params_.neighbours : 0;
   archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
 }
 
@@ -108,7 +117,7 @@ bool CvtMapElites::take_results() {
     if (!evaluations_.valid[static_cast<std::size_t>(r)]) evaluations_.base_features.row(r).setZero();
   cells_.resize(static_cast<std::size_t>(count));
   settled_.assign(static_cast<std::size_t>(count), 0);
-  const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
+  const Index* parents = search_ == CvtSearch::kParentBound ? parents_.data() : nullptr;
   const Index chunk = params_.lookup_chunk;
   const Index chunks = (count + chunk - 1) / chunk;
   searched_per_chunk_.assign(static_cast<std::size_t>(chunks), 0);
