@@ -107,7 +107,8 @@ TEST(CentroidGrid, ExactTiesGoToTheLowestIndexAcrossBuckets) {
   for (Index i = 0; i < 32; ++i) line_points(i, 0) = static_cast<Real>(2 * i + 1) / 64;
   EXPECT_EQ(expect_matches_naive(shuffled(line, 4), line_points), 32);
   RowMatrix cube(125, 3);
-  for (Index i = 0; i < 125; ++i) cube.row(i) << static_cast<Real>(i / 25) / 4, static_cast<Real>(i / 5 % 5) / 4, static_cast<Real>(i % 5) / 4;
+  for (Index i = 0; i < 125; ++i)
+    cube.row(i) << static_cast<Real>(i / 25) / 4, static_cast<Real>(i / 5 % 5) / 4, static_cast<Real>(i % 5) / 4;
   RowMatrix cube_points(64, 3);
   for (Index i = 0; i < 64; ++i)
     cube_points.row(i) << static_cast<Real>(2 * (i / 16) + 1) / 8, static_cast<Real>(2 * (i / 4 % 4) + 1) / 8,
@@ -188,12 +189,14 @@ TEST(CentroidGrid, FlatClusteredAndExtremeClouds) {
   const RowMatrix single = random_block(1, 2, 14);
   const RowMatrix huge = random_block(1000, 2, 15, -1e30, 1e30);
   const RowMatrix tiny = random_block(1000, 2, 16, 1.0, 1.0 + 1e-5);
-  for (const RowMatrix* c : std::vector<const RowMatrix*>{&flat, &flat3, &diagonal, &clusters, &same, &single, &huge, &tiny}) {
+  for (const RowMatrix* c :
+       std::vector<const RowMatrix*>{&flat, &flat3, &diagonal, &clusters, &same, &single, &huge, &tiny}) {
     const Index d = c->cols();
     const double lo = c->minCoeff(), hi = c->maxCoeff(), pad = std::max(1.0, hi - lo);
     RowMatrix points(600, d);
     points.topRows(300) = random_block(300, d, 17, lo - 0.1 * pad, hi + 0.1 * pad);
-    points.middleRows(300, 200) = c->topRows(std::min<Index>(200, c->rows())).replicate(200 / std::min<Index>(200, c->rows()) + 1, 1).topRows(200);
+    const Index on = std::min<Index>(200, c->rows());  // points on the centroids
+    points.middleRows(300, 200) = c->topRows(on).replicate(200 / on + 1, 1).topRows(200);
     points.bottomRows(100) = random_block(100, d, 18, lo - 1e3 * pad, hi + 1e3 * pad);  // far outside
     SCOPED_TRACE(::testing::Message() << c->rows() << " x " << d << " cloud in [" << lo << ", " << hi << "]");
     expect_matches_naive(*c, points);

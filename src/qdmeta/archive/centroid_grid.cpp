@@ -112,7 +112,8 @@ Index CentroidGrid::find(const Real* point, double* distance) const {
   double best_squared = std::numeric_limits<double>::infinity();
   const auto visit = [&](std::int32_t first, std::int32_t last) {
     for (std::int32_t e = first; e < last; ++e) {
-      const double squared = reference_squared_distance(point, coordinates_.data() + static_cast<std::size_t>(e) * static_cast<std::size_t>(d_), d_);
+      const Real* centroid = coordinates_.data() + static_cast<std::size_t>(e) * static_cast<std::size_t>(d_);
+      const double squared = reference_squared_distance(point, centroid, d_);
       const Index c = index_[static_cast<std::size_t>(e)];
       if (squared < best_squared || (squared == best_squared && c < best)) {
         best_squared = squared;
@@ -120,7 +121,9 @@ Index CentroidGrid::find(const Real* point, double* distance) const {
       }
     }
   };
-  const auto entries = [&](Index b0, Index b1, Index b2) { return start_[static_cast<std::size_t>((b0 * buckets_[1] + b1) * buckets_[2] + b2)]; };
+  const auto entries = [&](Index b0, Index b1, Index b2) {
+    return start_[static_cast<std::size_t>((b0 * buckets_[1] + b1) * buckets_[2] + b2)];
+  };
   for (Index r = 0;; ++r) {
     // Ring r: the buckets whose largest step from q along an axis is r, inside the grid.
     std::array<Index, kMaxDimensions> lo{}, hi{};

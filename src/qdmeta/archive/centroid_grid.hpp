@@ -35,7 +35,10 @@ class CentroidGrid {
   // The bucket of coordinate x along `axis`, clamped to the grid.
   Index bucket_along(Index axis, double x) const;
   // Lower edge of bucket b along `axis`.
-  double edge(Index axis, Index b) const { return low_[static_cast<std::size_t>(axis)] + static_cast<double>(b) * width_[static_cast<std::size_t>(axis)]; }
+  double edge(Index axis, Index b) const {
+    const auto u = static_cast<std::size_t>(axis);
+    return low_[u] + static_cast<double>(b) * width_[u];
+  }
 
   Index d_ = 0;
   std::array<Index, kMaxDimensions> buckets_{1, 1, 1};
