@@ -6,24 +6,27 @@ include(CMakePackageConfigHelpers)
 set(QDMETA_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/qdmeta)
 set(QDMETA_INSTALL_TOOLSDIR ${CMAKE_INSTALL_DATADIR}/qdmeta/tools)
 
-set(qdmeta_exported qdmeta qdmeta_command_line)
-set(qdmeta_header_excludes)
+# One export set per component: qdmetaConfig.cmake loads qdmetaRhexTargets.cmake and
+# qdmetaMpiTargets.cmake (and searches for DART and MPI) only for a program that asks for them.
+set(qdmeta_library_destinations ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(TARGETS qdmeta qdmeta_command_line EXPORT qdmetaTargets ${qdmeta_library_destinations})
+install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
+# rhex_world.hpp is the rhex library's own (DART types): the installed RHex headers are DART-free.
+set(qdmeta_header_excludes PATTERN rhex_world.hpp EXCLUDE)
 if(QDMETA_WITH_RHEX)
-  list(APPEND qdmeta_exported qdmeta_rhex)
+  install(TARGETS qdmeta_rhex EXPORT qdmetaRhexTargets ${qdmeta_library_destinations})
+  install(EXPORT qdmetaRhexTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
 else()
   list(APPEND qdmeta_header_excludes PATTERN rhex EXCLUDE)
 endif()
 if(QDMETA_WITH_MPI)
-  list(APPEND qdmeta_exported qdmeta_mpi)
+  install(TARGETS qdmeta_mpi EXPORT qdmetaMpiTargets ${qdmeta_library_destinations})
+  install(EXPORT qdmetaMpiTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
 else()
   # eval/mpi/ and the command line's MPI Distribution (cli/mpi_distribution.hpp).
   list(APPEND qdmeta_header_excludes PATTERN mpi EXCLUDE PATTERN mpi_distribution.hpp EXCLUDE)
 endif()
 
-install(TARGETS ${qdmeta_exported} EXPORT qdmetaTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS qdmeta_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(QDMETA_WITH_RHEX)
   install(TARGETS qdmeta_rhex_gait RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
@@ -40,7 +43,6 @@ install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/
               ${PROJECT_SOURCE_DIR}/tools/run_summary.py
         DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
-install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/qdmetaConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/qdmetaConfig.cmake
                               INSTALL_DESTINATION ${QDMETA_INSTALL_CMAKEDIR}

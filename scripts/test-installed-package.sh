@@ -1,8 +1,15 @@
 #!/usr/bin/env bash
 # The installed CMake package, end to end (run by `make test` after ctest): installs the build
-# into a scratch prefix, builds examples/own-task against it with find_package(qdmeta), and runs
-# that program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run
-# resumed to the same archive, the test phase, an experiment with its report (by the installed
+# into a scratch prefix and checks that it serves any consumer: no instruction-set, Eigen or DART
+# flag in its targets' interface, no DART in its headers, Eigen configured by its headers; a
+# program built for the x86-64 baseline (the library is built with -march=native) that asks for
+# no component, configured where DART and MPI cannot be found, runs QD-Meta and MAP-Elites to the
+# archives of the installed `qdmeta`, freeing the library's elite tables; a component the
+# installation lacks, or that names nothing, is refused in one message. Then it builds
+# examples/own-task against it (also for the baseline) with find_package(qdmeta), and runs that
+# program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run resumed
+# to the same archive, arm-parts (the task handed to build_run as a value) killed at a checkpoint
+# and resumed to arm-qd's archive, the test phase, an experiment with its report (by the installed
 # report.py), a misspelt [task] key refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -11,29 +18,110 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(cd "${1:-build}" && pwd)
 prefix=$build/install-test
 example=$build/own-task-test
+consumer=$build/portable-consumer-test
 jobs=${JOBS:-2}
+# What a program built for any x86-64 CPU is compiled with (no -march reaches it from qdmeta).
+portable="-march=x86-64 -mtune=generic"
 
 fail() { echo "test-installed-package: FAILED: $*" >&2; exit 1; }
 step() { echo "test-installed-package: $*"; }
 
 step "installing into $prefix"
-rm -rf "$prefix" "$example"
+rm -rf "$prefix" "$example" "$consumer"
 cmake --install "$build" --prefix "$prefix" > /dev/null
+package=$prefix/lib/cmake/qdmeta
 # plugin/: the config reader and the registries; experiment/config.hpp and task_registry.hpp: their
 # 0.1 paths, still included by programs written then.
 for f in bin/qdmeta share/qdmeta/tools/report.py include/qdmeta/cli/run_cli.hpp lib/cmake/qdmeta/qdmetaConfig.cmake \
          lib/cmake/qdmeta/qdmetaConfigVersion.cmake include/qdmeta/plugin/config.hpp include/qdmeta/plugin/registry.hpp \
          include/qdmeta/plugin/task_registry.hpp include/qdmeta/experiment/config.hpp \
-         include/qdmeta/experiment/task_registry.hpp; do
+         include/qdmeta/experiment/task_registry.hpp include/qdmeta/core/eigen.hpp; do
   [[ -e $prefix/$f ]] || fail "the install lacks $f"
 done
 "$prefix/bin/qdmeta" --version > /dev/null || fail "the installed qdmeta does not start"
 
-step "building examples/own-task against it"
+step "no flag of the building machine, of Eigen or of DART reaches a consumer"
+if grep -nE -- '-march|-mtune|EIGEN_|BOOST_TEST_DYN_LINK' "$package"/qdmeta*Targets*.cmake; then
+  fail "an installed target passes the flags above to its consumers"
+fi
+if grep -rln '#include <dart/' "$prefix/include"; then fail "the installed headers above include DART"; fi
+# Eigen's settings come from qdmeta/core/eigen.hpp, which must precede every Eigen header.
+while IFS= read -r header; do
+  [[ $header == */qdmeta/core/eigen.hpp ]] && continue
+  eigen=$(grep -n -m1 '#include <Eigen/' "$header" | cut -d: -f1)
+  config=$(grep -n -m1 '#include "qdmeta/core/eigen.hpp"' "$header" | cut -d: -f1 || true)
+  [[ -n $config && $config -lt $eigen ]] || fail "$header includes Eigen before qdmeta/core/eigen.hpp"
+done < <(grep -rl '#include <Eigen/' "$prefix/include")
+
 launcher=()
 if command -v ccache > /dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S "$root/examples/own-task" -B "$example" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" \
-      "${launcher[@]}" > "$example.configure.log" 2>&1 || { cat "$example.configure.log"; fail "configuring the example"; }
+# configure SOURCE BINARY [ARGS...]: a Release consumer of the installed package, built for the baseline.
+configure() {
+  local source=$1 binary=$2
+  shift 2
+  cmake -S "$source" -B "$binary" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" \
+        -DCMAKE_CXX_FLAGS="$portable" -DCMAKE_EXPORT_COMPILE_COMMANDS=ON "${launcher[@]}" "$@" \
+        > "$binary.configure.log" 2>&1 || { cat "$binary.configure.log"; fail "configuring $source"; }
+  if grep -q -- '-march=native' "$binary/compile_commands.json"; then fail "$source is compiled with -march=native"; fi
+}
+
+step "a consumer for the x86-64 baseline, without components, where DART and MPI cannot be found"
+configure "$root/tests/package" "$consumer" -DCMAKE_DISABLE_FIND_PACKAGE_DART=ON -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON
+# CMake reads CMAKE_DISABLE_FIND_PACKAGE_X at each find_package(X): reported unused, neither was looked for.
+unused=$(sed -n '/Manually-specified variables were not used/,$p' "$consumer.configure.log")
+[[ $unused == *CMAKE_DISABLE_FIND_PACKAGE_DART* && $unused == *CMAKE_DISABLE_FIND_PACKAGE_MPI* ]] \
+  || fail "find_package(qdmeta) without components looked for DART or MPI: $(cat "$consumer.configure.log")"
+cmake --build "$consumer" -j "$jobs" > "$consumer.build.log" 2>&1 || { cat "$consumer.build.log"; fail "building the consumer"; }
+for config in map-elites qdmeta-dimension; do
+  # The library's elite tables, freed by the consumer; the archive that of the installed qdmeta.
+  "$consumer/portable-consumer" "$root/configs/rastrigin/$config.toml" 20000 "$consumer/$config.csv" \
+    || fail "the portable consumer on $config"
+  "$prefix/bin/qdmeta" run --config "$root/configs/rastrigin/$config.toml" --evals 20000 --out "$consumer/$config" \
+    --threads "$jobs" --quiet || fail "qdmeta run ($config)"
+  cmp -s "$consumer/$config.csv" "$consumer/$config/archive.csv" || fail "the portable consumer's $config archive differs"
+done
+
+step "a component the installation lacks, or that names nothing, is refused in one message"
+wants=$consumer/wants
+mkdir -p "$wants/source"
+cat > "$wants/source/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(wants LANGUAGES CXX)
+find_package(qdmeta REQUIRED COMPONENTS ${WANT})
+get_directory_property(definitions COMPILE_DEFINITIONS)
+message(STATUS "found: ${WANT}, directory definitions: [${definitions}]")
+CMAKE
+# ask NAME PREFIX [ARGS...]: prints the configure output; the status is cmake's.
+ask() {
+  local want=$1 from=$2
+  shift 2
+  rm -rf "$wants/build"
+  cmake -S "$wants/source" -B "$wants/build" -DWANT="$want" -DCMAKE_PREFIX_PATH="$from" "$@" 2>&1
+}
+# An installation without RHex and MPI: this one without their targets files.
+lean=$consumer/lean-prefix
+mkdir -p "$lean/lib"
+ln -s "$prefix/include" "$prefix/share" "$lean/"
+ln -s "$prefix"/lib/*.a "$lean/lib/"
+cp -r "$prefix/lib/cmake" "$lean/lib/"
+rm -f "$lean"/lib/cmake/qdmeta/qdmeta{Rhex,Mpi}Targets*.cmake
+message=$(ask rhex "$lean") && fail "a missing rhex component was accepted: $message"
+[[ $message == *"has no component rhex: qdmeta was built without DART 6.12"* ]] || fail "missing rhex: $message"
+message=$(ask mpi "$lean") && fail "a missing mpi component was accepted: $message"
+[[ $message == *"has no component mpi: qdmeta was built without MPI"* ]] || fail "missing mpi: $message"
+message=$(ask gpu "$prefix") && fail "component gpu was accepted: $message"
+[[ $message == *'qdmeta has no component "gpu" (its components: rhex, mpi)'* ]] || fail "component gpu: $message"
+if [[ -e $package/qdmetaMpiTargets.cmake ]]; then
+  message=$(ask mpi "$prefix" -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON) && fail "mpi was found without MPI: $message"
+  [[ $message == *"component mpi needs MPI (C++), which was not found"* ]] || fail "mpi without MPI: $message"
+fi
+if [[ -e $package/qdmetaRhexTargets.cmake ]]; then
+  message=$(ask rhex "$prefix") || fail "component rhex: $message"
+  [[ $message == *"found: rhex, directory definitions: []"* ]] || fail "finding rhex left definitions: $message"
+fi
+
+step "building examples/own-task against it, for the x86-64 baseline"
+configure "$root/examples/own-task" "$example"
 cmake --build "$example" -j "$jobs" > "$example.build.log" 2>&1 || { cat "$example.build.log"; fail "building the example"; }
 arm=$example/arm-qd
 runs=$example/runs
@@ -83,6 +171,20 @@ else
   fail "the interrupted run exited with status $status"
 fi
 
+step "a program that registers nothing (arm-parts): killed at its first checkpoint, resumed"
+parts_config=$runs/parts.toml  # QD-Meta's config with [task] naming the part only
+sed '/^joints = /d' "$root/examples/own-task/configs/qd-meta.toml" > "$parts_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$parts_config"
+status=0
+message=$("$example/arm-parts" run "$root/examples/own-task/configs/qd-meta.toml" "$runs/parts-keys" 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'task.joints'"* ]] || fail "arm-parts took a [task] key: $status $message"
+status=0
+QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$example/arm-parts" run "$parts_config" "$runs/parts" || status=$?
+[[ $status -eq 137 && -e $runs/parts/checkpoint.bin ]] || fail "arm-parts was not killed at its checkpoint ($status)"
+"$example/arm-parts" resume "$runs/parts" || fail "arm-parts resume"
+check_run "$runs/parts"
+cmp -s "$runs/qd-meta/archive.csv" "$runs/parts/archive.csv" || fail "arm-parts's archive differs from arm-qd's"
+
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"
 [[ -s $runs/map-elites/adapt-locked.csv ]] || fail "adapt wrote no adapt-locked.csv"
@@ -102,6 +204,11 @@ else  # no matplotlib here: the installed script was found and ran, which is wha
   [[ $message == *"$prefix/share/qdmeta/tools/report.py"* ]] || fail "arm-qd report did not use the installed script: $message"
 fi
 
+step "arm-qd --help lists the arm beside the built-in parts"
+message=$("$arm" --help)
+[[ $message == *'[task] name = "arm": [meta_fitness] kind locked-joint; adapt --test locked'* &&
+   $message == *'[task] name = "rastrigin"'* ]] || fail "arm-qd --help: $message"
+
 step "a misspelt [task] key is refused"
 bad=$runs/bad.toml
 sed 's/^joints = /jionts = /' "$root/examples/own-task/configs/map-elites.toml" > "$bad"
@@ -109,7 +216,7 @@ status=0
 message=$("$arm" run --config "$bad" --out "$runs/bad" --quiet 2>&1) || status=$?
 [[ $status -eq 2 && $message == *"task.jionts"* ]] || fail "a misspelt key gave status $status: $message"
 
-if grep -q 'set(qdmeta_WITH_MPI ON)' "$prefix/lib/cmake/qdmeta/qdmetaConfig.cmake" && command -v mpirun > /dev/null; then
+if grep -q 'libqdmeta_mpi.a' "$example/build.ninja" && command -v mpirun > /dev/null; then
   step "mpirun -np 2: the worker rank builds the arm from its own registry, to the same archive"
   as_root=()
   if [[ $(id -u) -eq 0 ]]; then as_root=(env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1); fi

@@ -1,12 +1,18 @@
 // Nearest-centroid lookups (the CVT insertion hot path) and k-means: the blocked-product exact
 // search against the plain loop, at 10,000 centroids in 20-D (the paper's
-// Rastrigin CVT setting; target in docs/architecture.md, "Hot paths").
+// Rastrigin CVT setting; target in docs/architecture.md, "Hot paths"), and in 2-D the bucket
+// grid against both.
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
 #include "qdmeta/archive/kmeans.hpp"
 #include "qdmeta/archive/nearest_centroid.hpp"
 #include "qdmeta/core/rng.hpp"
+
+#if __has_include(<nanoflann.hpp>)
+#include <nanoflann.hpp>
+#define QDMETA_HAVE_NANOFLANN 1
+#endif
 
 namespace qdmeta {
 namespace {
@@ -45,6 +51,75 @@ void BM_NearestCentroidNaive(benchmark::State& state) {
   state.counters["lookups/s"] = benchmark::Counter(400.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_NearestCentroidNaive)->Unit(benchmark::kMillisecond);
+
+// The 2-D case (a planar arm's end-effector position): 10,000 centroids from k-means over
+// 100,000 uniform points in [0,1]^2 (random seeding, 10 Lloyd passes, as bench/peers makes
+// them), 4,000 uniform query points, one thread. method 0: the plain loop (the definition);
+// 1: the blocked product (find() in 2-D before the grid); 2: find(), the bucket grid.
+const RowMatrix& centroids_2d() {
+  static const RowMatrix centroids = [] {
+    KMeansParams p;
+    p.centroids = 10'000;
+    p.samples = 100'000;
+    p.init = KMeansInit::kRandom;
+    p.init_samples = 100'000;
+    p.iterations = 10;
+    return kmeans(uniform_points(p.samples, 2, p.seed), p).centroids;
+  }();
+  return centroids;
+}
+
+void BM_NearestCentroid2D(benchmark::State& state) {
+  const RowMatrix& centroids = centroids_2d();
+  const NearestCentroid search(centroids);
+  const RowMatrix points = random_block(4'000, 2, 2);
+  const Index method = state.range(0);
+  std::vector<Index> cells(4'000);
+  for (auto _ : state) {
+    if (method == 0)
+      for (Index i = 0; i < 4'000; ++i) cells[static_cast<std::size_t>(i)] = nearest_centroid_naive(centroids, points.row(i).data());
+    else if (method == 1)
+      search.find_by_product(points.data(), 4'000, cells.data());
+    else
+      search.find(points.data(), 4'000, cells.data());
+    benchmark::DoNotOptimize(cells.data());
+  }
+  state.counters["lookups/s"] = benchmark::Counter(4'000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NearestCentroid2D)->ArgName("method")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+#ifdef QDMETA_HAVE_NANOFLANN
+// The same lookups by a nanoflann k-d tree over the centroids (its nearest by its own float
+// distance, ties unresolved: a lower bound on an exact search built on it).
+struct CentroidCloud {
+  const RowMatrix* c;
+  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(c->rows()); }
+  Real kdtree_get_pt(std::size_t i, std::size_t d) const { return (*c)(static_cast<Index>(i), static_cast<Index>(d)); }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using CentroidTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<Real, CentroidCloud>, CentroidCloud, 2, std::uint32_t>;
+
+void BM_NearestCentroid2DNanoflann(benchmark::State& state) {
+  const CentroidCloud cloud{&centroids_2d()};
+  CentroidTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  tree.buildIndex();
+  const RowMatrix points = random_block(4'000, 2, 2);
+  std::vector<Index> cells(4'000);
+  for (auto _ : state) {
+    for (Index i = 0; i < 4'000; ++i) {
+      std::uint32_t index = 0;
+      Real distance = 0;
+      tree.knnSearch(points.row(i).data(), 1, &index, &distance);
+      cells[static_cast<std::size_t>(i)] = index;
+    }
+    benchmark::DoNotOptimize(cells.data());
+  }
+  state.counters["lookups/s"] = benchmark::Counter(4'000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_NearestCentroid2DNanoflann)->Unit(benchmark::kMicrosecond);
+#endif
 
 // Neighbour lists (a CVT elite's 256 nearest centroids and the bound on the rest), the remake of
 // the parent-bound search: 64 points, made `rows` at a time (1: one per call; 8: the centroids

@@ -5,11 +5,15 @@
 // BM_CmaEsDecompose measures one decomposition alone, qdmeta::symmetric_eigen (what CmaEs
 // runs: fixed-order sums, the same bits on every CPU) against Eigen's SelfAdjointEigenSolver
 // (vectorised for the CPU it is built on; what CmaEs ran before), on the same matrix.
-// GCC 12 false -Wmaybe-uninitialized inside Eigen 3.4's SelfAdjointEigenSolver (see cma_es.cpp).
+#include "qdmeta/core/eigen.hpp"  // before Eigen/Dense: Eigen configured as in the library
+
+// GCC 12 false -Wmaybe-uninitialized inside Eigen 3.4's SelfAdjointEigenSolver.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <Eigen/Dense>
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
 

@@ -4,6 +4,7 @@
 //   BM_RebuildTen/T/R:  ten maps at once on T threads (the lambda = 10 maps of a meta-generation);
 //                       s_per_map = wall time / 10. R = 1: fitness trends upwards with age, as
 //                       in a real run, so rows often replace their cell's winner.
+//   BM_RebuildMaps/M/T: M maps (1 or 5: not a multiple of T) at once on T threads, trend database.
 //   BM_MapOnly:         the feature-map alone over the database (no insertion), one thread.
 //   BM_BaselineEigen:   the "before" version: blocked Eigen float products, a scalar std::exp
 //                       sigmoid, add per row; one map, one thread.
@@ -83,25 +84,37 @@ void BM_RebuildOne(benchmark::State& state) {
 }
 BENCHMARK(BM_RebuildOne)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_RebuildTen(benchmark::State& state) {
-  const qdmeta::Database& db = database(state.range(1) != 0);
+// `count` maps rebuilt at once on `threads` threads.
+void rebuild_maps(benchmark::State& state, int count, int threads, bool trend) {
+  const qdmeta::Database& db = database(trend);
   std::vector<std::unique_ptr<qdmeta::NeuralFeatureMap>> maps;
   std::vector<std::unique_ptr<qdmeta::GridArchive>> archives;
   std::vector<const qdmeta::NeuralFeatureMap*> map_ptrs;
   std::vector<qdmeta::GridArchive*> archive_ptrs;
-  for (int m = 0; m < 10; ++m) {
+  for (int m = 0; m < count; ++m) {
     maps.push_back(std::make_unique<qdmeta::NeuralFeatureMap>(shape(), random_weights(100 + static_cast<std::uint64_t>(m))));
     archives.push_back(std::make_unique<qdmeta::GridArchive>(grid()));
     map_ptrs.push_back(maps.back().get());
     archive_ptrs.push_back(archives.back().get());
   }
-  tbb::task_arena arena(static_cast<int>(state.range(0)));
+  tbb::task_arena arena(threads);
   for (auto _ : state) arena.execute([&] { qdmeta::rebuild_archives(db, map_ptrs, archive_ptrs); });
   state.counters["s_per_map"] = benchmark::Counter(
-      10.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.SetItemsProcessed(state.iterations() * db.size() * 10);
+      static_cast<double>(count), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetItemsProcessed(state.iterations() * db.size() * count);
+}
+
+void BM_RebuildTen(benchmark::State& state) {
+  rebuild_maps(state, 10, static_cast<int>(state.range(0)), state.range(1) != 0);
 }
 BENCHMARK(BM_RebuildTen)->ArgNames({"threads", "trend"})->Args({1, 0})->Args({2, 0})->Args({1, 1})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Map counts that do not split evenly over two threads (the lambda study's 1 and 5): the
+// database ranks are split instead. Trend database.
+void BM_RebuildMaps(benchmark::State& state) {
+  rebuild_maps(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), true);
+}
+BENCHMARK(BM_RebuildMaps)->ArgNames({"maps", "threads"})->Args({1, 1})->Args({1, 2})->Args({5, 1})->Args({5, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_MapOnly(benchmark::State& state) {
   const qdmeta::Database& db = database();

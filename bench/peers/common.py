@@ -1,9 +1,18 @@
-"""What every peer runner shares: the Rastrigin task (docs/fidelity.md) and one result line.
+"""What every peer runner shares: the tasks, the operators and one result line.
 
-The task: genotype g in [0,1]^20, x = -5.12 + 10.24 g, objective
+Rastrigin (docs/fidelity.md): genotype g in [0,1]^20, x = -5.12 + 10.24 g, objective
 f = -[10 N + sum(x^2 - 10 cos 2 pi x)] (maximum 0), measures (g0, g1) on a 100 x 100 grid or
-all 20 genes for CVT. The operator: each gene mutated with probability 0.10 by a Gaussian of
-SD 0.05, clamped to [0, 1]. QD-score offset -2000 for everyone.
+all 20 genes for CVT. QD-score offset -2000.
+
+The planar arm (examples/own-task/arm_task.cpp): 100 joints on links of length 1/100, gene g_j
+in [0,1] is the joint angle a_j = (g_j - 0.5) 2 pi relative to the link before; objective =
+-variance of the angles (maximum 0: a straight arm); measures = the end effector's (x, y),
+each scaled from [-1, 1] to [0, 1], on a 100 x 100 grid or as the CVT descriptor (2-D).
+QD-score offset -pi^2 (the lowest objective).
+
+The operators: "gaussian", each gene mutated with probability 0.10 by a Gaussian of SD 0.05,
+clamped to [0, 1]; "iso-line" (Vassiliades & Mouret 2018), x_i + 0.01 N(0, I) + 0.2 N(0, 1)
+(x_j - x_i) for two uniformly chosen elites, clamped.
 """
 import argparse
 import json
@@ -18,6 +27,10 @@ INITIAL = 2000
 MUTATION_RATE = 0.10
 MUTATION_SD = 0.05
 QD_OFFSET = -2000.0
+ISO_SIGMA = 0.01
+LINE_SIGMA = 0.2
+ARM_JOINTS = 100
+ARM_QD_OFFSET = -np.pi ** 2
 
 
 def rastrigin(genotypes):
@@ -28,8 +41,36 @@ def rastrigin(genotypes):
     return -(np.float32(10.0 * x.shape[1]) + np.sum(terms, axis=1))
 
 
+def arm(genotypes):
+    """Objective and (n, 2) measures of each row of a (n, joints) array in [0,1], in float32 like
+    the Rastrigin task (the C++ arm computes in double: its measures agree to about 1e-6)."""
+    angles = (np.asarray(genotypes, dtype=np.float32) - np.float32(0.5)) * np.float32(2.0 * np.pi)
+    objective = -np.var(angles, axis=1)
+    heading = np.cumsum(angles, axis=1)
+    link = np.float32(1.0 / angles.shape[1])
+    xy = np.stack([link * np.sum(np.cos(heading), axis=1), link * np.sum(np.sin(heading), axis=1)], axis=1)
+    return objective, np.clip((xy + np.float32(1.0)) / np.float32(2.0), np.float32(0.0), np.float32(1.0))
+
+
+class Task:
+    """A task as the runners see it: genes, the measures of the grid and of CVT, the QD offset."""
+
+    def __init__(self, name, genes, cvt_dimensions, qd_offset, evaluate):
+        self.name = name
+        self.genes = genes
+        self.cvt_dimensions = cvt_dimensions
+        self.qd_offset = qd_offset
+        self.evaluate = evaluate  # genotypes -> (objectives, grid measures, CVT measures)
+
+
+TASKS = {
+    "rastrigin": Task("rastrigin", DIMENSIONS, DIMENSIONS, QD_OFFSET, lambda g: (rastrigin(g), g[:, :2], g)),
+    "arm": Task("arm", ARM_JOINTS, 2, ARM_QD_OFFSET, lambda g: (lambda f, m: (f, m, m))(*arm(g))),
+}
+
+
 def mutate(parents, rng):
-    """The paper's operator on a (n, 20) array of parents."""
+    """The Gaussian operator on a (n, genes) array of parents."""
     mask = rng.random(parents.shape) < MUTATION_RATE
     noise = rng.normal(0.0, MUTATION_SD, parents.shape)
     return np.clip(parents + mask * noise, 0.0, 1.0)
@@ -47,9 +88,9 @@ def batches(evals):
     return sizes
 
 
-def qd_score(objectives):
+def qd_score(objectives, offset=QD_OFFSET):
     """Sum over elites of (objective - offset): the same formula for every library."""
-    return float(np.sum(np.asarray(objectives, dtype=np.float64) - QD_OFFSET))
+    return float(np.sum(np.asarray(objectives, dtype=np.float64) - offset))
 
 
 def emit(**fields):
@@ -70,7 +111,10 @@ def main(description, library, make_centroids, run, kmeans_iterations=False):
     if kmeans_iterations:
         p.add_argument("--kmeans-iterations", type=int, default=10)
     p.add_argument("--centroids-file", default=f"centroids-{library}.npy")
+    p.add_argument("--task", choices=sorted(TASKS), default="rastrigin")
+    p.add_argument("--operator", choices=["gaussian", "iso-line"], default="gaussian")
     args = p.parse_args()
+    args.task = TASKS[args.task]
     if args.algorithm == "cvt-centroids":
         make_centroids(args)
     else:

@@ -40,7 +40,13 @@ def metrics(repertoire):
     return {}
 
 
+def rastrigin_only(args):
+    if args.task.name != "rastrigin" or args.operator != "gaussian":
+        raise SystemExit("the QDax runner has Rastrigin with the Gaussian operator only")
+
+
 def make_centroids(args):
+    rastrigin_only(args)
     start = time.perf_counter()
     centroids = compute_cvt_centroids(num_descriptors=common.DIMENSIONS, num_init_cvt_samples=args.samples,
                                       num_centroids=args.centroids, minval=0.0, maxval=1.0,
@@ -54,6 +60,7 @@ def make_centroids(args):
 
 
 def run(args):
+    rastrigin_only(args)
     sizes = common.batches(args.evals)
     if args.algorithm == "map-elites":
         centroids = compute_euclidean_centroids(grid_shape=common.GRID, minval=0.0, maxval=1.0)

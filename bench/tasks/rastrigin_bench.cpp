@@ -2,6 +2,7 @@
 // it (with its output checks), and the double-precision reference for comparison.
 #include <benchmark/benchmark.h>
 
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"

@@ -59,6 +59,15 @@ void BM_PairwiseDistanceSum(benchmark::State& state) {
 }
 BENCHMARK(BM_PairwiseDistanceSum)->Arg(1000)->Arg(4096)->Unit(benchmark::kMicrosecond);
 
+// The plain loops that give the same bits (the kernel before the vector steps).
+void BM_PairwiseDistanceSumPortable(benchmark::State& state) {
+  const auto n = static_cast<Index>(state.range(0));
+  const qdmeta::RowMatrix p = archive().topRows(n);
+  for (auto _ : state) benchmark::DoNotOptimize(qdmeta::pairwise_distance_sum_portable(p));
+  state.SetItemsProcessed(state.iterations() * n * (n - 1) / 2);
+}
+BENCHMARK(BM_PairwiseDistanceSumPortable)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
 // The straightforward computation: scalar double Rastrigin per (solution, task), distances pair by pair.
 void BM_DimensionReference(benchmark::State& state) {
   const auto j = dims();

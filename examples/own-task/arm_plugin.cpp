@@ -15,14 +15,6 @@ qdmeta::Task read_arm(qdmeta::ConfigReader& task_table) {
   return qdmeta::Task(ArmTask(static_cast<int>(joints)));
 }
 
-// [meta_fitness] kind = "locked-joint".
-std::unique_ptr<qdmeta::MetaObjective> read_locked_joint(qdmeta::ConfigReader& meta_fitness, const qdmeta::Task& task,
-                                                         std::uint64_t /*seed*/) {
-  const auto joint = meta_fitness.integer("joint", 0, 0, task.genotype_size() - 1);
-  const double fraction = meta_fitness.number("sample_fraction", 0.1, 0.0, 1.0, qdmeta::Open::kLower);
-  return std::make_unique<LockedJointMeta>(task, static_cast<int>(joint), fraction);
-}
-
 // `qdmeta adapt --test locked`.
 std::unique_ptr<qdmeta::AdaptationTests> read_tests(const toml::table& /*run_config*/, const std::string& /*source*/,
                                                     const qdmeta::Task& task, std::string_view /*test*/,

@@ -4,7 +4,10 @@
 // estimated from a sample of its elites re-evaluated so; the test family locks each joint in turn.
 #include <qdmeta/core/adaptation_tests.hpp>
 #include <qdmeta/core/meta_objective.hpp>
+#include <qdmeta/plugin/config.hpp>
 
+#include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 
@@ -18,9 +21,9 @@ class LockedJointMeta final : public qdmeta::MetaObjective {
   LockedJointMeta(qdmeta::Task arm, int joint, double sample_fraction);
   std::string name() const override { return "arm-locked-joint"; }
   // The sample to re-evaluate, with the joint locked: one batch of tasks()[0].
-  qdmeta::MetaPlan plan(const qdmeta::RowMatrix& elites, qdmeta::Rng& rng) const override;
+  qdmeta::MetaPlan plan(const qdmeta::MetaArchive& archive, qdmeta::Rng& rng) const override;
   // The estimate from that batch's fitness.
-  qdmeta::MetaFitnessResult score(const qdmeta::RowMatrix& elites, const qdmeta::MetaPlan& plan,
+  qdmeta::MetaFitnessResult score(const qdmeta::MetaArchive& archive, const qdmeta::MetaPlan& plan,
                                   std::span<const qdmeta::EvaluationBatch> results) const override;
   std::vector<qdmeta::Task> tasks() const override { return {arm_}; }
 
@@ -42,5 +45,9 @@ class LockedJointTests final : public qdmeta::AdaptationTests {
  private:
   qdmeta::Task arm_;
 };
+
+// [meta_fitness] kind = "locked-joint": keys `joint` (default 0) and `sample_fraction` (0.1).
+std::unique_ptr<qdmeta::MetaObjective> read_locked_joint(qdmeta::ConfigReader& meta_fitness, const qdmeta::Task& task,
+                                                         std::uint64_t seed);
 
 }  // namespace arm

@@ -93,7 +93,7 @@ ArchiveHandle<CvtArchive> archive_from_state(const py::tuple& s) {
 
 py::tuple archive_state(const ArchiveHandle<UnstructuredArchive>& h) {
   const UnstructuredArchiveParams& p = h.archive.params();
-  return state(h, py::make_tuple(p.descriptor_size, p.solution_size, p.base_feature_size, p.target_size, p.eps,
+  return state(h, py::make_tuple(p.measure_size, p.solution_size, p.base_feature_size, p.target_size, p.eps,
                                  p.novelty_neighbours, p.qd_offset));
 }
 
@@ -101,7 +101,7 @@ template <>
 ArchiveHandle<UnstructuredArchive> archive_from_state(const py::tuple& s) {
   const py::tuple v = parameters_of<UnstructuredArchive>(s, 7);
   UnstructuredArchiveParams p;
-  p.descriptor_size = v[0].cast<Index>();
+  p.measure_size = v[0].cast<Index>();
   p.solution_size = v[1].cast<Index>();
   p.base_feature_size = v[2].cast<Index>();
   p.target_size = v[3].cast<Index>();

@@ -26,7 +26,7 @@ struct Sizes {
 Sizes sizes_of(const GridArchive& a) { return {a.solution_size(), a.dimensions(), a.base_feature_size()}; }
 Sizes sizes_of(const CvtArchive& a) { return {a.solution_size(), a.dimensions(), 0}; }
 Sizes sizes_of(const UnstructuredArchive& a) {
-  return {a.params().solution_size, a.params().descriptor_size, a.params().base_feature_size};
+  return {a.params().solution_size, a.params().measure_size, a.params().base_feature_size};
 }
 
 // The cell whose elite a measure vector retrieves, -1 when that cell is empty.

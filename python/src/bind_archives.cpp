@@ -274,7 +274,7 @@ measure vector; `seed` seeds sample_elites().)doc");
                        double qd_offset, py::handle seed) {
              UnstructuredArchiveParams p;
              p.solution_size = solution_dim;
-             p.descriptor_size = measure_dim;
+             p.measure_size = measure_dim;
              p.target_size = target_size;
              p.eps = eps;
              p.novelty_neighbours = novelty_neighbours;
@@ -290,15 +290,15 @@ measure vector; `seed` seeds sample_elites().)doc");
             UnstructuredArchive& a = h.archive;
             if (!(threshold > 0)) throw py::value_error(fmt::format("threshold must be > 0, got {}", threshold));
             const AddArguments args(s, o, mm, py::none(), py::none(), a.params().solution_size,
-                                    a.params().descriptor_size, 0);
-            check_batch(args.batch(), 0, a.params().solution_size, a.params().descriptor_size, 0, "UnstructuredArchive");
+                                    a.params().measure_size, 0);
+            check_batch(args.batch(), 0, a.params().solution_size, a.params().measure_size, 0, "UnstructuredArchive");
             std::vector<AddStatus> status(static_cast<std::size_t>(args.rows));
             {
               const py::gil_scoped_release release;
               for (Index r = 0; r < args.rows; ++r)
                 status[static_cast<std::size_t>(r)] =
                     a.add(args.solutions.data() + r * a.params().solution_size, args.objectives.data()[r],
-                          args.measures.data() + r * a.params().descriptor_size, nullptr, threshold);
+                          args.measures.data() + r * a.params().measure_size, nullptr, threshold);
             }
             return statuses(status);
           },
@@ -306,7 +306,7 @@ measure vector; `seed` seeds sample_elites().)doc");
           "add(solutions, objectives, measures, threshold) -> statuses (0 rejected, 1 replaced a member, 2 added)")
       .def_property_readonly("stats", [](const Unstructured& h) { return h.archive.stats(); })
       .def_property_readonly("solution_dim", [](const Unstructured& h) { return h.archive.params().solution_size; })
-      .def_property_readonly("measure_dim", [](const Unstructured& h) { return h.archive.params().descriptor_size; })
+      .def_property_readonly("measure_dim", [](const Unstructured& h) { return h.archive.params().measure_size; })
       .def("__len__", [](const Unstructured& h) { return h.archive.size(); })
       .def("clear", [](Unstructured& h) { h.archive.clear(); })
       .def("data", [](const Unstructured& h) { return elite_table_data(member_table(h.archive)); },

@@ -46,10 +46,7 @@ num_elites, obj_max and qd_score after every generation. Ctrl-C ends the run wit
       [](const fs::path& out_dir, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> meta_objective,
          int threads, py::object progress) {
         const RunLock lock(out_dir, RunLock::Mode::kExclusive);
-        ResumableRun r = [&] {
-          const auto registered = register_for_resume(out_dir, parts_of(task, meta_objective));
-          return open_for_resume(out_dir);
-        }();
+        ResumableRun r = open_for_resume(out_dir, parts_for_resume(out_dir, parts_of(task, meta_objective)));
         return drive(r.built, out_dir, threads, progress, &r.cursor);
       },
       py::arg("out_dir"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(), py::arg("threads") = 0,

@@ -108,16 +108,24 @@ built-in task from its [task] table (docs/config.md).)doc")
 A meta-objective for QD-Meta, written in Python: function(elites, seed) -> meta-fitness (higher
 is better), or (meta-fitness, evaluations spent). `elites` is a float32 array, one elite
 genotype per row; `seed` an integer for the function's own random draws (the same run gives the
-same seeds). Given to qdmeta.run() or qdmeta.Algorithm() it becomes the [meta_fitness] kind
-`name` of the run's task.)doc")
-      .def(py::init<py::object, std::string>(), py::arg("function"), py::arg("name") = "python")
+same seeds). With archive=True the function gets, in place of `elites`, a dict of what the
+archive stored for them, one row per elite: "solution", "objective", "measures" (the feature-map's
+output) and "base_features", as Archive.data() names them, so that it need not evaluate an elite
+again to know its fitness. Given to qdmeta.run() or qdmeta.Algorithm() it becomes the
+[meta_fitness] kind `name` of the run's task.)doc")
+      .def(py::init<py::object, std::string, bool>(), py::arg("function"), py::arg("name") = "python",
+           py::kw_only(), py::arg("archive") = false)
       .def_property_readonly("name", &PythonMetaObjective::name)
+      .def_property_readonly("archive", &PythonMetaObjective::reads_archive)
       .def(py::pickle(
-          [](const PythonMetaObjective& o) { return py::make_tuple(o.function(), o.name()); },
+          [](const PythonMetaObjective& o) { return py::make_tuple(o.function(), o.name(), o.reads_archive()); },
           [](const py::tuple& s) {
-            if (s.size() != 2 || !py::isinstance<py::str>(s[1]))
+            // (function, name), as made before `archive` existed, or (function, name, archive).
+            if (s.size() < 2 || s.size() > 3 || !py::isinstance<py::str>(s[1]) ||
+                (s.size() == 3 && !py::isinstance<py::bool_>(s[2])))
               throw InputError("unpickling a qdmeta.MetaObjective: the state is not one qdmeta made");
-            return std::make_shared<PythonMetaObjective>(s[0], s[1].cast<std::string>());
+            return std::make_shared<PythonMetaObjective>(s[0], s[1].cast<std::string>(),
+                                                         s.size() == 3 && s[2].cast<bool>());
           }));
 }
 

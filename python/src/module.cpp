@@ -8,6 +8,7 @@
 #include "python_interrupt.hpp"
 #include "qdmeta/cli/builtin_plugins.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
@@ -17,6 +18,9 @@ namespace py = pybind11;
 PYBIND11_MODULE(_qdmeta, m) {
   m.doc() = "qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites, AURORA and MAP-Elites";
   qdmeta::register_builtin_plugins();
+  // Notices (e.g. CVT's "this can take minutes") reach the user as the command line's do: on
+  // stderr, written from C++ so that no thread needs the GIL for them.
+  if (!qdmeta::has_notice_sink()) qdmeta::set_notice_sink(qdmeta::print_notice_to_stderr);
 
   // qdmeta.Error (a RuntimeError) for failures; qdmeta.InputError (an Error and a ValueError)
   // for bad input. Module-lifetime references, never released.

@@ -7,8 +7,8 @@
 #include "configured_task.hpp"
 #include "python_task.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/config.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/config.hpp"
+#include "qdmeta/plugin/task_registry.hpp"
 #include "toml_convert.hpp"
 
 namespace py = pybind11;
@@ -53,53 +53,20 @@ std::string task_name_of(const toml::table& config) {
   return "rastrigin";  // the config's default task
 }
 
-MetaObjectiveReader reader_of(const TaskPlugin& plugin, const std::string& kind) {
-  for (const auto& [name, reader] : plugin.meta_objectives)
-    if (name == kind) return reader;
-  return {};
+// The parts build_run() takes as values: a Python task (a built-in one is its [task] table
+// instead, filled in above) and a Python meta-objective, each run getting its own copy.
+RunParts run_parts(const PythonParts& parts) {
+  RunParts run;
+  if (parts.task && is_python_task(*parts.task)) run.task = *parts.task;
+  if (const auto objective = parts.meta_objective)
+    run.meta_objective = MetaObjectivePart{
+        objective->name(), [objective](ConfigReader&, const Task&, std::uint64_t) -> std::unique_ptr<MetaObjective> {
+          return std::make_unique<PythonMetaObjective>(*objective);
+        }};
+  return run;
 }
 
 }  // namespace
-
-// The built-in plugins are registered once, when the module is imported.
-ScopedParts::ScopedParts(const PythonParts& parts, const std::string& task_name) {
-  if (parts.task && is_python_task(*parts.task)) {
-    const Task task = *parts.task;
-    task_ = task.name();
-    previous_task_ = find_task_plugin(task_);
-    TaskPlugin plugin;
-    plugin.read_task = [task](ConfigReader&) { return task; };
-    register_task_plugin(task_, std::move(plugin));
-  }
-  if (parts.meta_objective) {
-    const auto objective = parts.meta_objective;
-    objective_task_ = task_name;
-    objective_kind_ = objective->name();
-    if (const auto plugin = find_task_plugin(task_name))
-      if (MetaObjectiveReader r = reader_of(*plugin, objective_kind_)) previous_objective_ = std::move(r);
-    // std::logic_error (a RuntimeError) when the task is unknown: the config reader's message,
-    // which lists the tasks, is better, so leave it to the build.
-    if (find_task_plugin(task_name))
-      register_meta_objective(task_name, objective_kind_,
-                              [objective](ConfigReader&, const Task&, std::uint64_t) -> std::unique_ptr<MetaObjective> {
-                                return std::make_unique<PythonMetaObjective>(*objective);
-                              });
-  }
-}
-
-ScopedParts::~ScopedParts() {
-  try {
-    if (!objective_kind_.empty()) {
-      if (previous_objective_) register_meta_objective(objective_task_, objective_kind_, *previous_objective_);
-      else unregister_meta_objective(objective_task_, objective_kind_);
-    }
-    if (!task_.empty()) {
-      if (previous_task_) register_task_plugin(task_, *previous_task_);
-      else unregister_task_plugin(task_);
-    }
-  } catch (...) {  // a destructor must not throw; the registry is then left as it is
-  }
-}
 
 BuiltRun build_from_python(const py::dict& config, const PythonParts& parts, BuildScope scope) {
   toml::table table = table_from_dict(config);
@@ -113,11 +80,10 @@ BuiltRun build_from_python(const py::dict& config, const PythonParts& parts, Bui
     if (const toml::table* builtin = builtin_table(*parts.task)) take_builtin_table(subtable(table, "task"), *builtin);
   }
   if (parts.meta_objective) require_key(subtable(table, "meta_fitness"), "meta_fitness", "kind", parts.meta_objective->name());
-  const ScopedParts registered(parts, task_name_of(table));
-  return build_run(table, "<python>", {}, scope);
+  return build_run(table, "<python>", {}, run_parts(parts), scope);
 }
 
-std::unique_ptr<ScopedParts> register_for_resume(const std::filesystem::path& dir, const PythonParts& parts) {
+RunParts parts_for_resume(const std::filesystem::path& dir, const PythonParts& parts) {
   const toml::table config = load_toml(dir / "config.toml");
   const std::string task = task_name_of(config);
   if (parts.task && parts.task->name() != task)
@@ -135,7 +101,7 @@ std::unique_ptr<ScopedParts> register_for_resume(const std::filesystem::path& di
                                         dir.string(), kind ? kind->get() : std::string("(none)"),
                                         parts.meta_objective->name()));
   }
-  return std::make_unique<ScopedParts>(parts, task);
+  return run_parts(parts);
 }
 
 }  // namespace qdmeta::python

@@ -1,9 +1,8 @@
 #pragma once
-// A run built from Python: the config dict goes through the same readers as a TOML file. While
-// it is built, a Python task is registered under its name (its [task] table is then just that
-// name) and a Python meta-objective under its name as a [meta_fitness] kind of the run's task;
-// the config is completed to select them. The registrations end with the build (the run holds
-// its own copies), so a later run or resume must be handed them again.
+// A run built from Python: the config dict goes through the same readers as a TOML file. A
+// Python task and meta-objective are handed to build_run() as values (run_parts.hpp), nothing
+// registered; the config is completed to name them ([task] name, [meta_fitness] kind). The run
+// holds its own copies, so a later run or resume is handed them again.
 #include <pybind11/pybind11.h>
 
 #include <filesystem>
@@ -16,7 +15,7 @@
 #include "python_meta_objective.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/experiment/run_parts.hpp"
 
 namespace qdmeta::python {
 
@@ -26,29 +25,12 @@ struct PythonParts {
   std::shared_ptr<const PythonMetaObjective> meta_objective;
 };
 
-// The parts registered for this object's life; then what was registered before under the same
-// names comes back.
-class ScopedParts {
- public:
-  ScopedParts(const PythonParts& parts, const std::string& task_name);
-  ~ScopedParts();
-  ScopedParts(const ScopedParts&) = delete;
-  ScopedParts& operator=(const ScopedParts&) = delete;
-
- private:
-  std::string task_;                              // the Python task's name, empty when none
-  std::shared_ptr<const TaskPlugin> previous_task_;
-  std::string objective_task_, objective_kind_;   // the meta-objective's registration
-  std::optional<MetaObjectiveReader> previous_objective_;
-};
-
 // Fills in [task] name and [meta_fitness] kind from the parts (an explicit, different value is
-// a ValueError), then builds the run with them registered.
+// a ValueError), then builds the run with them handed over as values (run_parts.hpp).
 BuiltRun build_from_python(const pybind11::dict& config, const PythonParts& parts, BuildScope scope = BuildScope::kRun);
 
-// The parts a run in `dir` was made with (its config.toml names them), registered while
-// open_for_resume() rebuilds it: the task must have the name the run used, the
-// meta-objective the kind.
-std::unique_ptr<ScopedParts> register_for_resume(const std::filesystem::path& dir, const PythonParts& parts);
+// The parts a run in `dir` was made with (its config.toml names them), for open_for_resume():
+// the task must have the name the run used, the meta-objective the kind.
+RunParts parts_for_resume(const std::filesystem::path& dir, const PythonParts& parts);
 
 }  // namespace qdmeta::python

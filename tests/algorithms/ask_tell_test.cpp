@@ -65,7 +65,8 @@ class SimulatingMeta final : public MetaObjective {
     tasks_ = {Task(RastriginTask(rp)), Task(ShiftedRastrigin{RastriginTask(rp)})};
   }
   std::string name() const override { return "simulating"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override {
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override {
+    const RowMatrix& elites = archive.genotypes();
     const Index n = elites.rows();
     RowMatrix shuffled(n, elites.cols());
     const std::vector<Index> order = sample_elites(n, n, rng);
@@ -75,7 +76,7 @@ class SimulatingMeta final : public MetaObjective {
     p.batches.push_back({1, shuffled.topRows((n + 1) / 2)});
     return p;
   }
-  MetaFitnessResult score(const RowMatrix&, const MetaPlan& p, std::span<const EvaluationBatch> results) const override {
+  MetaFitnessResult score(const MetaArchive&, const MetaPlan& p, std::span<const EvaluationBatch> results) const override {
     double sum = 0;
     std::int64_t count = 0;
     for (std::size_t k = 0; k < p.batches.size(); ++k)
@@ -461,11 +462,11 @@ class FailingOnceMeta final : public MetaObjective {
  public:
   explicit FailingOnceMeta(int fail_at) : inner_(kDims), fail_at_(fail_at) {}
   std::string name() const override { return "failing-once"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override {
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override {
     if (++(*calls_) == fail_at_) throw std::runtime_error("the simulator crashed");
-    return inner_.plan(elites, rng);
+    return inner_.plan(archive, rng);
   }
-  MetaFitnessResult score(const RowMatrix& e, const MetaPlan& p, std::span<const EvaluationBatch> r) const override {
+  MetaFitnessResult score(const MetaArchive& e, const MetaPlan& p, std::span<const EvaluationBatch> r) const override {
     return inner_.score(e, p, r);
   }
   std::vector<Task> tasks() const override { return inner_.tasks(); }

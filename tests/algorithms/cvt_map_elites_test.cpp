@@ -18,7 +18,7 @@
 namespace qdmeta {
 namespace {
 
-CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound) {
+CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound, int dimensions = 20) {
   CvtMapElitesParams p;
   p.search = search;
   p.neighbours = 32;
@@ -27,7 +27,9 @@ CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentB
   p.kmeans.init_samples = 3000;
   p.kmeans.iterations = 3;
   p.lookup_chunk = 30;
-  return CvtMapElites(p, Task(RastriginTask()), {}, seed);
+  RastriginParams task;
+  task.dimensions = dimensions;
+  return CvtMapElites(p, Task(RastriginTask(task)), {}, seed);
 }
 
 TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
@@ -57,6 +59,40 @@ TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
   EXPECT_EQ(ta.index, tb.index);
   EXPECT_EQ(ta.objective, tb.objective);
   EXPECT_TRUE(ta.solutions == tb.solutions);
+}
+
+// auto: the parent bound above 3 base features, no neighbour lists (the bucket grid) at 3 or
+// fewer; every choice gives the same archive, each elite in its nearest centroid's cell.
+TEST(CvtMapElites, AutoSearchPicksByDimensionAndEverySearchGivesTheSameArchive) {
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kAuto, 20), CvtSearch::kParentBound);
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kAuto, 4), CvtSearch::kParentBound);
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kAuto, 3), CvtSearch::kBruteForce);
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kAuto, 2), CvtSearch::kBruteForce);
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kParentBound, 2), CvtSearch::kParentBound);
+  EXPECT_EQ(resolve_cvt_search(CvtSearch::kBruteForce, 20), CvtSearch::kBruteForce);
+  SerialEvaluator evaluator;
+  for (int dimensions : {2, 3, 20}) {
+    SCOPED_TRACE(::testing::Message() << dimensions << " base features");
+    CvtMapElites automatic = make_cvt(11, CvtSearch::kAuto, dimensions);
+    CvtMapElites parent = make_cvt(11, CvtSearch::kParentBound, dimensions);
+    CvtMapElites brute = make_cvt(11, CvtSearch::kBruteForce, dimensions);
+    for (int g = 0; g < 30; ++g) {
+      automatic.step(evaluator);
+      parent.step(evaluator);
+      brute.step(evaluator);
+    }
+    EXPECT_EQ(automatic.archive().list_length(), dimensions > 3 ? 32 : 0);
+    const EliteTable t = automatic.elites();
+    ASSERT_GT(t.index.size(), 100u);
+    for (const CvtMapElites* other : {&parent, &brute}) {
+      const EliteTable o = other->elites();
+      EXPECT_EQ(t.index, o.index);
+      EXPECT_EQ(t.objective, o.objective);
+      EXPECT_TRUE(t.solutions == o.solutions);
+    }
+    for (std::size_t i = 0; i < t.index.size(); ++i)
+      ASSERT_EQ(t.index[i], nearest_centroid_naive(automatic.archive().centroids(), t.measures.row(static_cast<Index>(i)).data()));
+  }
 }
 
 // The base features themselves as descriptors.

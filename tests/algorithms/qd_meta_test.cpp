@@ -5,10 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <any>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <numeric>
+#include <set>
 
 #include "qdmeta/control/sarsa_control.hpp"
+#include "qdmeta/core/error.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
@@ -16,7 +22,8 @@
 namespace qdmeta {
 namespace {
 
-QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 2, bool sarsa = false) {
+QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 2, bool sarsa = false,
+                     std::unique_ptr<MetaObjective> objective = nullptr) {
   RastriginParams rp;
   rp.dimensions = 6;
   QdMetaParams p;
@@ -29,7 +36,8 @@ QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 
   grid.bins = {20, 20};
   RastriginMetaParams mp;
   mp.sample_fraction = 0.5;
-  return QdMeta(p, Task(RastriginTask(rp)), std::make_unique<RastriginTranslationMeta>(mp), grid, {},
+  if (!objective) objective = std::make_unique<RastriginTranslationMeta>(mp);
+  return QdMeta(p, Task(RastriginTask(rp)), std::move(objective), grid, {},
                 sarsa ? std::unique_ptr<GenerationController>(std::make_unique<SarsaControl>(SarsaParams{}))
                       : std::make_unique<StaticControl>(generations),
                 seed);
@@ -127,6 +135,97 @@ TEST(QdMeta, BestArchiveHoldsTheTasksFunctionOfItsGenotypesAndBaseFeatures) {
       EXPECT_LE(t.measures(i, j), 1.0f);
     }
   }
+}
+
+// Keeps a copy of every archive it is handed and scores it by the mean fitness the archive stored.
+class StoredFitnessMeta final : public MetaObjective {
+ public:
+  struct Seen {
+    RowMatrix genotypes;
+    Vector fitness;
+    RowMatrix measures;
+    RowMatrix base_features;
+  };
+  std::string name() const override { return "stored-fitness"; }
+  MetaPlan plan(const MetaArchive& archive, Rng&) const override {
+    const std::lock_guard lock(*mutex_);  // maps are scored in parallel
+    seen->push_back({archive.genotypes(), archive.fitness(), archive.measures(), archive.base_features()});
+    return {{}, static_cast<double>(archive.fitness().cast<double>().mean())};
+  }
+  MetaFitnessResult score(const MetaArchive&, const MetaPlan& plan, std::span<const EvaluationBatch>) const override {
+    return {std::any_cast<double>(plan.state), 0};
+  }
+  std::shared_ptr<std::vector<Seen>> seen = std::make_shared<std::vector<Seen>>();
+
+ private:
+  std::shared_ptr<std::mutex> mutex_ = std::make_shared<std::mutex>();
+};
+
+TEST(QdMeta, TheMetaObjectiveReadsWhatEachArchiveStored) {
+  auto objective = std::make_unique<StoredFitnessMeta>();
+  const auto seen = objective->seen;
+  QdMeta q = small_qd_meta(4, false, 2, false, std::move(objective));
+  q.step(*make_evaluator(2));
+  ASSERT_EQ(seen->size(), 4u);  // one archive per map
+  GridArchiveParams cells_of;
+  cells_of.bins = {20, 20};
+  cells_of.solution_size = 6;
+  const GridArchive grid(cells_of);
+  std::vector<double> means;
+  for (const StoredFitnessMeta::Seen& s : *seen) {
+    const Index k = s.genotypes.rows();
+    ASSERT_GT(k, 10);
+    ASSERT_EQ(s.fitness.size(), k);
+    ASSERT_EQ(s.measures.rows(), k);
+    ASSERT_EQ(s.measures.cols(), 2);
+    // The stored fitness and base features are the task's for those genotypes, exactly.
+    EvaluationBatch again;
+    again.resize(k, 6);
+    RastriginParams six;
+    six.dimensions = 6;
+    RastriginTask(six).evaluate({s.genotypes.data(), k, 6}, again.view());
+    EXPECT_TRUE(s.fitness == again.fitness);
+    EXPECT_TRUE(s.base_features == again.base_features);
+    // The measures are the archive's cells: in [0, 1], one elite in each.
+    std::set<Index> cells;
+    for (Index r = 0; r < k; ++r) cells.insert(grid.index_of(s.measures.row(r).data()));
+    EXPECT_EQ(static_cast<Index>(cells.size()), k);
+    EXPECT_GE(s.measures.minCoeff(), 0.0f);
+    EXPECT_LE(s.measures.maxCoeff(), 1.0f);
+    means.push_back(static_cast<double>(s.fitness.cast<double>().mean()));
+  }
+  // Each map's meta-fitness is what the objective computed from its stored fitness.
+  std::vector<double> recorded = q.meta_fitness();
+  std::sort(means.begin(), means.end());
+  std::sort(recorded.begin(), recorded.end());
+  EXPECT_EQ(means, recorded);
+}
+
+TEST(MetaArchive, GenotypesAloneHaveNoStoredValuesAndMismatchedRowsAreRefused) {
+  const RowMatrix genotypes = RowMatrix::Constant(3, 2, 0.5f);
+  const MetaArchive alone = genotypes;
+  EXPECT_EQ(alone.size(), 3);
+  EXPECT_EQ(&alone.genotypes(), &genotypes);
+  EXPECT_FALSE(alone.has_stored());
+  EXPECT_THROW(
+      {
+        try {
+          (void)alone.fitness();
+        } catch (const Error& e) {
+          EXPECT_STREQ(e.what(), "MetaArchive: this archive holds genotypes only, no fitness (QD-Meta's archives hold them)");
+          throw;
+        }
+      },
+      Error);
+  EXPECT_THROW((void)alone.measures(), Error);
+  EXPECT_THROW((void)alone.base_features(), Error);
+  const Vector fitness = Vector::Zero(3), short_fitness = Vector::Zero(2);
+  const RowMatrix measures(3, 2), base(3, 4);
+  const MetaArchive whole(genotypes, fitness, measures, base);
+  EXPECT_TRUE(whole.has_stored());
+  EXPECT_EQ(&whole.fitness(), &fitness);
+  EXPECT_EQ(whole.base_features().cols(), 4);
+  EXPECT_THROW((void)MetaArchive(genotypes, short_fitness, measures, base), Error);
 }
 
 TEST(QdMeta, FrozenCmaEsKeepsItsInitialDistribution) {

@@ -266,7 +266,7 @@ TYPED_TEST(ArchiveConformance, ClearForgetsEveryElite) {
 
 UnstructuredArchive three_member_archive() {
   UnstructuredArchiveParams p;
-  p.descriptor_size = 2;
+  p.measure_size = 2;
   p.solution_size = 1;
   p.target_size = 2;
   p.qd_offset = kOffset;

@@ -15,7 +15,7 @@ namespace {
 
 UnstructuredArchiveParams params2d() {
   UnstructuredArchiveParams p;
-  p.descriptor_size = 2;
+  p.measure_size = 2;
   p.solution_size = 1;
   p.base_feature_size = 1;
   p.target_size = 4;
@@ -169,7 +169,7 @@ TEST(UnstructuredArchive, TheGridIndexDecidesExactlyAsABruteForceReference) {
   const std::pair<Index, double> setups[] = {{1, 2.5}, {2, 1.0}, {2, 3.0}, {4, 0.4}};
   for (const auto& [d, spread] : setups) {
     UnstructuredArchiveParams p = params2d();
-    p.descriptor_size = d;
+    p.measure_size = d;
     UnstructuredArchive a(p);
     ReferenceArchive ref;
     ref.d = d;
@@ -197,6 +197,55 @@ TEST(UnstructuredArchive, TheGridIndexDecidesExactlyAsABruteForceReference) {
     EXPECT_GT(counts[1], 30) << d;
     EXPECT_GT(counts[2], 30) << d;
   }
+}
+
+TEST(UnstructuredArchive, RefillLeavesTheArchiveThatAddingRowByRowLeaves) {
+  // Lattice points, so that rows at exactly l from an earlier one occur; several thresholds,
+  // so that rows are added, rejected and replaced; rows beyond the grid included.
+  for (const Index d : {1, 2, 4}) {
+    int statuses[3] = {0, 0, 0};  // over the thresholds
+    for (const double l : {0.05, 0.25, 1.0}) {
+      UnstructuredArchiveParams p = params2d();
+      p.measure_size = d;
+      p.solution_size = 3;
+      p.base_feature_size = 2;
+      Rng rng(static_cast<std::uint64_t>(d) * 31 + static_cast<std::uint64_t>(l * 100));
+      const Index rows = 2000;
+      std::vector<Real> solutions, objectives, descriptors, base;
+      for (Index i = 0; i < rows; ++i) {
+        for (int g = 0; g < 3; ++g) solutions.push_back(static_cast<Real>(i * 3 + g));
+        for (int b = 0; b < 2; ++b) base.push_back(static_cast<Real>(-i - b));
+        objectives.push_back(static_cast<Real>(-std::abs(rng.normal()) * 10.0));
+        for (Index j = 0; j < d; ++j)
+          descriptors.push_back(static_cast<Real>(std::round(rng.normal() * (i % 97 == 0 ? 6.0 : 1.2) * 16.0) / 16.0));
+      }
+      UnstructuredArchive one_by_one(p), refilled(p);
+      for (Index i = 0; i < rows; ++i)
+        ++statuses[static_cast<int>(one_by_one.add(solutions.data() + 3 * i, objectives[static_cast<std::size_t>(i)],
+                                                   descriptors.data() + d * i, base.data() + 2 * i, l))];
+      refilled.add(solutions.data(), 5.0f, descriptors.data(), base.data(), l);  // emptied by refill()
+      refilled.refill(rows, solutions.data(), objectives.data(), descriptors.data(), base.data(), l);
+      SCOPED_TRACE(testing::Message() << "d = " << d << ", l = " << l);
+      ASSERT_EQ(refilled.size(), one_by_one.size());
+      for (Index s = 0; s < refilled.size(); ++s) {
+        ASSERT_EQ(refilled.objective(s), one_by_one.objective(s));
+        ASSERT_EQ(*refilled.solution(s), *one_by_one.solution(s));
+        ASSERT_EQ(*refilled.base_features(s), *one_by_one.base_features(s));
+        for (Index j = 0; j < d; ++j) ASSERT_EQ(refilled.descriptor(s, j), one_by_one.descriptor(s, j));
+      }
+    }
+    EXPECT_GT(statuses[static_cast<int>(AddStatus::kImproved)], 0) << d;
+    EXPECT_GT(statuses[static_cast<int>(AddStatus::kNotAdded)], 0) << d;
+  }
+}
+
+TEST(UnstructuredArchive, RefillStopsAtTheFirstNonFiniteDescriptorAsAddDoes) {
+  UnstructuredArchive a(params2d());
+  const Real solutions[4] = {1, 2, 3, 4}, objectives[4] = {-1, -1, -1, -1};
+  const Real descriptors[8] = {0, 0, 5, 0, std::nanf(""), 0, 10, 0};
+  EXPECT_THROW(a.refill(4, solutions, objectives, descriptors, solutions, 1.0), Error);
+  ASSERT_EQ(a.size(), 2);
+  EXPECT_EQ(*a.solution(1), 2.0f);
 }
 
 TEST(UnstructuredArchive, StatsUseTheTargetSizeAndTheOffset) {

@@ -106,6 +106,20 @@ TEST(Cli, RefusesADirectoryThatHoldsARunUnlessOverwrite) {
   EXPECT_EQ(qdmeta_cli("run --config " + config_path() + " --out " + out.string() + " --evals 3000 --quiet --overwrite").status, 0);
 }
 
+TEST(Cli, TheTopLevelHelpListsWhatAConfigMayName) {
+  const Outcome o = qdmeta_cli("--help");
+  EXPECT_EQ(o.status, 0);
+  EXPECT_NE(o.output.find("algorithm: map-elites, qd-meta, cvt-map-elites, aurora\n"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("[task] name = \"rastrigin\": [meta_fitness] kind translation, dimension; adapt --test "
+                          "dimension, translation"),
+            std::string::npos)
+      << o.output;
+  // RHex is either a registered task or listed as missing from the build, never silent.
+  EXPECT_TRUE(o.output.find("[task] name = \"rhex\"") != std::string::npos ||
+              o.output.find("not in this build: rhex") != std::string::npos)
+      << o.output;
+}
+
 TEST(Cli, BadInputIsOneLineAndExitStatusTwo) {
   const fs::path out = fresh_dir("bad");
   const fs::path unknown_key = write_config("unknown_key", "algorithm = \"map-elites\"\n[task]\ndimensionz = 3\n");

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/evaluation_batch.hpp"
 
 namespace qdmeta {
 namespace {

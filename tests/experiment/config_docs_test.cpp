@@ -2,6 +2,7 @@
 // default and range as the checks enforce them (ScopedConfigKeyLog), must be a row of the
 // reference with those very columns, and (when every optional task is built) every row must be a
 // key the code reads. So the reference cannot drift from the checks.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdlib>

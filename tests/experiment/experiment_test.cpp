@@ -6,8 +6,12 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "../expect_input_error.hpp"
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/experiment/run_directory.hpp"
 
 namespace qdmeta {
 namespace {
@@ -80,6 +84,34 @@ TEST(Experiment, ShippedExperimentFilesLoad) {
   }
 }
 
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// An experiment tests each run from the archive it holds in memory; `qdmeta adapt` reads it
+// back from archive.csv. Both must give the same bytes (archive.csv keeps every float exactly).
+TEST(Experiment, TestsOfAFreshRunMatchTestsReadFromItsArchiveFile) {
+  const fs::path f = write("tested", "replicates = 1\nevaluations = 3000\ntests = [\"dimension\", \"translation\"]\n"
+                                     "[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  const fs::path out = f.parent_path() / "tested-out";
+  fs::remove_all(out);
+  const ExperimentSpec spec = load_experiment(f, std::nullopt, std::nullopt);
+  const ExperimentResult r = run_experiment(spec, out, 1, {}, nullptr);
+  ASSERT_EQ(r.tests_done, 2);
+  const fs::path dir = replicate_dir(out, spec.conditions[0], 1);
+  auto evaluator = make_evaluator(1);
+  for (const std::string test : {"dimension", "translation"}) {
+    const fs::path csv = dir / ("adapt-" + test + ".csv");
+    const std::string from_memory = file_text(csv);
+    ASSERT_FALSE(from_memory.empty());
+    fs::remove(csv);
+    adapt_run(RunState(dir), test, std::nullopt, std::nullopt, *evaluator);
+    EXPECT_EQ(file_text(csv), from_memory) << test;
+  }
+  fs::remove_all(out);
+}
+
 TEST(Experiment, ReplicateRangesAreAOrAToB) {
   EXPECT_EQ(parse_replicate_range("6-10").first, 6);
   EXPECT_EQ(parse_replicate_range("6-10").last, 10);
@@ -101,10 +133,16 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
     return std::string("no error");
   };
   fs::path f = write("typo", "replicate = 2\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' (valid keys: name, replicates, evaluations, tests, "
-                                      "generalisation_solutions, condition, claim)");
+  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'replicate' at the top level (valid keys: claim, condition, "
+                                      "evaluations, generalisation_solutions, name, replicates, tests)");
+  f = write("condition-typo", "[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n[[condition]]\nname = \"b\"\n"
+                              "config = \"run.toml\"\nsets = {}\n");
+  EXPECT_EQ(error_of(f), f.string() + ": unknown key 'condition[2].sets' in [condition[2]] (valid keys: config, name, set)");
+  f = write("tests", "tests = \"dimension\"\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
+  EXPECT_EQ(error_of(f), f.string() + ": tests must be an array of strings, got a string");
   f = write("sample", "generalisation_solutions = 0\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": generalisation_solutions must be an integer of at least 1");
+  EXPECT_EQ(error_of(f),
+            f.string() + ": generalisation_solutions = 0 is out of range: must be in [1, 9223372036854775807]");
   f = write("none", "replicates = 2\n");
   EXPECT_EQ(error_of(f), f.string() + ": no [[condition]] tables: an experiment needs at least one");
   f = write("missing", "[[condition]]\nname = \"a\"\nconfig = \"nowhere.toml\"\n");
@@ -114,7 +152,7 @@ TEST(Experiment, BadFilesAreOneLineErrors) {
   f = write("zero", "replicates = 0\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
   EXPECT_EQ(error_of(f), f.string() + ": replicates = 0 is out of range: must be in [1, 100000]");
   f = write("claim", "claim = 3\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
-  EXPECT_EQ(error_of(f), f.string() + ": claim must be a list of [[claim]] tables");
+  EXPECT_EQ(error_of(f), f.string() + ": claim must be an array of tables ([[claim]]), got a integer");
   f = write("claimless", "[[claim]]\ntext = \"x\"\n[[condition]]\nname = \"a\"\nconfig = \"run.toml\"\n");
   EXPECT_EQ(error_of(f), f.string() + ":1:1: [[claim]] 1: missing key 'kind'");
   // A claim is checked against the conditions, wherever they come in the file; the message

@@ -1,6 +1,7 @@
 // The run driver: budget semantics, metrics rows, interruption, files written, observers.
 #include "qdmeta/experiment/run.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -193,6 +193,28 @@ TEST(Autoencoder, TrainingIsDeterministicGivenItsStream) {
   EXPECT_TRUE(codes == b.encode(x.data(), x.rows()));
 }
 
+TEST(Autoencoder, EncodingInBlocksOfWholeRowPanelsGivesTheBitsOfOneCall) {
+  // Blocks that start at multiples of 48 rows, the last one taking the rest: what AURORA's
+  // parallel encoding does. Row counts around the product's panel sizes and a rebuild's size.
+  Autoencoder a = make({}, 4);
+  Rng rng(8);
+  a.train(manifold(600, 2), rng);
+  Autoencoder::Workspace workspace;
+  for (const Index rows : {1, 2, 3, 5, 11, 12, 13, 47, 48, 49, 95, 97, 143, 400, 401, 1001, 2017, 10055}) {
+    const RowMatrix x = manifold(rows, static_cast<std::uint64_t>(rows));
+    const Autoencoder::Matrix whole = a.encode(x.data(), rows);
+    for (const Index block : {48, 96, 960}) {
+      Autoencoder::Matrix pieces(rows, 2);
+      const Index blocks = std::max<Index>(1, rows / block);
+      for (Index b = 0; b < blocks; ++b) {
+        const Index first = b * block, n = b + 1 == blocks ? rows - first : block;
+        a.encode(x.data() + first * x.cols(), n, pieces.middleRows(first, n), workspace);
+      }
+      EXPECT_TRUE(pieces == whole) << rows << " rows in blocks of " << block;
+    }
+  }
+}
+
 TEST(Autoencoder, BadParametersNameTheKey) {
   AutoencoderParams p;
   p.latent_size = 0;

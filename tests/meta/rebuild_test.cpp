@@ -129,6 +129,23 @@ TEST(Rebuild, ManyMapsEqualRowByRowWhateverTheThreadCount) {
   }
 }
 
+TEST(Rebuild, OneMapSplitOverThreadsByRankEqualsRowByRow) {
+  // One map on 2, 3 and 5 threads: the database ranks are split, the slices' winners merged.
+  const Database db = random_database(3000, 7777, 4);  // wrapped, with ties
+  const NeuralFeatureMap map = random_map(2, 6);
+  GridArchive want(grid({30, 30}, kBase));
+  sequential_reference(db, map, want);
+  for (int threads : {1, 2, 3, 5}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    GridArchive got(grid({30, 30}, kBase));
+    const NeuralFeatureMap* maps[] = {&map};
+    GridArchive* archives[] = {&got};
+    tbb::task_arena arena(threads);
+    arena.execute([&] { rebuild_archives(db, maps, archives); });
+    expect_same_archive(got, want);
+  }
+}
+
 TEST(Rebuild, PartiallyFilledAndEmptyDatabases) {
   const NeuralFeatureMap map = random_map(2, 5);
   for (Index inserts : {0, 1, 511, 512, 513, 1500}) {

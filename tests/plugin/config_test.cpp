@@ -205,6 +205,38 @@ TEST(ConfigReader, ChoiceListsValidValues) {
   EXPECT_EQ(resolved["other"]["absent"].value<std::string>(), "uniform-resample");
 }
 
+// What an experiment file needs besides a run config's keys: lists of strings, arrays of tables
+// (each checked for unknown keys, named by its place), optional integers and tables taken whole.
+TEST(ConfigReader, StringListsArraysOfTablesAndOptionalValues) {
+  const toml::table t = toml::parse(
+      "tests = [\"a\", \"b\"]\nbad = [\"a\", 1]\ncount = 3\nwhole = { x = 1, y = [2] }\n"
+      "[[item]]\nname = \"one\"\n[[item]]\nname = \"two\"\nextra = 1\n[[claim]]\nfree = 1\n");
+  toml::table resolved;
+  ConfigReader r(t, "e.toml", resolved);
+  EXPECT_EQ(r.strings("tests", {}), (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(r.strings("absent", {"z"}), (std::vector<std::string>{"z"}));
+  EXPECT_INPUT_ERROR(r.strings("bad", {}), "e.toml: bad must be an array of strings, got a array");
+  EXPECT_EQ(r.optional_integer("count", 1, 10), std::optional<std::int64_t>(3));
+  EXPECT_EQ(r.optional_integer("none", 1, 10), std::nullopt);
+  EXPECT_INPUT_ERROR(r.optional_integer("count", 5, 10), "e.toml: count = 3 is out of range: must be in [5, 10]");
+  const toml::table* whole = r.raw_table("whole");
+  ASSERT_NE(whole, nullptr);
+  EXPECT_EQ(*whole, *t["whole"].as_table());
+  EXPECT_EQ(r.raw_table("nowhere"), nullptr);
+  EXPECT_INPUT_ERROR(r.raw_table("count"), "e.toml: count must be a table, got a integer");
+  ASSERT_NE(r.raw_tables("claim"), nullptr);
+  EXPECT_INPUT_ERROR(r.raw_tables("tests"), "e.toml: tests must be an array of tables ([[tests]]), got a array");
+  std::vector<ConfigReader> items = r.tables("item");
+  ASSERT_EQ(items.size(), 2u);
+  EXPECT_EQ(items[0].string("name", ""), "one");
+  EXPECT_EQ(items[1].string("name", ""), "two");
+  EXPECT_TRUE(r.tables("absent_items").empty());
+  // Each table's unknown keys are refused by the root's finish(), naming its place.
+  EXPECT_INPUT_ERROR(r.finish(), "e.toml: unknown key 'item[2].extra' in [item[2]] (valid keys: name)");
+  EXPECT_EQ(resolved["item"][1]["name"].value<std::string>(), "two");
+  EXPECT_EQ(resolved["whole"]["x"].value<std::int64_t>(), 1);
+}
+
 TEST(ConfigReader, DefaultsAreRecordedInTheResolvedTable) {
   const toml::table t = toml::parse("given = 4\nwhole = 2\n[task]\nname = \"x\"\n");
   toml::table resolved;

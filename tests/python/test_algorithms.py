@@ -150,6 +150,36 @@ def test_a_python_meta_objective_drives_qd_meta():
     assert sorted(calls[len(first):]) == sorted(first), "the same run gives the function the same elites and seeds"
 
 
+def test_a_meta_objective_with_archive_true_reads_what_the_archive_stored():
+    archives = []
+
+    def record(archive, seed):
+        archives.append(archive)
+        return float(np.mean(archive["objective"]))
+
+    objective = qdmeta.MetaObjective(record, name="stored-mean", archive=True)
+    assert objective.archive
+    algo = qdmeta.Algorithm(QD, task=numpy_rastrigin(), meta_objective=objective)
+    for _ in range(2):
+        algo.step(threads=2)
+    assert len(archives) == 2 * 3
+    for archive in archives:
+        assert sorted(archive) == ["base_features", "measures", "objective", "solution"]
+        solution = archive["solution"]
+        k = len(solution)
+        assert k > 0 and solution.shape == (k, 20) and solution.dtype == np.float32
+        assert archive["objective"].shape == (k,) and archive["measures"].shape == (k, 2)
+        # The stored values are the task's for those very genotypes (base features = genes here),
+        # and the measures are a grid's: in [0, 1], one elite per cell of the 10 x 10 bins.
+        fitness, base, _ = rastrigin(solution)
+        np.testing.assert_array_equal(archive["objective"], fitness)
+        np.testing.assert_array_equal(archive["base_features"], base)
+        measures = archive["measures"]
+        assert np.all((measures >= 0) & (measures <= 1))
+        grid = qdmeta.GridArchive(solution_dim=20, dims=[10, 10])
+        assert len(set(grid.index_of(measures).tolist())) == k
+
+
 def test_qd_meta_requests_can_be_served_job_by_job():
     algo = qdmeta.Algorithm(dict(QD, task={"name": "rastrigin", "dimensions": 20},
                                  meta_fitness={"kind": "translation"}))

@@ -132,6 +132,20 @@ def test_tasks_pickle_by_reference_and_by_config():
     assert builtin.__getstate__()[1]["dimensions"] == 6
 
 
+def test_a_meta_objective_pickles_with_what_it_reads():
+    for archive in (False, True):
+        objective = qdmeta.MetaObjective(first_gene_mean, name="first-gene-mean", archive=archive)
+        for how in ("pickle", "deepcopy"):
+            twin = round_trip(objective, how)
+            assert (twin.name, twin.archive) == ("first-gene-mean", archive)
+    # A state pickled before `archive` existed: (function, name) reads the genotypes.
+    fresh = qdmeta.MetaObjective.__new__(qdmeta.MetaObjective)
+    fresh.__setstate__((first_gene_mean, "old"))
+    assert (fresh.name, fresh.archive) == ("old", False)
+    with pytest.raises(qdmeta.InputError, match="not one qdmeta made"):
+        qdmeta.MetaObjective.__new__(qdmeta.MetaObjective).__setstate__((first_gene_mean, "x", "yes"))
+
+
 def test_a_task_that_cannot_pickle_says_why():
     local = qdmeta.Task(lambda g: sphere(g), genotype_size=6, base_feature_size=2, name="local")
     with pytest.raises((pickle.PicklingError, AttributeError)):

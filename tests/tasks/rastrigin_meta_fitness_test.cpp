@@ -247,6 +247,20 @@ TEST(PairwiseDistanceSum, MatchesTheStraightforwardDoubleSum) {
   }
 }
 
+TEST(PairwiseDistanceSum, GivesThePortableLoopsBitsAtEverySize) {
+  // Row counts around the vector steps (4 lanes, 16 rows a step), several widths.
+  for (const Index cols : {1, 3, kN}) {
+    for (Index rows = 0; rows <= 70; ++rows) {
+      const RowMatrix p = random_archive(rows, cols, 40 + static_cast<std::uint64_t>(rows * cols));
+      EXPECT_EQ(pairwise_distance_sum(p), pairwise_distance_sum_portable(p)) << rows << " x " << cols;
+    }
+    for (const Index rows : {255, 256, 257, 1000}) {
+      const RowMatrix p = random_archive(rows, cols, 7 + static_cast<std::uint64_t>(rows));
+      EXPECT_EQ(pairwise_distance_sum(p), pairwise_distance_sum_portable(p)) << rows << " x " << cols;
+    }
+  }
+}
+
 TEST(PairwiseDistanceSum, IdenticalRowsGiveExactlyZero) {
   RowMatrix p(50, kN);
   Rng rng(2);

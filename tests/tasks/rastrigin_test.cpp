@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 

@@ -9,11 +9,16 @@
 
 namespace qdmeta {
 
+double offspring_bytes(double rows, const Task& task) {
+  return rows * static_cast<double>(sizeof(Real)) * static_cast<double>(2 * task.genotype_size() + task.base_feature_size() + 2);
+}
+
 // The ask/tell protocol, shared by every algorithm.
 void Algorithm::step(Evaluator& evaluator) {
   require_between_steps("step()");
   BinaryWriter undo;
   save_undo(undo);
+  const EvaluationCounters before = counters_;
   try {
     before_step(evaluator);
     const bool confine = parallel_inside();
@@ -28,6 +33,7 @@ void Algorithm::step(Evaluator& evaluator) {
       else tell();
     } while (in_step_);
   } catch (...) {
+    counters_ = before;
     undo_step(undo.bytes());
     throw;  // the step's own error, whether or not the undo worked
   }
@@ -72,7 +78,11 @@ std::span<const EvaluationJob> Algorithm::ask() {
 void Algorithm::tell() {
   if (!pending_) throw Error(fmt::format("{}: tell() called with no pending ask()", name()));
   pending_ = false;
-  in_step_ = !take_results();
+  const bool complete = take_results();
+  // Counted only once taken: a tell() that throws counts nothing.
+  for (const EvaluationJob& job : jobs_)
+    if (job.bottom_level) counters_.bottom += job.genotypes.count;
+  in_step_ = !complete;
 }
 
 namespace {

@@ -26,6 +26,7 @@
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/elite_table.hpp"
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 
@@ -37,6 +38,10 @@ struct EvaluationCounters {
   std::int64_t total() const { return bottom + meta; }
   bool operator==(const EvaluationCounters&) const = default;
 };
+
+// Bytes of a generation's `rows` genotypes and their evaluations (fitness, base features,
+// validity), the offspring buffers every algorithm allocates, for its memory estimate.
+double offspring_bytes(double rows, const Task& task);
 
 // Evaluation counters in checkpoints (shared by every algorithm).
 void save_counters(BinaryWriter& out, const EvaluationCounters& c);
@@ -80,7 +85,9 @@ class Algorithm {
   bool step_in_progress() const { return in_step_; }
 
   virtual std::int64_t generation() const = 0;
-  virtual EvaluationCounters counters() const = 0;
+  // Every evaluation told so far: the rows of each request's bottom-level jobs, counted here once
+  // tell() has taken them, and the meta-objective's own count (count_meta_evaluations).
+  EvaluationCounters counters() const { return counters_; }
   virtual ArchiveStats stats() const = 0;
   virtual EliteTable elites() const = 0;
   // The latest meta-generation (QD-Meta only; null for single-archive algorithms).
@@ -107,6 +114,10 @@ class Algorithm {
   virtual bool parallel_inside() const { return false; }
   // Throws Error unless the algorithm is between steps; `what` names the refused operation.
   void require_between_steps(std::string_view what) const;
+  // Adds the evaluations a meta-objective reports it spent (QD-Meta's scoring).
+  void count_meta_evaluations(std::int64_t evaluations) { counters_.meta += evaluations; }
+  // Puts back counters read from a checkpoint (load()).
+  void restore_counters(const EvaluationCounters& counters) { counters_ = counters; }
 
   // Undoing a failed step. save_undo() runs before each step() and writes what the step may
   // change before it ends; load_undo() reads it back after the step threw, once the request is
@@ -126,6 +137,7 @@ class Algorithm {
   void undo_step(std::string_view undo) noexcept;
 
   std::vector<EvaluationJob> jobs_;
+  EvaluationCounters counters_;
   bool pending_ = false;
   bool in_step_ = false;
 };

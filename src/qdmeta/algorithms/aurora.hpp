@@ -23,6 +23,7 @@
 
 #include "qdmeta/algorithms/algorithm.hpp"
 #include "qdmeta/archive/unstructured_archive.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/autoencoder.hpp"
@@ -48,13 +49,15 @@ struct AuroraParams {
   void validate() const;
 };
 
+// What AURORA allocates: the autoencoder and its training activations, the archive, offspring.
+void add_aurora_memory(MemoryEstimate& m, const AuroraParams& p, const Task& task);
+
 class Aurora final : public Algorithm {
  public:
   Aurora(AuroraParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "aurora"; }
   std::int64_t generation() const override { return generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
   // index = archive slot, measures = descriptor (z-scored latent code), base = base features.
   EliteTable elites() const override;
@@ -66,6 +69,9 @@ class Aurora final : public Algorithm {
   const UnstructuredArchive& archive() const { return archive_; }
   const Autoencoder& autoencoder() const { return autoencoder_; }
   double threshold() const { return threshold_; }
+  // The latent z-scoring in force (set at every rebuild from the members' codes).
+  const Eigen::RowVectorXd& latent_mean() const { return latent_mean_; }
+  const Eigen::RowVectorXd& latent_scale() const { return latent_scale_; }
   std::int64_t trainings() const { return trainings_; }
   std::int64_t next_retraining() const { return next_retraining_; }
   const TrainingReport& last_training() const { return last_training_; }
@@ -73,18 +79,34 @@ class Aurora final : public Algorithm {
   RowMatrix describe(const Real* base_features, Index count) const;
 
  protected:
-  // One request per step, one job; tell() trains, rebuilds and inserts on the calling thread.
+  // One request per step, one job; tell() trains, rebuilds and inserts, a rebuild's
+  // independent parts spread over the evaluator's workers (the bits do not depend on them).
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
+  bool parallel_inside() const override { return true; }
   // A step changes the state only in its one tell(): undoing it is dropping its request.
   void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
   void load_undo(BinaryReader& in) override { load_generation_undo(in); }
 
  private:
   void train(const RowMatrix& base_features);
-  // Re-encodes the given members, sets the latent z-scoring from them, sets l (initialised from
-  // the latent volume, or one CSC step) and re-adds them all with the threshold l (1 - eps).
-  void refill(const RowMatrix& solutions, const std::vector<Real>& objectives, const RowMatrix& base_features,
+  // Latent codes of raw base-feature rows into `out` (count x latent_size), in chunks spread
+  // over the evaluator's workers; the same bits as one Autoencoder::encode().
+  void encode_batch(const Real* base_features, Index count, Autoencoder::CodesRef out);
+  // The same into codes_ (column-major).
+  Eigen::Map<Eigen::MatrixXd> encode(const Real* base_features, Index count);
+  // The same for the members of a rebuild (row i = slot i), with the codes kept since they were
+  // encoded where the network has not changed since and one call would give them the same bits.
+  Eigen::Map<Eigen::MatrixXd> encode_members(const Real* base_features, Index count);
+  // Keeps row `row` of `codes` as slot `slot`'s code; `main_path` when a call over any rows
+  // gives a row those bits (it sat before the last whole panel of its call).
+  void keep_code(Index slot, const Eigen::Map<Eigen::MatrixXd>& codes, Index row, bool main_path);
+  // The codes z-scored with the scaling in force, as floats, row-major, into descriptors_.
+  void z_score(const Eigen::Map<Eigen::MatrixXd>& codes);
+  // Re-encodes the given members (row-major arrays), sets the latent z-scoring from them, sets
+  // l (initialised from the latent volume, or one CSC step) and re-adds them all with the
+  // threshold l (1 - eps).
+  void refill(Index count, const Real* solutions, const Real* objectives, const Real* base_features,
               bool initialise_threshold);
   void rebuild();
   void control_size();
@@ -105,11 +127,25 @@ class Aurora final : public Algorithm {
   std::int64_t scheduled_trainings_ = 0; // k of the retraining schedule
   std::int64_t next_retraining_ = 1;
   std::int64_t generation_ = 0;
-  EvaluationCounters counters_;
   TrainingReport last_training_;
-  // Scratch.
+  // Scratch, kept so that a generation allocates nothing once warm.
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
+  std::vector<Index> valid_;
+  std::vector<Real> member_solutions_, member_base_, member_objectives_;  // a rebuild's copy of the archive
+  std::vector<Real> offspring_base_;                                      // the valid offspring's base features
+  std::vector<Real> descriptors_;                                         // z-scored codes, row-major
+  Eigen::VectorXd codes_, centred_;  // count x latent_size buffers, Eigen-allocated (aligned as a Matrix)
+  std::vector<Autoencoder::Workspace> workspaces_;  // one per encoding chunk
+  // Each slot's latent code (raw, before z-scoring) while the network stays the same, so that a
+  // rebuild re-encodes only the members that came in since the last one: not checkpointed
+  // (speed only), dropped by a training or a load.
+  std::vector<double> slot_codes_;           // slot x latent_size
+  std::vector<std::uint8_t> slot_code_ok_;   // by slot
+  bool codes_current_ = false;
+  std::vector<Index> refill_rows_, missing_;
+  std::vector<Real> gathered_;
+  Eigen::VectorXd gathered_codes_;
 };
 
 }  // namespace qdmeta

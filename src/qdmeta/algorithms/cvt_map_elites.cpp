@@ -2,15 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-
-#include <cstdio>
 #include <functional>
 
 #include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/notice.hpp"
+#include "qdmeta/core/parallel.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -23,8 +20,32 @@ void CvtMapElitesParams::validate() const {
   require_range("cvt.max_attempts", max_attempts, Index{0}, Index{1'000'000'000'000});
 }
 
+CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions) {
+  if (search != CvtSearch::kAuto) return search;
+  return dimensions > CentroidGrid::kMaxDimensions ? CvtSearch::kParentBound : CvtSearch::kBruteForce;
+}
+
+void add_cvt_map_elites_memory(MemoryEstimate& m, const CvtMapElitesParams& p, const Task& task) {
+  constexpr auto kFloat = static_cast<double>(sizeof(Real));
+  const auto cells = static_cast<double>(p.kmeans.centroids);
+  const auto nb = static_cast<double>(task.base_feature_size());
+  const double lists = resolve_cvt_search(p.search, task.base_feature_size()) == CvtSearch::kParentBound
+                           ? static_cast<double>(std::min(p.neighbours, p.kmeans.centroids)) * sizeof(Index)
+                           : 0.0;
+  m.add("the archive and its neighbour lists", "cvt.centroids x (genes + base features + cvt.neighbours)",
+        cells * (kFloat + 1 + kFloat * (static_cast<double>(task.genotype_size()) + 2 * nb) + lists));
+  m.add("k-means's points", "cvt.samples x base features",
+        static_cast<double>(p.kmeans.samples) * (kFloat * nb + sizeof(Index) + sizeof(float)) +
+            static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
+  add_map_elites_memory(m, p.map_elites, task);
+}
+
 CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed)
-    : params_(std::move(params)), task_(std::move(task)), mutation_(mutation), seed_(seed) {
+    : params_(std::move(params)),
+      task_(std::move(task)),
+      mutation_(mutation),
+      seed_(seed),
+      search_(resolve_cvt_search(params_.search, task_.base_feature_size())) {
   params_.validate();
 }
 
@@ -33,8 +54,7 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
   CachedCentroids made;
   // k-means on a cache miss can take minutes (about 140 CPU-seconds with the paper's settings).
   const auto announce = [](const std::string& line) {
-    std::fprintf(stderr, "qdmeta: %s: this can take minutes\n", line.c_str());
-    std::fflush(stderr);
+    notice(NoticeKind::kInformation, fmt::format("{}: this can take minutes", line));
   };
   if (params_.points == CvtPoints::kUniform) {
     evaluator.within_workers([&] {
@@ -48,20 +68,20 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
     const CentroidPoints points{fmt::format("desc-{}", task_key), [&] {
                                   const DescriptorPoints d = feasible_random_descriptors(
                                       task_, samples, params_.kmeans.seed, evaluator, max_attempts);
-                                  std::fprintf(stderr,
-                                               "qdmeta: CVT points: %lld valid of %lld random genotypes (%.2f%% invalid)\n",
-                                               static_cast<long long>(samples), static_cast<long long>(d.attempts),
-                                               100.0 * static_cast<double>(d.attempts - samples) /
-                                                   static_cast<double>(d.attempts));
+                                  notice(NoticeKind::kInformation,
+                                         fmt::format("CVT points: {} valid of {} random genotypes ({:.2f}% invalid)",
+                                                     samples, d.attempts,
+                                                     100.0 * static_cast<double>(d.attempts - samples) /
+                                                         static_cast<double>(d.attempts)));
                                   return d.points;
                                 }};
     evaluator.within_workers([&] {
       made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, &points, announce);
     });
   }
-  if (!made.warning.empty()) std::fprintf(stderr, "qdmeta: warning: %s\n", made.warning.c_str());
+  if (!made.warning.empty()) notice(NoticeKind::kWarning, made.warning);
   cache_outcome_ = made.outcome;
-  const Index lists = params_.search == CvtSearch::kParentBound ? params_.neighbours : 0;
+  const Index lists = search_ == CvtSearch::kParentBound ? params_.neighbours : 0;
   archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
 }
 
@@ -84,18 +104,6 @@ void CvtMapElites::next_request(std::vector<EvaluationJob>& jobs) {
   jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
 }
 
-namespace {
-// body(0) ... body(n - 1) on oneTBB, one index per task: each index owns its outputs, so the
-// result does not depend on the split (step() confines this to the evaluator's workers).
-void for_each_chunk(Index n, const std::function<void(Index)>& body) {
-  tbb::parallel_for(
-      tbb::blocked_range<Index>(0, n, 1),
-      [&](const tbb::blocked_range<Index>& range) {
-        for (Index i = range.begin(); i < range.end(); ++i) body(i);
-      },
-      tbb::simple_partitioner());
-}
-}  // namespace
 
 bool CvtMapElites::take_results() {
   CvtArchive& archive = *archive_;
@@ -109,11 +117,11 @@ bool CvtMapElites::take_results() {
     if (!evaluations_.valid[static_cast<std::size_t>(r)]) evaluations_.base_features.row(r).setZero();
   cells_.resize(static_cast<std::size_t>(count));
   settled_.assign(static_cast<std::size_t>(count), 0);
-  const Index* parents = params_.search == CvtSearch::kParentBound ? parents_.data() : nullptr;
+  const Index* parents = search_ == CvtSearch::kParentBound ? parents_.data() : nullptr;
   const Index chunk = params_.lookup_chunk;
   const Index chunks = (count + chunk - 1) / chunk;
   searched_per_chunk_.assign(static_cast<std::size_t>(chunks), 0);
-  for_each_chunk(chunks, [&](Index c) {
+  parallel_indices(chunks, [&](Index c) {
     const Index first = c * chunk;
     searched_per_chunk_[static_cast<std::size_t>(c)] =
         archive.locate(evaluations_.base_features.row(first).data(), std::min(chunk, count - first),
@@ -131,7 +139,7 @@ bool CvtMapElites::take_results() {
     // (the centroids streamed once per block; blocks depend on the batch only, not the threads).
     const auto entering = static_cast<Index>(entering_.size());
     remade_.assign(entering_.size(), 0);
-    for_each_chunk((entering + chunk - 1) / chunk, [&](Index c) {
+    parallel_indices((entering + chunk - 1) / chunk, [&](Index c) {
       for (Index i = c * chunk; i < std::min(entering, (c + 1) * chunk); ++i) {
         const Index r = entering_[static_cast<std::size_t>(i)];
         const auto u = static_cast<std::size_t>(r);
@@ -150,7 +158,7 @@ bool CvtMapElites::take_results() {
     // 5, 5, 5, 3 rather than 8, 8, 2), so that two workers share them evenly.
     const Index blocks = 2 * ((remade + 2 * kValueRows - 1) / (2 * kValueRows));
     const Index per_block = blocks > 0 ? (remade + blocks - 1) / blocks : 0;
-    for_each_chunk(blocks, [&](Index b) {
+    parallel_indices(blocks, [&](Index b) {
       const Index first = b * per_block, rows = std::min(per_block, remade - first);
       if (rows > 0) archive.remake_lists(remade_points_.row(first).data(), rows, remade_rows_.data() + first, lists_);
     });
@@ -158,7 +166,6 @@ bool CvtMapElites::take_results() {
   for (Index r : entering_)
     archive.add_to_cell(cells_[static_cast<std::size_t>(r)], genotypes_.row(r).data(), evaluations_.fitness[r],
                         evaluations_.base_features.row(r).data(), lists_, r);
-  counters_.bottom += count;
   ++generation_;
   return true;
 }
@@ -172,7 +179,7 @@ void CvtMapElites::save(BinaryWriter& out) const {
   out.tag("cvt_map_elites");
   out.value(generation_);
   out.value(searched_);
-  save_counters(out, counters_);
+  save_counters(out, counters());
   out.boolean(archive_.has_value());
   if (archive_) archive_->save(out);
 }
@@ -182,7 +189,7 @@ void CvtMapElites::load(BinaryReader& in) {
   in.expect_tag("cvt_map_elites");
   generation_ = in.value<std::int64_t>("generation");
   searched_ = in.value<std::int64_t>("searched count");
-  counters_ = load_counters(in);
+  restore_counters(load_counters(in));
   if (in.boolean("archive flag")) {
     SerialEvaluator serial;
     prepare(serial);

@@ -11,16 +11,23 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/archive/cvt_archive.hpp"
 #include "qdmeta/archive/kmeans.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/io/centroid_cache.hpp"
 
 namespace qdmeta {
 
-// How an offspring's cell is found; both give the same cell (the exact nearest centroid).
-enum class CvtSearch { kParentBound, kBruteForce };
-inline constexpr EnumNames<CvtSearch, 2> kCvtSearchNames{
-    {{CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
+// How an offspring's cell is found; all give the same cell (the exact nearest centroid).
+// parent-bound: from the parent's neighbour list when its bound proves the answer, else the full
+// search; brute-force: always the full search (NearestCentroid::find: the blocked product over
+// all centroids, or in 3 dimensions or fewer the bucket grid); auto: parent-bound above 3
+// dimensions, brute-force at 3 or fewer, where the grid beats any list walk (bench/README.md).
+enum class CvtSearch { kParentBound, kBruteForce, kAuto };
+inline constexpr EnumNames<CvtSearch, 3> kCvtSearchNames{
+    {{CvtSearch::kAuto, "auto"}, {CvtSearch::kParentBound, "parent-bound"}, {CvtSearch::kBruteForce, "brute-force"}}};
+// The search `search` means for descriptors of `dimensions` (auto resolved).
+CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions);
 
 // Where k-means takes its points: uniform in [0,1]^d, or the base features of feasible random
 // genotypes of the task (docs/specification.md, CVT-MAP-Elites, for RHex).
@@ -33,7 +40,7 @@ struct CvtMapElitesParams {
   KMeansParams kmeans;               // how the centroids are made
   std::filesystem::path cache_dir;   // centroid cache directory; empty: no cache
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
-  CvtSearch search = CvtSearch::kParentBound;  // settle offspring from the parent's neighbours, or always search
+  CvtSearch search = CvtSearch::kAuto;  // settle offspring from the parent's neighbours, or always search
   Index neighbours = 256;            // parent-bound: neighbour list length per elite, >= 1
   CvtPoints points = CvtPoints::kUniform;  // k-means over kmeans.samples points of this kind
   Index max_attempts = 0;            // random-descriptors: give up after this many genotypes (0: 10 x samples)
@@ -43,13 +50,15 @@ struct CvtMapElitesParams {
   void validate() const;
 };
 
+// What CVT-MAP-Elites allocates: its archive and neighbour lists, k-means's points, offspring.
+void add_cvt_map_elites_memory(MemoryEstimate& m, const CvtMapElitesParams& p, const Task& task);
+
 class CvtMapElites final : public Algorithm {
  public:
   CvtMapElites(CvtMapElitesParams params, Task task, MutationParams mutation, std::uint64_t seed);
 
   std::string name() const override { return "cvt-map-elites"; }
   std::int64_t generation() const override { return generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override;
   // index = centroid index, measures = descriptor (base features), solutions = genotypes.
   EliteTable elites() const override;
@@ -83,11 +92,11 @@ class CvtMapElites final : public Algorithm {
   Task task_;
   Mutation mutation_;
   std::uint64_t seed_;
+  CvtSearch search_;  // params_.search resolved for the task's base features
   std::optional<CvtArchive> archive_;
   CacheOutcome cache_outcome_ = CacheOutcome::kDisabled;
   std::int64_t generation_ = 0;
   std::int64_t searched_ = 0;
-  EvaluationCounters counters_;
   RowMatrix genotypes_;
   EvaluationBatch evaluations_;
   std::vector<Index> parents_;

@@ -15,6 +15,11 @@ void MapElitesParams::validate() const {
   require_range("map_elites.initial_population", initial_population, Index{1}, Index{100'000'000});
 }
 
+void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Task& task) {
+  m.add("a generation's offspring", "max(map_elites.initial_population, map_elites.batch_size) x genes",
+        offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
+}
+
 void random_genotypes(RowMatrix& genotypes, Rng& rng) {
   Real* g = genotypes.data();
   for (Index k = 0; k < genotypes.size(); ++k) g[k] = static_cast<Real>(rng.uniform());

@@ -14,6 +14,7 @@
 #include "qdmeta/archive/archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/copy_row.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
@@ -25,6 +26,9 @@ struct MapElitesParams {
   Index initial_population = 2000; // random genotypes evaluated first, >= 1
   void validate() const;
 };
+
+// What MAP-Elites allocates besides its archive (grid_archive_bytes): a generation's offspring.
+void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Task& task);
 
 // Building blocks shared with QD-Meta's per-map evolution and CVT-MAP-Elites.
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
@@ -174,7 +178,6 @@ class BasicMapElites final : public Algorithm {
 
   std::string name() const override { return "map-elites"; }
   std::int64_t generation() const override { return generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   ArchiveStats stats() const override { return archive_.stats(); }
   EliteTable elites() const override { return archive_.elites(); }
   const Archive& archive() const { return archive_; }
@@ -208,7 +211,6 @@ class BasicMapElites final : public Algorithm {
   VariationFunction variation_;
   std::uint64_t seed_;
   std::int64_t generation_ = 0;
-  EvaluationCounters counters_;
   RowMatrix genotypes_;
   RowMatrix parents_, partners_;  // the variation function's input
   EvaluationBatch evaluations_;
@@ -253,7 +255,6 @@ void BasicMapElites<Archive>::next_request(std::vector<EvaluationJob>& jobs) {
 template <EliteArchive Archive>
 bool BasicMapElites<Archive>::take_results() {
   insert_batch(archive_, *feature_map_, genotypes_, evaluations_, targets_);
-  counters_.bottom += genotypes_.rows();
   ++generation_;
   return true;
 }
@@ -263,7 +264,7 @@ void BasicMapElites<Archive>::save(BinaryWriter& out) const {
   require_between_steps("save()");
   out.tag("map_elites");
   out.value(generation_);
-  save_counters(out, counters_);
+  save_counters(out, counters());
   archive_.save(out);
 }
 
@@ -272,7 +273,7 @@ void BasicMapElites<Archive>::load(BinaryReader& in) {
   require_between_steps("load()");
   in.expect_tag("map_elites");
   generation_ = in.value<std::int64_t>("generation");
-  counters_ = load_counters(in);
+  restore_counters(load_counters(in));
   archive_.load(in);
 }
 

@@ -2,10 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,6 +10,7 @@
 
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/parallel.hpp"
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/meta/rebuild.hpp"
 
@@ -64,6 +61,33 @@ CmaEsParams make_cma(const QdMetaParams& p, Index dimension) {
 
 }  // namespace
 
+void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArchiveParams& grid, const Task& task,
+                        int max_generations) {
+  constexpr auto kFloat = static_cast<double>(sizeof(Real));
+  const auto lambda = static_cast<double>(p.meta_population);
+  const auto n = static_cast<double>(task.genotype_size());
+  const auto nb = static_cast<double>(task.base_feature_size());
+  const auto dims = static_cast<double>(grid.bins.size());
+  const double k = static_cast<double>(p.hidden) * (nb + 1 + dims) + 1;  // the feature-map's weights
+  GridArchiveParams map_archive = grid;  // as the constructor makes each map's archive
+  map_archive.solution_size = task.genotype_size();
+  map_archive.base_feature_size = task.base_feature_size();
+  m.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
+        (lambda + 1) * grid_archive_bytes(map_archive) + lambda * grid_cells(grid) * (16 + kFloat * dims));
+  m.add("the circular database", "qd_meta.database_capacity x (genes + 2 x base features)",
+        static_cast<double>(p.database_capacity) * kFloat * (n + 2 * nb + 1));
+  m.add("every map's offspring of one meta-generation",
+        "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
+        lambda * offspring_bytes(static_cast<double>(max_generations) * static_cast<double>(p.batch_size), task));
+  m.add("the archives as the meta-objective reads them", "qd_meta.meta_population x archive.bins (cells) x "
+        "(genes + target features + base features + 1)",
+        lambda * grid_cells(grid) * kFloat * (n + dims + nb + 1));
+  m.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
+        4 * k * k * sizeof(double) + lambda * k * sizeof(double));
+  m.add("the initial population", "qd_meta.initial_population x genes",
+        offspring_bytes(static_cast<double>(p.initial_population), task));
+}
+
 QdMeta::QdMeta(QdMetaParams params, Task task, std::unique_ptr<MetaObjective> meta_objective,
                GridArchiveParams archive, MutationParams mutation, std::unique_ptr<GenerationController> controller,
                std::uint64_t seed)
@@ -108,12 +132,7 @@ void for_each_map(Index n, bool parallel, const std::function<void(Index)>& body
     for (Index i = 0; i < n; ++i) body(i);
     return;
   }
-  tbb::parallel_for(
-      tbb::blocked_range<Index>(0, n, 1),
-      [&](const tbb::blocked_range<Index>& range) {
-        for (Index i = range.begin(); i < range.end(); ++i) body(i);
-      },
-      tbb::simple_partitioner());
+  parallel_indices(n, body);
 }
 
 }  // namespace
@@ -121,7 +140,7 @@ void for_each_map(Index n, bool parallel, const std::function<void(Index)>& body
 void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
   const Index n = task_.genotype_size();
   if (phase_ == Phase::kIdle) {
-    if (meta_generation_ == 0 && database_.total_inserted() == 0 && counters_.bottom == 0) {
+    if (meta_generation_ == 0 && database_.total_inserted() == 0 && counters().bottom == 0) {
       seed_genotypes_.resize(params_.initial_population, n);
       Rng rng = Rng::stream(seed_, {key(StreamKey::kInitialPopulation)});
       random_genotypes(seed_genotypes_, rng);
@@ -151,7 +170,8 @@ void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
     for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
       const MetaBatch& b = plans_[m].batches[k];
       jobs.push_back({&meta_tasks_[static_cast<std::size_t>(b.task)],
-                      {b.genotypes.data(), b.genotypes.rows(), b.genotypes.cols()}, meta_evaluations_[m][k].view()});
+                      {b.genotypes.data(), b.genotypes.rows(), b.genotypes.cols()}, meta_evaluations_[m][k].view(),
+                      /*bottom_level=*/false});
     }
   }
 }
@@ -159,7 +179,6 @@ void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
 bool QdMeta::take_results() {
   if (phase_ == Phase::kSeeding) {
     database_.insert_valid(seed_genotypes_, seed_evaluations_);
-    counters_.bottom += seed_genotypes_.rows();
     return false;  // the meta-generation follows in the same step
   }
   const auto lambda = params_.meta_population;
@@ -203,7 +222,6 @@ bool QdMeta::take_results() {
 
 // Samples the meta-population, rebuilds every map from the whole database, and chooses G.
 void QdMeta::begin_meta_generation() {
-  before_ = counters_;
   const auto t = static_cast<std::uint64_t>(meta_generation_);
   const auto lambda = params_.meta_population;
   Rng cma_rng = Rng::stream(seed_, {key(StreamKey::kMetaSampling), t});
@@ -254,13 +272,23 @@ void QdMeta::plan_map(Index i) {
   planned_[m] = 0;
   meta_results_[m] = {};
   if (archive.empty()) return;
-  RowMatrix& elites = elites_[m];
-  elites.resize(archive.size(), n);
+  Elites& elites = elites_[m];
+  const Index count = archive.size(), dims = archive.dimensions(), nb = archive.base_feature_size();
+  elites.genotypes.resize(count, n);
+  elites.fitness.resize(count);
+  elites.measures.resize(count, dims);
+  elites.base_features.resize(count, nb);
   Index row = 0;
-  for (Index cell : archive.filled_cells()) std::copy_n(archive.solution(cell), n, elites.row(row++).data());
+  for (Index cell : archive.filled_cells()) {
+    std::copy_n(archive.solution(cell), n, elites.genotypes.row(row).data());
+    elites.fitness[row] = archive.objective(cell);
+    std::copy_n(archive.measures(cell), dims, elites.measures.row(row).data());
+    std::copy_n(archive.base_features(cell), nb, elites.base_features.row(row).data());
+    ++row;
+  }
   Rng rng = Rng::stream(seed_, {key(StreamKey::kMetaFitness), static_cast<std::uint64_t>(meta_generation_),
                                 static_cast<std::uint64_t>(i)});
-  plans_[m] = meta_objective_->plan(elites, rng);
+  plans_[m] = meta_objective_->plan(elites.view(), rng);
   check_meta_plan(*meta_objective_, plans_[m], meta_tasks_);
   meta_evaluations_[m].resize(plans_[m].batches.size());
   for (std::size_t k = 0; k < plans_[m].batches.size(); ++k) {
@@ -280,7 +308,7 @@ void QdMeta::score_meta_fitness() {
   for_each_map(params_.meta_population, task_.shareable(), [&](Index i) {
     const auto m = static_cast<std::size_t>(i);
     if (!planned_[m]) return;
-    const MetaFitnessResult result = meta_objective_->score(elites_[m], plans_[m], meta_evaluations_[m]);
+    const MetaFitnessResult result = meta_objective_->score(elites_[m].view(), plans_[m], meta_evaluations_[m]);
     if (!std::isfinite(result.value))
       throw Error(fmt::format("meta-objective '{}' returned {} for map {} of meta-generation {}", meta_objective_->name(),
                               result.value, i, meta_generation_ + 1));
@@ -290,19 +318,22 @@ void QdMeta::score_meta_fitness() {
 
 void QdMeta::finish_meta_generation() {
   const auto lambda = params_.meta_population;
+  std::int64_t bottom_spent = 0, meta_spent = 0;  // this meta-generation's evaluations
   // The database takes every new solution in a fixed order (map by map, oldest first).
   for (Index i = 0; i < lambda; ++i) {
     const auto m = static_cast<std::size_t>(i);
     database_.insert_valid(offspring_[m], evaluations_[m]);
-    counters_.bottom += offspring_[m].rows();
-    counters_.meta += meta_results_[m].evaluations;
+    bottom_spent += offspring_[m].rows();
+    meta_spent += meta_results_[m].evaluations;
     meta_fitness_[m] = meta_results_[m].value;
   }
 
   // CMA-ES and the controller learn from the meta-fitness.
   cma_.tell(Eigen::Map<const Eigen::VectorXd>(meta_fitness_.data(), lambda), CmaObjective::kMaximise);
-  const std::int64_t spent = params_.count_meta_evaluations ? counters_.total() - before_.total()
-                                                            : counters_.bottom - before_.bottom;
+  // Algorithm::tell() counts the offspring (the last generation's once this returns); the
+  // meta-objective reports its own.
+  count_meta_evaluations(meta_spent);
+  const std::int64_t spent = params_.count_meta_evaluations ? bottom_spent + meta_spent : bottom_spent;
   controller_->observe(meta_fitness_, spent);
 
   // Keep the best map of this meta-generation (first on ties) for the logs and archive.csv.
@@ -342,7 +373,7 @@ void QdMeta::save(BinaryWriter& out) const {
   require_between_steps("save()");
   out.tag("qd_meta");
   out.value(meta_generation_);
-  save_counters(out, counters_);
+  save_counters(out, counters());
   cma_.save(out);
   database_.save(out);
   best_archive_.save(out);
@@ -364,7 +395,7 @@ void QdMeta::load(BinaryReader& in) {
   require_between_steps("load()");
   in.expect_tag("qd_meta");
   meta_generation_ = in.value<std::int64_t>("meta-generation");
-  counters_ = load_counters(in);
+  restore_counters(load_counters(in));
   cma_.load(in);
   database_.load(in);
   best_archive_.load(in);
@@ -387,7 +418,7 @@ void QdMeta::load(BinaryReader& in) {
 
 void QdMeta::save_undo(BinaryWriter& out) const {
   out.value(meta_generation_);
-  save_counters(out, counters_);
+  save_counters(out, counters());
   cma_.save(out);
   controller_->save(out);
   out.value(database_.total_inserted());
@@ -399,7 +430,7 @@ void QdMeta::load_undo(BinaryReader& in) {
     throw Error("qd-meta: the failed step had already finished its meta-generation");
   phase_ = Phase::kIdle;
   next_generation_ = 0;
-  counters_ = load_counters(in);
+  restore_counters(load_counters(in));
   cma_.load(in);
   controller_->load(in);
   const auto inserted = in.value<std::int64_t>("database rows inserted");

@@ -24,6 +24,7 @@
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/control/controller.hpp"
 #include "qdmeta/core/meta_objective.hpp"
+#include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/neural_feature_map.hpp"
@@ -46,6 +47,11 @@ struct QdMetaParams {
   void validate() const;
 };
 
+// What QD-Meta allocates: the meta-population's archives (each `grid`), the database, every
+// map's offspring of one meta-generation of up to `max_generations`, CMA-ES, the initial population.
+void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArchiveParams& grid, const Task& task,
+                        int max_generations);
+
 class QdMeta final : public Algorithm {
  public:
   // The archive params give the grid (one target feature per entry of bins); the solution and
@@ -55,7 +61,6 @@ class QdMeta final : public Algorithm {
 
   std::string name() const override { return "qd-meta"; }
   std::int64_t generation() const override { return meta_generation_; }
-  EvaluationCounters counters() const override { return counters_; }
   // Statistics and elites of the map with the best meta-fitness of the latest meta-generation.
   ArchiveStats stats() const override { return best_archive_.stats(); }
   EliteTable elites() const override;
@@ -111,7 +116,14 @@ class QdMeta final : public Algorithm {
   std::vector<EvaluationBatch> block_evaluations_; // per map: their evaluations (the request's outputs)
   std::vector<RowMatrix> targets_;                 // per map: insertion scratch
   std::vector<Task> meta_tasks_;                   // the meta-objective's tasks(), which its batches index
-  std::vector<RowMatrix> elites_;                  // per map: the genotypes scored by the meta-objective
+  struct Elites {                                  // a map's archive as its meta-objective reads it
+    RowMatrix genotypes;
+    Vector fitness;
+    RowMatrix measures;
+    RowMatrix base_features;
+    MetaArchive view() const { return {genotypes, fitness, measures, base_features}; }
+  };
+  std::vector<Elites> elites_;                     // per map, filled cells in cell order
   std::vector<MetaPlan> plans_;                    // per map: its meta-objective plan (empty archive: none)
   std::vector<std::uint8_t> planned_;              // per map: 1 when plans_ holds a plan to score
   std::vector<std::vector<EvaluationBatch>> meta_evaluations_;  // per map: its plan's batches' results
@@ -120,12 +132,10 @@ class QdMeta final : public Algorithm {
   GridArchive best_archive_;
   MetaGenerationRecord record_;
   std::int64_t meta_generation_ = 0;
-  EvaluationCounters counters_;
   // The meta-generation in progress (none between steps).
   Phase phase_ = Phase::kIdle;
   int generations_ = 0;        // G of this meta-generation
   int next_generation_ = 0;    // g of the next generation request
-  EvaluationCounters before_;  // counters when it began
   RowMatrix seed_genotypes_;
   EvaluationBatch seed_evaluations_;
 };

@@ -48,6 +48,20 @@ EliteStoreShape store_shape(const GridArchiveParams& p) {
 }
 }  // namespace
 
+double grid_cells(const GridArchiveParams& p) {
+  double cells = 1;
+  for (int b : p.bins) cells *= static_cast<double>(b);
+  return cells;
+}
+
+double grid_archive_bytes(const GridArchiveParams& p) {
+  const auto per_cell = static_cast<double>(sizeof(Real) + 1 +
+                                            sizeof(Real) * static_cast<std::size_t>(p.solution_size +
+                                                                                    static_cast<Index>(p.bins.size()) +
+                                                                                    p.base_feature_size));
+  return grid_cells(p) * per_cell;
+}
+
 GridArchive::GridArchive(GridArchiveParams params)
     : EliteStore(store_shape(params)), params_(std::move(params)), index_(params_) {}
 

@@ -31,6 +31,13 @@ struct GridArchiveParams {
   void validate() const;
 };
 
+// The cells of a grid (the product of its bins), and what a GridArchive of `p` allocates for them
+// (objective, occupied flag, solution, measures and base features per cell), in bytes, for a
+// run's memory estimate (core/memory_estimate.hpp); p.solution_size and p.base_feature_size are
+// used as they are, so set them first.
+double grid_cells(const GridArchiveParams& p);
+double grid_archive_bytes(const GridArchiveParams& p);
+
 class GridArchive : private EliteStore {
  public:
   explicit GridArchive(GridArchiveParams params);

@@ -1,14 +1,11 @@
 #include "qdmeta/archive/kmeans.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
-
 #include <algorithm>
 #include <numeric>
 
 #include "qdmeta/archive/nearest_centroid.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/parallel.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
@@ -20,14 +17,10 @@ constexpr Index kChunk = 2048;
 
 Index chunks_of(Index n) { return (n + kChunk - 1) / kChunk; }
 
+// body(first, count) for every chunk of n rows, in parallel.
 template <class Body>
 void for_each_chunk(Index n, const Body& body) {
-  tbb::parallel_for(
-      tbb::blocked_range<Index>(0, chunks_of(n), 1),
-      [&](const tbb::blocked_range<Index>& range) {
-        for (Index c = range.begin(); c < range.end(); ++c) body(c * kChunk, std::min(kChunk, n - c * kChunk));
-      },
-      tbb::simple_partitioner());
+  parallel_indices(chunks_of(n), [&](Index c) { body(c * kChunk, std::min(kChunk, n - c * kChunk)); });
 }
 
 // Nearest centroid and exact squared distance of every row of `points`, in parallel.

@@ -16,6 +16,7 @@
 #include "qdmeta/archive/centroid_values.hpp"
 #include "qdmeta/archive/fast_distance.hpp"
 #include "qdmeta/archive/list_selection.hpp"
+#include "qdmeta/archive/reference_distance.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace qdmeta {
@@ -74,12 +75,7 @@ struct NeighbourScratch {
 }  // namespace
 
 double squared_distance(const Real* a, const Real* b, Index dimensions) {
-  double sum = 0.0;
-  for (Index i = 0; i < dimensions; ++i) {
-    const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
-    sum += d * d;
-  }
-  return sum;
+  return reference_squared_distance(a, b, dimensions);
 }
 
 Index nearest_centroid_naive(const RowMatrix& centroids, const Real* point) {
@@ -110,6 +106,7 @@ NearestCentroid::NearestCentroid(RowMatrix centroids) : centroids_(std::move(cen
       blocked_[static_cast<std::size_t>(((c / kValueLanes) * d + i) * kValueLanes + c % kValueLanes)] = -2 * centroids_(c, i);  // exact scaling
   }
   max_norm_ = std::sqrt(static_cast<double>(norms_.maxCoeff()));
+  if (d <= CentroidGrid::kMaxDimensions) grid_.emplace(centroids_);
 }
 
 Index NearestCentroid::find(const Real* point) const {
@@ -196,6 +193,21 @@ void NearestCentroid::select_list(const Real* point, const Real* values, Index c
 }
 
 void NearestCentroid::find(const Real* points, Index n, Index* cells, double* distances) const {
+  if (!grid_) {
+    find_by_product(points, n, cells, distances);
+    return;
+  }
+  const Index d = dimensions();
+  for (Index r = 0; r < n; ++r) {
+    double distance = 0.0;
+    const Index cell = grid_->find(points + r * d, &distance);
+    if (cell < 0) throw Error(fmt::format("nearest centroid: point {} has a NaN or infinite coordinate", r));
+    cells[r] = cell;
+    if (distances) distances[r] = distance;
+  }
+}
+
+void NearestCentroid::find_by_product(const Real* points, Index n, Index* cells, double* distances) const {
   // The values of kValueRows points at a time (centroid_values), the smallest, then the exact
   // reference distance for every centroid whose value lies within the rounding bound of it.
   // Rounding bound of one float value ||c||^2 - 2 x.c in any summation order: the norm (d

@@ -4,15 +4,20 @@
 // at the multiply-add peak of the machine); every centroid whose float value lies within the
 // product's rounding bound of the best is then re-checked with the exact reference distance
 // (squared_distance below, in double), so the answer is the centroid the plain loop over all
-// centroids would pick, ties broken by the lowest index.
+// centroids would pick, ties broken by the lowest index. In 3 dimensions or fewer find() asks a
+// bucket grid over the centroids instead (centroid_grid.hpp): the same answers, from a few dozen
+// centroids rather than all.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "qdmeta/archive/centroid_grid.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
 
-// The reference: sum over i of (a_i - b_i)^2 in double, in index order.
+// The reference: sum over i of (a_i - b_i)^2 in double, in index order, each product rounded
+// before it is added (never fused: the same bits whatever the caller's compiler flags).
 double squared_distance(const Real* a, const Real* b, Index dimensions);
 
 // The reference search: the plain loop (for tests and as the definition of "exact").
@@ -31,8 +36,12 @@ class NearestCentroid {
   // The nearest centroid of each of `count` points (row-major, dimensions() columns) into
   // `cells`; with `distances`, also the exact squared distance to it. Single-threaded: callers
   // split big batches into row ranges (each row's answer does not depend on the split).
+  // The grid in 3 dimensions or fewer, else the blocked product.
   void find(const Real* points, Index count, Index* cells, double* distances = nullptr) const;
   Index find(const Real* point) const;
+  // find() by the blocked product in any dimension (tests and benchmarks compare the two).
+  void find_by_product(const Real* points, Index count, Index* cells, double* distances = nullptr) const;
+  bool has_grid() const { return grid_.has_value(); }
 
   // A neighbour list for `point`: the `count` centroids with the smallest float distance values
   // (count <= count()), sorted by those values (ties to the lowest index), into `cells`, with a
@@ -54,6 +63,7 @@ class NearestCentroid {
                    double* outside) const;
 
   RowMatrix centroids_;
+  std::optional<CentroidGrid> grid_;  // in CentroidGrid::kMaxDimensions or fewer
   std::vector<Real> blocked_;        // -2 C^T in blocks of 16 centroids (centroid_values.hpp)
   std::vector<Real> padded_norms_;   // ||c||^2, padded to whole blocks
   Vector norms_;                                                     // ||c||^2 in float

@@ -11,7 +11,7 @@
 namespace qdmeta {
 
 void UnstructuredArchiveParams::validate() const {
-  require_range("aurora.latent_size", descriptor_size, Index{1}, Index{1'000});
+  require_range("aurora.latent_size", measure_size, Index{1}, Index{1'000});
   require_at_least("archive solution size", solution_size, Index{1});
   require_at_least("archive base-feature size", base_feature_size, Index{0});
   require_range("aurora.target_size", target_size, Index{1}, Index{100'000'000});
@@ -23,141 +23,154 @@ namespace {
 double sign(double x) { return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0); }
 }  // namespace
 
-bool eps_dominates(double candidate_fitness, double candidate_novelty, double member_fitness, double member_novelty,
-                   double eps) {
+bool eps_fitness_allows(double candidate_fitness, double member_fitness, double eps) {
   // The (1 - sign(s) eps) factor loosens the bound below s whatever the sign of s: for a
   // negative fitness such as Rastrigin's, (1 + eps) s is the lower value.
-  return candidate_fitness >= (1.0 - sign(member_fitness) * eps) * member_fitness &&
+  return candidate_fitness >= (1.0 - sign(member_fitness) * eps) * member_fitness;
+}
+
+bool eps_dominates(double candidate_fitness, double candidate_novelty, double member_fitness, double member_novelty,
+                   double eps) {
+  return eps_fitness_allows(candidate_fitness, member_fitness, eps) &&
          candidate_novelty >= (1.0 - sign(member_novelty) * eps) * member_novelty &&
          (candidate_fitness - member_fitness) * std::abs(member_novelty) >
              -(candidate_novelty - member_novelty) * std::abs(member_fitness);
 }
 
 namespace {
-constexpr int kGridCells = 128;       // per grid axis
-constexpr double kGridHalfWidth = 4;  // the grid spans [-4, 4] on each of its axes
-constexpr double kCellSide = 2 * kGridHalfWidth / kGridCells;
-
-int grid_coordinate(Real x) {
-  const double c = std::floor((static_cast<double>(x) + kGridHalfWidth) / kCellSide);
-  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(kGridCells - 1)));
+const UnstructuredArchiveParams& checked(const UnstructuredArchiveParams& p) {
+  p.validate();
+  return p;
 }
 }  // namespace
 
-UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params) : params_(params) {
-  params_.validate();
-  coordinates_.resize(static_cast<std::size_t>(params_.descriptor_size));
-  grid_dims_ = std::min<Index>(params_.descriptor_size, 2);
-  cells_.resize(static_cast<std::size_t>(grid_dims_ > 1 ? kGridCells * kGridCells : kGridCells));
-}
-
-
-std::int32_t UnstructuredArchive::cell_of(const Real* point, std::int32_t* column_row) const {
-  const int cx = grid_coordinate(point[0]);
-  const int cy = grid_dims_ > 1 ? grid_coordinate(point[1]) : 0;
-  if (column_row) {
-    column_row[0] = cx;
-    column_row[1] = cy;
-  }
-  return cx * (grid_dims_ > 1 ? kGridCells : 1) + cy;
-}
-
-void UnstructuredArchive::index_insert(Index slot) {
-  Real point[2] = {coordinates_[0][static_cast<std::size_t>(slot)], 0.0f};
-  if (grid_dims_ > 1) point[1] = coordinates_[1][static_cast<std::size_t>(slot)];
-  const std::int32_t cell = cell_of(point);
-  cells_[static_cast<std::size_t>(cell)].push_back(slot);
-  if (static_cast<std::size_t>(slot) >= cell_of_slot_.size()) cell_of_slot_.resize(static_cast<std::size_t>(slot) + 1);
-  cell_of_slot_[static_cast<std::size_t>(slot)] = cell;
-}
-
-void UnstructuredArchive::index_erase(Index slot) {
-  auto& members = cells_[static_cast<std::size_t>(cell_of_slot_[static_cast<std::size_t>(slot)])];
-  const auto it = std::find(members.begin(), members.end(), slot);
-  *it = members.back();  // order inside a cell does not matter: ties go by slot
-  members.pop_back();
+UnstructuredArchive::UnstructuredArchive(UnstructuredArchiveParams params)
+    : params_(checked(params)), grid_(params_.measure_size) {
+  coordinates_.resize(static_cast<std::size_t>(params_.measure_size));
+  member_.resize(static_cast<std::size_t>(params_.measure_size));
 }
 
 std::vector<UnstructuredArchive::Neighbour> UnstructuredArchive::nearest(const Real* point, Index count,
                                                                          Index excluded) const {
   std::vector<Neighbour> best;
-  if (count <= 0 || empty()) return best;
-  const auto m = static_cast<std::size_t>(count);
-  best.reserve(m + 1);
-  const Index d = params_.descriptor_size;
-  Real worst = std::numeric_limits<Real>::infinity();  // the m-th best squared distance so far
-  const int rows = grid_dims_ > 1 ? kGridCells : 1;
-  const auto visit_cell = [&](int cx, int cy) {
-    for (const Index slot : cells_[static_cast<std::size_t>(cx * rows + cy)]) {
-      Real d2 = 0.0f;
-      for (Index j = 0; j < d; ++j) {
-        const Real diff = coordinates_[static_cast<std::size_t>(j)][static_cast<std::size_t>(slot)] - point[j];
-        d2 += diff * diff;
-      }
-      if (d2 > worst || slot == excluded) continue;
-      const Neighbour candidate{d2, slot};
-      if (best.size() == m && !(candidate < best.back())) continue;
-      best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
-      if (best.size() > m) best.pop_back();
-      if (best.size() == m) worst = best.back().squared_distance;
-    }
-  };
-  std::int32_t q[2];
-  cell_of(point, q);
-  for (int r = 0; r < kGridCells; ++r) {
-    // A member in ring r is at least (r - 1) cell sides away along one grid axis (clamped
-    // members lie farther out than their cell); the margin absorbs rounding in the cell index.
-    const double bound = std::max(0.0, (r - 1) * kCellSide - 1e-3 * kCellSide);
-    if (best.size() == m && bound * bound > static_cast<double>(worst)) break;
-    const int x0 = q[0] - r, x1 = q[0] + r, y0 = q[1] - r, y1 = q[1] + r;
-    for (int cx = std::max(x0, 0); cx <= std::min(x1, kGridCells - 1); ++cx) {
-      if (cx == x0 || cx == x1) {  // a full column of the ring
-        for (int cy = std::max(y0, 0); cy <= std::min(y1, rows - 1); ++cy) visit_cell(cx, cy);
-      } else {  // only the top and bottom cells
-        if (y0 >= 0) visit_cell(cx, y0);
-        if (y1 < rows && y1 != y0) visit_cell(cx, y1);
-      }
-    }
-  }
+  grid_.nearest(point, count, excluded, best);
   return best;
 }
 
 double UnstructuredArchive::member_novelty(Index slot) const {
   std::vector<Real> point(coordinates_.size());
   for (std::size_t j = 0; j < coordinates_.size(); ++j) point[j] = coordinates_[j][static_cast<std::size_t>(slot)];
-  const std::vector<Neighbour> nn = nearest(point.data(), params_.novelty_neighbours, slot);
+  std::vector<Neighbour> nn;
+  grid_.nearest(point.data(), params_.novelty_neighbours, slot, nn);
   if (nn.empty()) return 0.0;
   double sum = 0.0;
   for (const Neighbour& x : nn) sum += std::sqrt(static_cast<double>(x.squared_distance));
   return sum / static_cast<double>(nn.size());
 }
 
-AddStatus UnstructuredArchive::add(const Real* solution, Real objective, const Real* descriptor,
-                                   const Real* base_features, double threshold) {
-  for (Index j = 0; j < params_.descriptor_size; ++j)
+void UnstructuredArchive::check_finite(const Real* descriptor) const {
+  for (Index j = 0; j < params_.measure_size; ++j)
     if (!std::isfinite(descriptor[j])) throw Error(fmt::format("unstructured archive: descriptor {} is not finite", j));
+}
+
+AddStatus UnstructuredArchive::add(const Real* solution, Real objective, const Real* descriptor,
+                                   const Real* base_features, double threshold, Index* slot) {
+  check_finite(descriptor);
   if (empty()) {
+    if (slot) *slot = size();
     append(solution, objective, descriptor, base_features);
     return AddStatus::kNew;
   }
-  // The k + 1 nearest: the nearest, then the k that give the candidate's novelty without it.
-  const std::vector<Neighbour> nn = nearest(descriptor, params_.novelty_neighbours + 1);
-  if (std::sqrt(static_cast<double>(nn[0].squared_distance)) > threshold) {
-    append(solution, objective, descriptor, base_features);
-    return AddStatus::kNew;
+  return add_near(solution, objective, descriptor, base_features, threshold, slot);
+}
+
+AddStatus UnstructuredArchive::add_near(const Real* solution, Real objective, const Real* descriptor,
+                                        const Real* base_features, double threshold, Index* written) {
+  if (written) *written = -1;
+  // One pass over rings of grid cells around the candidate answers every question of the rule
+  // in turn, each as soon as the points seen so far decide it. The answers are those of exact
+  // queries (PointGrid::nearest): a distance counts only once the rings reach past it.
+  constexpr double kEverywhere = std::numeric_limits<double>::infinity();
+  const auto k = static_cast<std::size_t>(params_.novelty_neighbours);
+  const double crowded = (1.0 - params_.eps) * threshold;
+  spans_.clear();
+  near_.reset(k + 1);  // the candidate's k + 1 nearest among the points seen, nearest first
+  for (int r = 0;; ++r) {
+    const std::size_t before = spans_.size();
+    const double reach = grid_.ring_spans(descriptor, r, spans_);
+    for (std::size_t i = before; i < spans_.size(); ++i) grid_.offer(spans_[i], descriptor, -1, near_);
+    // Added when the nearest member is farther than l (reach is +infinity once all is seen).
+    if (!(near_.size() > 0 && near_.distance(0) <= threshold) && reach > threshold) {
+      if (written) *written = size();
+      append(solution, objective, descriptor, base_features);
+      return AddStatus::kNew;
+    }
+    // Rejected when the second nearest is nearer than (1 - eps) l, or there is none.
+    if (near_.size() >= 2 && near_.distance(1) < crowded) return AddStatus::kNotAdded;
+    if (reach != kEverywhere && !(near_.size() >= 2 && near_.distance(1) < reach)) continue;
+    if (near_.size() == 1) return AddStatus::kNotAdded;
+    // Otherwise the nearest member is replaced when the candidate eps-dominates it on (fitness,
+    // novelty); fitness alone can refuse.
+    const Index slot = key_slot(near_[0]);
+    const double member_fitness = objectives_[static_cast<std::size_t>(slot)];
+    if (!eps_fitness_allows(objective, member_fitness, params_.eps)) return AddStatus::kNotAdded;
+    if (reach != kEverywhere && !(near_.full() && near_.distance(k) < reach)) continue;
+    const double farthest = near_.full() ? near_.distance(k) : kEverywhere;
+    if (!member_neighbours(slot, near_.distance(0), farthest, reach)) continue;
+    double candidate_novelty = 0.0, member_novelty = 0.0;
+    for (std::size_t i = 1; i < near_.size(); ++i) candidate_novelty += near_.distance(i);
+    candidate_novelty /= static_cast<double>(near_.size() - 1);
+    for (std::size_t i = 0; i < around_.size(); ++i) member_novelty += around_.distance(i);
+    if (around_.size() > 0) member_novelty /= static_cast<double>(around_.size());
+    if (!eps_dominates(objective, candidate_novelty, member_fitness, member_novelty, params_.eps))
+      return AddStatus::kNotAdded;
+    overwrite(slot, solution, objective, descriptor, base_features);
+    if (written) *written = slot;
+    return AddStatus::kImproved;
   }
-  if (nn.size() == 1) return AddStatus::kNotAdded;
-  if (std::sqrt(static_cast<double>(nn[1].squared_distance)) < (1.0 - params_.eps) * threshold)
-    return AddStatus::kNotAdded;
-  double candidate_novelty = 0.0;
-  for (std::size_t i = 1; i < nn.size(); ++i) candidate_novelty += std::sqrt(static_cast<double>(nn[i].squared_distance));
-  candidate_novelty /= static_cast<double>(nn.size() - 1);
-  const Index slot = nn[0].slot;
-  if (!eps_dominates(objective, candidate_novelty, objectives_[static_cast<std::size_t>(slot)], member_novelty(slot),
-                     params_.eps))
-    return AddStatus::kNotAdded;
-  overwrite(slot, solution, objective, descriptor, base_features);
-  return AddStatus::kImproved;
+}
+
+bool UnstructuredArchive::member_neighbours(Index slot, double nearest, double farthest, double reach) {
+  // The member's k nearest others among the points seen around the candidate, which hold every
+  // member within `reach` of the candidate: exact once `nearest` (candidate to member) plus
+  // the member's k-th is within reach (triangle inequality). The candidate's k nearest others
+  // (within `farthest` of it) lie within nearest + farthest of the member, which bounds its
+  // k-th from the start (1e-5 spares float rounding).
+  const Index d = params_.measure_size;
+  const auto k = static_cast<std::size_t>(params_.novelty_neighbours);
+  Real* m = member_.data();
+  for (Index j = 0; j < d; ++j) m[j] = coordinates_[static_cast<std::size_t>(j)][static_cast<std::size_t>(slot)];
+  const double ceiling = (nearest + farthest) * (1.0 + 1e-5);
+  around_.reset(k, std::nextafter(static_cast<Real>(ceiling * ceiling), std::numeric_limits<Real>::infinity()));
+  for (const PointGrid::Span& span : spans_) grid_.offer(span, m, slot, around_);
+  return reach == std::numeric_limits<double>::infinity() ||
+         (around_.full() && nearest + around_.distance(k - 1) < reach);
+}
+
+void UnstructuredArchive::refill(Index count, const Real* solutions, const Real* objectives,
+                                 const Real* descriptors, const Real* base_features, double threshold,
+                                 std::vector<Index>* rows) {
+  clear();
+  if (rows) rows->clear();
+  const Index d = params_.measure_size, g = params_.solution_size, b = params_.base_feature_size;
+  // Rows up to the first non-finite descriptor go in, then that row's add() throws, as one by one.
+  Index finite = 0;
+  while (finite < count && std::all_of(descriptors + finite * d, descriptors + (finite + 1) * d,
+                                       [](Real x) { return std::isfinite(x); }))
+    ++finite;
+  grid_.reserve(descriptors, finite);
+  const std::vector<std::uint8_t>& apart = rows_apart_.find(descriptors, finite, d, threshold);
+  for (Index i = 0; i < finite; ++i) {
+    const Real* base = base_features ? base_features + i * b : nullptr;
+    Index slot = size();
+    if (apart[static_cast<std::size_t>(i)] || empty()) append(solutions + i * g, objectives[i], descriptors + i * d, base);
+    else add_near(solutions + i * g, objectives[i], descriptors + i * d, base, threshold, &slot);
+    if (rows && slot >= 0) {
+      if (slot == static_cast<Index>(rows->size())) rows->push_back(i);
+      else (*rows)[static_cast<std::size_t>(slot)] = i;
+    }
+  }
+  if (finite < count) check_finite(descriptors + finite * d);
 }
 
 void UnstructuredArchive::append(const Real* solution, Real objective, const Real* descriptor,
@@ -170,18 +183,18 @@ void UnstructuredArchive::append(const Real* solution, Real objective, const Rea
     else base_.resize(base_.size() + static_cast<std::size_t>(params_.base_feature_size), 0.0f);
   }
   for (std::size_t j = 0; j < coordinates_.size(); ++j) coordinates_[j].push_back(descriptor[j]);
-  index_insert(slot);
+  grid_.insert(slot, descriptor);
 }
 
 void UnstructuredArchive::overwrite(Index slot, const Real* solution, Real objective, const Real* descriptor,
                                     const Real* base_features) {
-  index_erase(slot);
+  grid_.erase(slot);
   objectives_[static_cast<std::size_t>(slot)] = objective;
   std::copy_n(solution, params_.solution_size, solutions_.begin() + slot * params_.solution_size);
   if (params_.base_feature_size > 0 && base_features)
     std::copy_n(base_features, params_.base_feature_size, base_.begin() + slot * params_.base_feature_size);
   for (std::size_t j = 0; j < coordinates_.size(); ++j) coordinates_[j][static_cast<std::size_t>(slot)] = descriptor[j];
-  index_insert(slot);
+  grid_.insert(slot, descriptor);
 }
 
 void UnstructuredArchive::clear() {
@@ -189,8 +202,7 @@ void UnstructuredArchive::clear() {
   solutions_.clear();
   base_.clear();
   for (auto& c : coordinates_) c.clear();
-  for (auto& c : cells_) c.clear();
-  cell_of_slot_.clear();
+  grid_.clear();
 }
 
 ArchiveStats UnstructuredArchive::stats() const {
@@ -205,7 +217,7 @@ ArchiveStats UnstructuredArchive::stats() const {
 
 void UnstructuredArchive::save(BinaryWriter& out) const {
   out.tag("unstructured_archive");
-  out.value<std::int64_t>(params_.descriptor_size);
+  out.value<std::int64_t>(params_.measure_size);
   out.value<std::int64_t>(params_.solution_size);
   out.value<std::int64_t>(params_.base_feature_size);
   out.values(objectives_);
@@ -219,7 +231,7 @@ void UnstructuredArchive::load(BinaryReader& in) {
   const auto dims = in.value<std::int64_t>("archive descriptor size");
   const auto genes = in.value<std::int64_t>("archive solution size");
   const auto base = in.value<std::int64_t>("archive base-feature size");
-  if (dims != params_.descriptor_size || genes != params_.solution_size || base != params_.base_feature_size)
+  if (dims != params_.measure_size || genes != params_.solution_size || base != params_.base_feature_size)
     in.fail("unstructured archive of another shape than this run's");
   const auto objectives = in.values<Real>("archive objectives");
   const auto solutions = in.values<Real>("archive solutions");

@@ -12,17 +12,16 @@
 // The threshold is the caller's (AURORA adapts it); each call passes the one in force.
 //
 // Members occupy slots 0..size-1; a replacement keeps the slot. Neighbour queries are exact
-// and use a uniform grid over the first two descriptor coordinates (128 x 128 cells over
-// [-4, 4]^2, where AURORA's z-scored codes live; members beyond share the edge cells, which
-// keeps queries exact, only slower): cells are visited in square rings around the query's cell
-// until the ring's distance alone exceeds the k-th best distance found. Ties are broken by the
-// lower slot, so results never depend on the visiting order (bench/README.md compares this
-// with a brute-force scan and a k-d tree).
+// (archive/point_grid.hpp: ties broken by the lower slot, so results never depend on the
+// index; bench/README.md compares it with a brute-force scan and a k-d tree). The neighbourhoods
+// of a candidate and of its nearest member are gathered in one pass over rings of grid cells,
+// which stops as soon as what it has seen decides the rule.
 #include <cstdint>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/elite_batch.hpp"  // AddStatus
+#include "qdmeta/archive/point_grid.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
@@ -30,7 +29,7 @@
 namespace qdmeta {
 
 struct UnstructuredArchiveParams {
-  Index descriptor_size = 2;    // dimensions of the descriptor (AURORA: the latent size), >= 1
+  Index measure_size = 2;       // dimensions of a measure (AURORA: the latent size), >= 1
   Index solution_size = 0;      // genes per solution, >= 1
   Index base_feature_size = 0;  // base features kept per elite (0: none)
   Index target_size = 10'000;   // the size AURORA steers toward; coverage = min(1, size / target)
@@ -45,6 +44,8 @@ struct UnstructuredArchiveParams {
 // on one outweighs its loss on the other, each weighed by the member's other score.
 bool eps_dominates(double candidate_fitness, double candidate_novelty, double member_fitness, double member_novelty,
                    double eps);
+// Its first condition, on fitness alone: false makes eps_dominates false whatever the novelties.
+bool eps_fitness_allows(double candidate_fitness, double member_fitness, double eps);
 
 class UnstructuredArchive {
  public:
@@ -55,8 +56,17 @@ class UnstructuredArchive {
   bool empty() const { return objectives_.empty(); }
 
   // Applies the insertion rule above with threshold l (> 0). kImproved means a replacement.
+  // `slot`, when given, receives the slot written (kNew, kImproved) or -1.
   AddStatus add(const Real* solution, Real objective, const Real* descriptor, const Real* base_features,
-                double threshold);
+                double threshold, Index* slot = nullptr);
+  // Empties the archive and adds `count` rows (row-major: solutions, descriptors and base
+  // features, the latter null when base_feature_size = 0) in order with threshold l: the archive
+  // that clear() and one add() per row would leave, and the same error at the first
+  // non-finite descriptor. A row farther than l from every earlier row enters without a query
+  // (no earlier row, hence no member, is near it); those rows are found on oneTBB's threads.
+  // `rows`, when given, receives the row each slot holds after the refill.
+  void refill(Index count, const Real* solutions, const Real* objectives, const Real* descriptors,
+              const Real* base_features, double threshold, std::vector<Index>* rows = nullptr);
   void clear();
   // Checkpoints: every member in slot order; load() re-adds them in that order (slots and the
   // neighbour grid as before; queries do not depend on the order inside a grid cell).
@@ -75,34 +85,34 @@ class UnstructuredArchive {
   // Novelty of a member: mean distance to its k nearest other members (0 when alone).
   double member_novelty(Index slot) const;
 
-  struct Neighbour {
-    Real squared_distance;
-    Index slot;
-    bool operator<(const Neighbour& o) const {
-      return squared_distance < o.squared_distance || (squared_distance == o.squared_distance && slot < o.slot);
-    }
-  };
+  using Neighbour = qdmeta::Neighbour;
   // The `count` members nearest to `point` other than slot `excluded` (-1: none), nearest first.
   std::vector<Neighbour> nearest(const Real* point, Index count, Index excluded = -1) const;
 
   ArchiveStats stats() const;
 
  private:
+  // add() once the descriptor is known to be finite and the archive not empty.
+  AddStatus add_near(const Real* solution, Real objective, const Real* descriptor, const Real* base_features,
+                     double threshold, Index* slot);
   void append(const Real* solution, Real objective, const Real* descriptor, const Real* base_features);
   void overwrite(Index slot, const Real* solution, Real objective, const Real* descriptor, const Real* base_features);
+  void check_finite(const Real* descriptor) const;
+  // add()'s novelty of the nearest member `slot` (into around_) from the points gathered around
+  // the candidate; false when those do not yet reach far enough to make it exact.
+  bool member_neighbours(Index slot, double nearest, double farthest, double reach);
 
   UnstructuredArchiveParams params_;
   std::vector<Real> objectives_;
   std::vector<Real> solutions_;                  // size x solution_size
   std::vector<Real> base_;                       // size x base_feature_size
-  std::vector<std::vector<Real>> coordinates_;   // descriptor_size arrays of size entries, by slot
-  // The grid index: the slots in each cell, and each slot's cell.
-  std::vector<std::vector<Index>> cells_;
-  std::vector<std::int32_t> cell_of_slot_;
-  Index grid_dims_ = 1;  // 1 or 2: the coordinates the grid spans
-  std::int32_t cell_of(const Real* point, std::int32_t* column_row = nullptr) const;
-  void index_insert(Index slot);
-  void index_erase(Index slot);
+  std::vector<std::vector<Real>> coordinates_;   // measure_size arrays of size entries, by slot
+  PointGrid grid_;                               // the members' descriptors by slot
+  // add()'s scratch: the cells seen around the candidate, its nearest and its nearest's nearest.
+  std::vector<PointGrid::Span> spans_;
+  NearestKeys near_, around_;
+  std::vector<Real> member_;  // the nearest member's descriptor
+  RowsApart rows_apart_;      // refill()'s
 };
 
 }  // namespace qdmeta

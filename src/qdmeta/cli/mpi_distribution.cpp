@@ -5,6 +5,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/eval/mpi/mpi_evaluator.hpp"
 #include "qdmeta/eval/mpi/mpi_session.hpp"
 #include "qdmeta/eval/mpi/mpi_worker.hpp"

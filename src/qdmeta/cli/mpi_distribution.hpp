@@ -1,9 +1,10 @@
 #pragma once
-// The MPI implementation of the command line's Distribution (cli/distribution.hpp).
-// No MPI header here.
+// The MPI implementation of the command line's Distribution (cli/distribution.hpp), in the
+// qdmeta::mpi library. No MPI header here, nor a heavy one: run_cli.hpp includes this one in
+// programs that link qdmeta::mpi.
 #include <memory>
 
-#include "qdmeta/cli/distribution.hpp"
+#include "qdmeta/cli/distribution_factory.hpp"
 
 namespace qdmeta {
 

@@ -20,6 +20,7 @@
 #include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/cli/distribution_factory.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
@@ -181,7 +182,7 @@ int command_adapt(const AdaptArgs& a) {
   if (a.test == "generalisation") {
     if (a.budget) throw InputError("--budget does not apply to --test generalisation (it scores the whole archive)");
     const GeneralisationReport g =
-        generalise_run(a.run, a.seed, *evaluator, a.solutions ? std::optional<Index>(*a.solutions) : std::nullopt);
+        generalise_run(RunState(a.run), a.seed, *evaluator, a.solutions ? std::optional<Index>(*a.solutions) : std::nullopt);
     if (!a.quiet) {
       const Index scored = g.rows.empty() ? g.archive_size : g.rows.front().solutions;
       fmt::print("test 'generalisation': {} of {} archive solutions, mean score per group (+- SE over environments):\n",
@@ -193,7 +194,7 @@ int command_adapt(const AdaptArgs& a) {
     return 0;
   }
   if (a.solutions) throw InputError("--solutions applies to --test generalisation only");
-  const AdaptationReport r = adapt_run(a.run, a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
+  const AdaptationReport r = adapt_run(RunState(a.run), a.test, a.budget ? std::optional<Index>(*a.budget) : std::nullopt, a.seed,
                                        *evaluator);
   if (!a.quiet)
     fmt::print("test '{}': {} functions x {} evaluations over {} archive solutions; best after 1: {:.6g} +- {:.3g}, "
@@ -355,8 +356,9 @@ int command_experiment(const ExperimentArgs& a) {
 
 }  // namespace
 
-int run_cli_with_tools(int argc, char** argv, const fs::path& tools) {
+int run_cli_with_tools(int argc, char** argv, const fs::path& tools, DistributionFactory make_distribution) {
   g_tools_dir = tools;
+  if (!has_notice_sink()) set_notice_sink(print_notice_to_stderr);  // a program's own sink stays
   ensure_core_plugins();  // as build_run() would, so that --help lists them in any program
   // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command line.
   const std::unique_ptr<Distribution> distribution = make_distribution(argc, argv);
@@ -375,10 +377,30 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
+// The top-level help's footer: what a config of this program may name, from the registries (a
+// program that registers its own task or algorithm sees it listed here).
+std::string describe_registered_parts() {
+  std::string out = fmt::format("Registered in this program (what a config may name):\n  algorithm: {}\n",
+                                joined(registered_algorithm_names()));
+  for (const std::string& name : registered_task_names()) {
+    const auto plugin = find_task_plugin(name);
+    if (plugin == nullptr) continue;
+    std::vector<std::string> kinds, tests = plugin->adaptation_tests;
+    for (const auto& [kind, reader] : plugin->meta_objectives) kinds.push_back(kind);
+    if (!plugin->generalisation_groups.empty()) tests.push_back("generalisation");
+    out += fmt::format("  [task] name = \"{}\": [meta_fitness] kind {}; adapt --test {}\n", name,
+                       kinds.empty() ? "(none)" : joined(kinds), tests.empty() ? "(none)" : joined(tests));
+  }
+  if (const auto missing = unavailable_task_names(); !missing.empty())
+    out += fmt::format("  not in this build: {}\n", joined(missing));
+  return out;
+}
+
 int parse_and_run(int argc, char** argv) {
   const int ranks = g_distribution->ranks();
   CLI::App app{"qdmeta: Quality-Diversity Meta-Evolution (QD-Meta), CVT-MAP-Elites and AURORA"};
   app.set_version_flag("--version", std::string(kVersion));
+  app.footer(describe_registered_parts());
   app.require_subcommand(1);
 
   RunArgs run;

@@ -53,6 +53,7 @@ class SarsaControl final : public GenerationController {
   // Inspection (tests, logs).
   const StateTree& tree() const { return tree_; }
   const SarsaParams& params() const { return params_; }
+  int max_generations() const override { return params_.max_generations; }
   double last_reward() const { return reward_; }
   int stagnation() const { return stagnation_; }
   int last_action() const { return action_; }

@@ -3,7 +3,6 @@
 // BinaryWriter and reads itself back from a BinaryReader in the same order. Reads are checked:
 // a truncated or misaligned stream throws InputError naming the source and what was expected,
 // never returns garbage. Named tags between sections catch a reader and writer out of step.
-#include <Eigen/Core>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -11,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "qdmeta/core/eigen.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <span>
 
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/task.hpp"
 
 namespace qdmeta {
@@ -15,6 +16,9 @@ struct EvaluationJob {
   const Task* task = nullptr;
   GenotypeView genotypes;
   EvaluationView out;
+  // Counted as bottom-level evaluations when told (Algorithm::tell); false for a meta-objective's
+  // batches, whose evaluations the objective itself reports.
+  bool bottom_level = true;
 };
 
 class Evaluator {

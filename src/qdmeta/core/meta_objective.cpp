@@ -7,6 +7,29 @@
 
 namespace qdmeta {
 
+MetaArchive::MetaArchive(const RowMatrix& genotypes, const Vector& fitness, const RowMatrix& measures,
+                         const RowMatrix& base_features)
+    : genotypes_(&genotypes), fitness_(&fitness), measures_(&measures), base_features_(&base_features) {
+  const Index n = genotypes.rows();
+  if (fitness.size() != n || measures.rows() != n || base_features.rows() != n)
+    throw Error(fmt::format("MetaArchive: {} genotypes but {} fitness values, {} measure rows and {} base-feature rows",
+                            n, fitness.size(), measures.rows(), base_features.rows()));
+}
+
+namespace {
+template <class T>
+const T& stored(const T* value, const char* what) {
+  if (value == nullptr)
+    throw Error(fmt::format("MetaArchive: this archive holds genotypes only, no {} (QD-Meta's archives hold them)",
+                            what));
+  return *value;
+}
+}  // namespace
+
+const Vector& MetaArchive::fitness() const { return stored(fitness_, "fitness"); }
+const RowMatrix& MetaArchive::measures() const { return stored(measures_, "measures"); }
+const RowMatrix& MetaArchive::base_features() const { return stored(base_features_, "base features"); }
+
 void check_meta_plan(const MetaObjective& objective, const MetaPlan& plan, std::span<const Task> tasks) {
   for (std::size_t k = 0; k < plan.batches.size(); ++k) {
     const MetaBatch& b = plan.batches[k];
@@ -20,8 +43,8 @@ void check_meta_plan(const MetaObjective& objective, const MetaPlan& plan, std::
   }
 }
 
-MetaFitnessResult MetaObjective::evaluate(const RowMatrix& elites, Rng& rng, Evaluator& evaluator) const {
-  const MetaPlan planned = plan(elites, rng);
+MetaFitnessResult MetaObjective::evaluate(const MetaArchive& archive, Rng& rng, Evaluator& evaluator) const {
+  const MetaPlan planned = plan(archive, rng);
   const std::vector<Task> task_list = tasks();
   check_meta_plan(*this, planned, task_list);
   std::vector<EvaluationBatch> results(planned.batches.size());
@@ -33,7 +56,7 @@ MetaFitnessResult MetaObjective::evaluate(const RowMatrix& elites, Rng& rng, Eva
     jobs.push_back({&task, {b.genotypes.data(), b.genotypes.rows(), b.genotypes.cols()}, results[k].view()});
   }
   if (!jobs.empty()) evaluator.evaluate_jobs(jobs);
-  return score(elites, planned, results);
+  return score(archive, planned, results);
 }
 
 }  // namespace qdmeta

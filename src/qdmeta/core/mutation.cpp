@@ -1,5 +1,6 @@
 #include "qdmeta/core/mutation.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 

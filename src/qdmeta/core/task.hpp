@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "qdmeta/core/types.hpp"
+#include "qdmeta/core/scalars.hpp"
 
 namespace qdmeta {
 
@@ -32,22 +32,6 @@ struct EvaluationView {
   Real* base_row(Index i) const { return base_features + i * base_feature_size; }
   EvaluationView rows(Index first, Index n) const {
     return {fitness + first, base_row(first), valid + first, n, base_feature_size};
-  }
-};
-
-// Owning storage for one batch of evaluations.
-struct EvaluationBatch {
-  Vector fitness;
-  RowMatrix base_features;
-  std::vector<std::uint8_t> valid;
-  void resize(Index count, Index base_feature_size) {
-    fitness.resize(count);
-    base_features.resize(count, base_feature_size);
-    valid.assign(static_cast<std::size_t>(count), 0);
-  }
-  Index size() const { return fitness.size(); }
-  EvaluationView view() {
-    return {fitness.data(), base_features.data(), valid.data(), fitness.size(), base_features.cols()};
   }
 };
 

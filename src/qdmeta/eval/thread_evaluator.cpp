@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "qdmeta/core/parallel.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 
 namespace qdmeta {
@@ -100,14 +101,7 @@ class ThreadEvaluator final : public Evaluator {
   int workers() const override { return threads_; }
 
   void parallel_for(Index n, const std::function<void(Index)>& body) override {
-    arena_.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<Index>(0, n, 1),
-          [&](const tbb::blocked_range<Index>& range) {
-            for (Index i = range.begin(); i < range.end(); ++i) body(i);
-          },
-          tbb::simple_partitioner());
-    });
+    arena_.execute([&] { parallel_indices(n, body); });
   }
   void within_workers(const std::function<void()>& fn) override { arena_.execute(fn); }
 

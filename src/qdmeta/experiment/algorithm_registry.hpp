@@ -1,71 +1,18 @@
 #pragma once
 // Algorithms, found by the name that the config's `algorithm` key selects: the four built-in
 // ones (experiment/builtin_algorithms.hpp) and any a program registers, all through
-// register_algorithm() into one Registry (plugin/registry.hpp).
-//
-// The builder protocol, run by build_run() around every builder so that none can skip a step:
-//   1. the builder reads its own config tables through build.root, adds what it will allocate to
-//      build.built.memory, and returns an AlgorithmMaker (nothing large is allocated yet);
-//   2. build_run() checks every key of the config (ConfigReader::finish on the root reaches every
-//      table the builder opened, finished or not), then, for a run, the memory estimate against
-//      the machine's limit;
-//   3. for a run only (never for BuildScope::kTasksOnly), build_run() calls the maker.
-#include <functional>
+// register_algorithm() into one Registry (plugin/registry.hpp). A caller may instead hand a
+// builder to build_run() as a part (run_parts.hpp), registering nothing.
+// The builder protocol that build_run() runs around each: algorithm_builder.hpp.
 #include <memory>
 #include <string>
 #include <string_view>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
-#include "qdmeta/algorithms/algorithm.hpp"
-#include "qdmeta/core/mutation.hpp"
-#include "qdmeta/core/task.hpp"
+#include "qdmeta/experiment/algorithm_builder.hpp"
 #include "qdmeta/experiment/build.hpp"
 
 namespace qdmeta {
-
-class ConfigReader;
-
-// What build_run() hands a builder once the shared tables ([budget], [task], [mutation], ...)
-// are read.
-struct AlgorithmBuild {
-  ConfigReader& root;           // the whole config: the builder reads its own tables from it
-  Task task;                    // the run's task, the builder's to move into its maker
-  MutationParams mutation;
-  const RunSettings& settings;  // seed, budget, what the budget counts
-  BuiltRun& built;              // the builder adds to built.memory and (its meta-objective's) built.evaluation_tasks
-};
-
-// A builder's algorithm, made later (step 3 above). Move-only, so that it may own what the
-// builder read (a meta-objective, a controller) by unique_ptr; called at most once.
-class AlgorithmMaker {
- public:
-  AlgorithmMaker() = default;
-  template <class F>
-    requires(!std::is_same_v<std::remove_cvref_t<F>, AlgorithmMaker> &&
-             std::is_invocable_r_v<std::unique_ptr<Algorithm>, std::remove_cvref_t<F>&>)
-  AlgorithmMaker(F&& make)  // implicit, as std::function's is: `return [..] { ... };`
-      : impl_(std::make_unique<Holder<std::remove_cvref_t<F>>>(std::forward<F>(make))) {}
-  explicit operator bool() const { return impl_ != nullptr; }
-  std::unique_ptr<Algorithm> operator()() { return impl_->make(); }
-
- private:
-  struct Base {
-    virtual ~Base() = default;
-    virtual std::unique_ptr<Algorithm> make() = 0;
-  };
-  template <class F>
-  struct Holder final : Base {
-    explicit Holder(F f) : make_algorithm(std::move(f)) {}
-    std::unique_ptr<Algorithm> make() override { return make_algorithm(); }
-    F make_algorithm;
-  };
-  std::unique_ptr<Base> impl_;
-};
-
-// Step 1 above: reads, estimates, and returns the maker (an empty one is an error at step 3).
-using AlgorithmBuilder = std::function<AlgorithmMaker(AlgorithmBuild& build)>;
 
 // Registers (or replaces) the builder for `name`. Thread-safe. The config's default is
 // "map-elites" where registered, else the first name registered.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <string_view>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
@@ -34,10 +35,29 @@ MutationParams read_mutation(ConfigReader& m) {
   return p;
 }
 
+// The name `key` gives a part handed over: absent, the part's (recorded); any other is refused.
+std::string read_part_name(ConfigReader& r, std::string_view key, const std::string& part_name) {
+  const std::string name = r.string(key, part_name);
+  if (name != part_name) r.not_a_valid_choice(key, name, fmt::format("\"{}\"", part_name), " (the part handed over)");
+  return name;
+}
+
 }  // namespace
+
+std::unique_ptr<MetaObjective> read_meta_objective(AlgorithmBuild& b, ConfigReader& meta_fitness) {
+  const auto& part = b.parts.meta_objective;
+  if (!part) return read_registered_meta_objective(meta_fitness, b.task, b.settings.seed);
+  read_part_name(meta_fitness, "kind", part->kind);
+  return part->read(meta_fitness, b.task, b.settings.seed);
+}
 
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
                    BuildScope scope) {
+  return build_run(config, source, overrides, RunParts{}, scope);
+}
+
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
+                   const RunParts& parts, BuildScope scope) {
   ensure_core_plugins();
   toml::table effective = config;
   // A run's own config.toml carries a [provenance] table; it describes, it does not configure,
@@ -52,13 +72,21 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   BuiltRun built;
   ConfigReader root(effective, source, built.resolved);
   RunSettings& s = built.settings;
-  const std::vector<std::string> algorithms = registered_algorithm_names();
-  if (algorithms.empty()) throw InputError(fmt::format("{}: no algorithm is registered", source));
-  const std::string valid_algorithms = quoted_names(algorithms);
-  const bool has_default = std::find(algorithms.begin(), algorithms.end(), "map-elites") != algorithms.end();
-  s.algorithm = root.string("algorithm", has_default ? "map-elites" : algorithms.front(), valid_algorithms);
-  const auto builder = find_algorithm(s.algorithm);
-  if (builder == nullptr) root.not_a_valid_choice("algorithm", s.algorithm, valid_algorithms);
+  std::shared_ptr<const AlgorithmBuilder> registered;  // keeps a registered builder alive
+  const AlgorithmBuilder* builder = nullptr;
+  if (parts.algorithm) {
+    s.algorithm = read_part_name(root, "algorithm", parts.algorithm->name);
+    builder = &parts.algorithm->build;
+  } else {
+    const std::vector<std::string> algorithms = registered_algorithm_names();
+    if (algorithms.empty()) throw InputError(fmt::format("{}: no algorithm is registered", source));
+    const std::string valid_algorithms = quoted_names(algorithms);
+    const bool has_default = std::find(algorithms.begin(), algorithms.end(), "map-elites") != algorithms.end();
+    s.algorithm = root.string("algorithm", has_default ? "map-elites" : algorithms.front(), valid_algorithms);
+    registered = find_algorithm(s.algorithm);
+    if (registered == nullptr) root.not_a_valid_choice("algorithm", s.algorithm, valid_algorithms);
+    builder = registered.get();
+  }
   s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0, kMaxInt));
 
   ConfigReader budget = root.table("budget");
@@ -71,7 +99,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   s.checkpoint_every = checkpoint.number("every_seconds", s.checkpoint_every, 0.0, 1e9);
 
   ConfigReader task_table = root.table("task");
-  Task task = read_registered_task(task_table);
+  Task task = parts.task ? *parts.task : read_registered_task(task_table);
+  if (parts.task) read_part_name(task_table, "name", task.name());
   s.task = task.name();
   ConfigReader mutation_table = root.table("mutation");
   const MutationParams mutation = read_mutation(mutation_table);
@@ -79,7 +108,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
 
   // The builder protocol (algorithm_registry.hpp), the same around every builder: read and
   // estimate, every key checked, the memory estimate checked, and only then anything allocated.
-  AlgorithmBuild b{root, std::move(task), mutation, s, built};
+  AlgorithmBuild b{root, std::move(task), mutation, s, built, parts};
   AlgorithmMaker make = (*builder)(b);
   root.finish();  // every table opened, the builder's included, whether or not it finished them
   if (scope == BuildScope::kRun) {

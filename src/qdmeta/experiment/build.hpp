@@ -14,6 +14,7 @@
 #include "qdmeta/core/adaptation_tests.hpp"
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
+#include "qdmeta/experiment/run_parts.hpp"
 
 namespace qdmeta {
 
@@ -56,8 +57,11 @@ struct BuiltRun {
 enum class BuildScope { kRun, kTasksOnly };
 
 // Throws InputError naming the file and key for anything wrong in the config.
-BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides = {},
                    BuildScope scope = BuildScope::kRun);
+// The same, with `parts` used in place of the registered ones the config would name (run_parts.hpp).
+BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
+                   const RunParts& parts, BuildScope scope = BuildScope::kRun);
 
 // The unseen test functions named `test` for the task of a run's config (`qdmeta adapt`):
 // Rastrigin "dimension" (120 distinct pairs drawn from `seed`) or "translation" (the 120-point

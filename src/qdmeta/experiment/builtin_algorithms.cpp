@@ -15,9 +15,9 @@
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
+#include "qdmeta/experiment/run_parts.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/plugin/config.hpp"
-#include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
 namespace {
@@ -30,33 +30,6 @@ constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::k
 
 enum class ControlKind { kStatic, kSarsa };
 constexpr EnumNames<ControlKind, 2> kControlNames{{{ControlKind::kStatic, "static"}, {ControlKind::kSarsa, "sarsa"}}};
-
-// Memory of the blocks an algorithm allocates (memory_estimate.hpp): floats are 4 bytes.
-constexpr double kFloat = sizeof(Real);
-
-double grid_cells(const GridArchiveParams& g) {
-  double cells = 1;
-  for (auto b : g.bins) cells *= static_cast<double>(b);
-  return cells;
-}
-
-// One grid archive: per cell the objective, the occupied flag, the solution, the measures and
-// the base features it keeps.
-double grid_bytes(const GridArchiveParams& g, const Task& task, bool keeps_base) {
-  const double per_cell = kFloat + 1 + kFloat * static_cast<double>(task.genotype_size() + static_cast<Index>(g.bins.size()) +
-                                                             (keeps_base ? task.base_feature_size() : 0));
-  return grid_cells(g) * per_cell;
-}
-
-// A generation's genotypes and their evaluations (fitness, base features, validity).
-double offspring_bytes(double rows, const Task& task) {
-  return rows * kFloat * static_cast<double>(2 * task.genotype_size() + task.base_feature_size() + 2);
-}
-
-void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Task& task) {
-  m.add("a generation's offspring", "max(map_elites.initial_population, map_elites.batch_size) x genes",
-        offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), task));
-}
 
 // `measures` (which base features are the target features) is read when given a vector to
 // fill: plain MAP-Elites has one, QD-Meta's feature-maps make their own.
@@ -194,7 +167,9 @@ AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
   std::vector<int> measures;
   GridArchiveParams grid = read_grid(archive_table, &measures, b.task.base_feature_size());
   auto feature_map = std::make_unique<SelectFeatureMap>(b.task.base_feature_size(), measures);
-  b.built.memory.add("the archive", "archive.bins (cells) x genes", grid_bytes(grid, b.task, false));
+  GridArchiveParams sized = grid;  // as MapElites makes its archive: solutions, no base features
+  sized.solution_size = b.task.genotype_size();
+  b.built.memory.add("the archive", "archive.bins (cells) x genes", grid_archive_bytes(sized));
   add_map_elites_memory(b.built.memory, p, b.task);
   return [p, task = std::move(b.task), feature_map = std::move(feature_map), grid = std::move(grid),
           mutation = b.mutation, seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
@@ -210,20 +185,7 @@ AlgorithmMaker build_cvt_map_elites(AlgorithmBuild& b) {
   // The descriptors' centroids depend on every task setting (episode length, features ...).
   if (const auto* task_resolved = b.built.resolved["task"].as_table())
     p.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
-  {
-    const auto cells = static_cast<double>(p.kmeans.centroids);
-    const auto nb = static_cast<double>(b.task.base_feature_size());
-    const double lists = p.search == CvtSearch::kParentBound
-                             ? static_cast<double>(std::min(p.neighbours, p.kmeans.centroids)) * sizeof(Index)
-                             : 0.0;
-    b.built.memory.add("the archive and its neighbour lists",
-                       "cvt.centroids x (genes + base features + cvt.neighbours)",
-                       cells * (kFloat + 1 + kFloat * (static_cast<double>(b.task.genotype_size()) + 2 * nb) + lists));
-    b.built.memory.add("k-means's points", "cvt.samples x base features",
-                       static_cast<double>(p.kmeans.samples) * (kFloat * nb + sizeof(Index) + sizeof(float)) +
-                           static_cast<double>(std::min(p.kmeans.init_samples, p.kmeans.samples)) * sizeof(Index));
-    add_map_elites_memory(b.built.memory, p.map_elites, b.task);
-  }
+  add_cvt_map_elites_memory(b.built.memory, p, b.task);
   return [p = std::move(p), task = std::move(b.task), mutation = b.mutation,
           seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
     return std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, seed);
@@ -247,32 +209,11 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   ConfigReader control = b.root.table("control");
   auto controller = read_control(control);
   ConfigReader meta_fitness = b.root.table("meta_fitness");
-  auto objective = read_registered_meta_objective(meta_fitness, b.task, b.settings.seed);
+  auto objective = read_meta_objective(b, meta_fitness);
   for (Task& t : objective->tasks()) b.built.evaluation_tasks.push_back(std::move(t));
   ConfigReader archive_table = b.root.table("archive");
   GridArchiveParams grid = read_grid(archive_table, nullptr, b.task.base_feature_size());
-  {
-    const auto lambda = static_cast<double>(p.meta_population);
-    const auto n = static_cast<double>(b.task.genotype_size());
-    const auto nb = static_cast<double>(b.task.base_feature_size());
-    const auto* c = b.built.resolved["control"].as_table();
-    const double g_max = static_cast<double>(
-        c && (*c)["kind"].value_or<std::string>("") == "static" ? (*c)["generations"].value_or<std::int64_t>(1)
-                                                                : (c ? (*c)["max_generations"].value_or<std::int64_t>(1) : 1));
-    const auto dims = static_cast<double>(grid.bins.size());
-    const double k = static_cast<double>(p.hidden) * (nb + 1 + dims) + 1;  // the feature-map's weights
-    b.built.memory.add("the meta-population's archives", "(qd_meta.meta_population + 1) x archive.bins (cells) x genes",
-                       (lambda + 1) * grid_bytes(grid, b.task, true) + lambda * grid_cells(grid) * (16 + kFloat * dims));
-    b.built.memory.add("the circular database", "qd_meta.database_capacity x (genes + 2 x base features)",
-                       static_cast<double>(p.database_capacity) * kFloat * (n + 2 * nb + 1));
-    b.built.memory.add("every map's offspring of one meta-generation",
-                       "qd_meta.meta_population x qd_meta.batch_size x control.max_generations (or generations) x genes",
-                       lambda * offspring_bytes(g_max * static_cast<double>(p.batch_size), b.task));
-    b.built.memory.add("CMA-ES's matrices", "(qd_meta.hidden x (base features + target features + 1))^2",
-                       4 * k * k * sizeof(double) + lambda * k * sizeof(double));
-    b.built.memory.add("the initial population", "qd_meta.initial_population x genes",
-                       offspring_bytes(static_cast<double>(p.initial_population), b.task));
-  }
+  add_qd_meta_memory(b.built.memory, p, grid, b.task, controller->max_generations());
   return [p, task = std::move(b.task), objective = std::move(objective), grid = std::move(grid), mutation = b.mutation,
           controller = std::move(controller), seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
     return std::make_unique<QdMeta>(p, std::move(task), std::move(objective), std::move(grid), mutation,
@@ -283,26 +224,7 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
 AlgorithmMaker build_aurora(AlgorithmBuild& b) {
   ConfigReader a = b.root.table("aurora");
   const AuroraParams p = read_aurora(a);
-  {
-    std::vector<double> widths{static_cast<double>(b.task.base_feature_size())};
-    for (Index h : p.hidden) widths.push_back(static_cast<double>(h));
-    widths.push_back(static_cast<double>(p.latent_size));
-    for (auto h = p.hidden.rbegin(); h != p.hidden.rend(); ++h) widths.push_back(static_cast<double>(*h));
-    widths.push_back(static_cast<double>(b.task.base_feature_size()));
-    double weights = 0, units = 0;
-    for (std::size_t i = 0; i + 1 < widths.size(); ++i) weights += (widths[i] + 1) * widths[i + 1];
-    for (double w : widths) units += w;
-    const double rows = static_cast<double>(std::min(p.max_training_rows, 2 * p.target_size));
-    b.built.memory.add("the autoencoder's weights, gradients and Adam moments", "aurora.hidden, aurora.latent_size",
-                       4 * weights * sizeof(double));
-    b.built.memory.add("the autoencoder's activations over a training set",
-                       "aurora.max_training_rows x (aurora.hidden widths)", 2 * rows * units * sizeof(double));
-    b.built.memory.add("the archive", "aurora.target_size x (genes + base features)",
-                       2 * static_cast<double>(p.target_size) * kFloat *
-                           static_cast<double>(b.task.genotype_size() + b.task.base_feature_size() + p.latent_size + 2));
-    b.built.memory.add("a generation's offspring", "max(aurora.initial_population, aurora.batch_size) x genes",
-                       offspring_bytes(static_cast<double>(std::max(p.initial_population, p.batch_size)), b.task));
-  }
+  add_aurora_memory(b.built.memory, p, b.task);
   return [p, task = std::move(b.task), mutation = b.mutation, seed = b.settings.seed,
           source = a.source()]() mutable -> std::unique_ptr<Algorithm> {
     try {

@@ -6,11 +6,13 @@
 
 #include <charconv>
 #include <chrono>
+#include <limits>
 #include <set>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/claim_rules.hpp"
+#include "qdmeta/experiment/memory_estimate.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/atomic_file.hpp"
@@ -34,18 +36,6 @@ std::string slug_of(std::string_view name) {
   }
   while (!s.empty() && s.back() == '-') s.pop_back();
   return s;
-}
-
-void only_keys(const toml::table& t, std::initializer_list<std::string_view> keys, const std::string& where) {
-  for (const auto& [k, v] : t) {
-    bool known = false;
-    for (auto key : keys) known = known || k.str() == key;
-    if (!known) {
-      std::string valid;
-      for (auto key : keys) valid += (valid.empty() ? "" : ", ") + std::string(key);
-      throw InputError(fmt::format("{}: unknown key '{}' (valid keys: {})", where, k.str(), valid));
-    }
-  }
 }
 
 }  // namespace
@@ -93,52 +83,34 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
                                std::optional<std::int64_t> evaluations) {
   const toml::table t = load_toml(file);
   const std::string where = file.string();
-  only_keys(t, {"name", "replicates", "evaluations", "tests", "generalisation_solutions", "condition", "claim"}, where);
+  toml::table resolved;  // an experiment file is read, not written back resolved
+  ConfigReader root(t, where, resolved);
   ExperimentSpec spec;
-  spec.name = t["name"].value_or<std::string>(file.stem().string());
-  spec.replicates = replicates ? *replicates : static_cast<int>(t["replicates"].value_or<std::int64_t>(1));
-  if (spec.replicates < 1 || spec.replicates > 100'000)
-    throw InputError(fmt::format("{}: replicates = {} is out of range: must be in [1, 100000]", where, spec.replicates));
+  spec.name = root.string("name", file.stem().string());
+  constexpr std::int64_t kMaxReplicates = 100'000;
+  const auto file_replicates = static_cast<int>(root.integer("replicates", 1, 1, kMaxReplicates));
+  spec.replicates = replicates.value_or(file_replicates);
+  if (spec.replicates < 1 || spec.replicates > kMaxReplicates)
+    throw InputError(fmt::format("{}: replicates = {} is out of range: must be in [1, {}]", where, spec.replicates,
+                                 kMaxReplicates));
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  spec.evaluations = root.optional_integer("evaluations", 1, kMax);
   if (evaluations) spec.evaluations = *evaluations;
-  else if (auto e = t["evaluations"].value<std::int64_t>()) spec.evaluations = *e;
   if (spec.evaluations && *spec.evaluations < 1)
     throw InputError(fmt::format("{}: evaluations = {} must be at least 1", where, *spec.evaluations));
-  if (t.contains("generalisation_solutions")) {
-    const auto n = t["generalisation_solutions"].value<std::int64_t>();
-    if (!n || *n < 1)
-      throw InputError(fmt::format("{}: generalisation_solutions must be an integer of at least 1", where));
-    spec.generalisation_solutions = static_cast<Index>(*n);
-  }
-  if (const auto* tests = t["tests"].as_array()) {
-    for (const auto& v : *tests) {
-      if (!v.is_string()) throw InputError(fmt::format("{}: tests must be a list of strings", where));
-      spec.tests.push_back(*v.value<std::string>());
-    }
-  } else if (t.contains("tests")) {
-    throw InputError(fmt::format("{}: tests must be a list of strings", where));
-  }
-  const toml::array* claims = t["claim"].as_array();  // checked below, once the conditions are known
-  if (t.contains("claim")) {
-    if (!claims || !claims->is_array_of_tables())
-      throw InputError(fmt::format("{}: claim must be a list of [[claim]] tables", where));
-    spec.claims = *claims;
-  }
-  const auto* conditions = t["condition"].as_array();
-  if (!conditions || conditions->empty())
+  if (const auto n = root.optional_integer("generalisation_solutions", 1, kMax)) spec.generalisation_solutions = *n;
+  spec.tests = root.strings("tests", {});
+  const toml::array* claims = root.raw_tables("claim");  // checked below, once the conditions are known
+  if (claims) spec.claims = *claims;
+  const std::vector<ConfigReader> conditions = root.tables("condition");
+  if (conditions.empty())
     throw InputError(fmt::format("{}: no [[condition]] tables: an experiment needs at least one", where));
   std::set<std::string> slugs;
-  for (const auto& node : *conditions) {
-    const auto* c = node.as_table();
-    if (!c) throw InputError(fmt::format("{}: every condition must be a [[condition]] table", where));
-    only_keys(*c, {"name", "config", "set"}, where + " [[condition]]");
+  for (ConfigReader c : conditions) {
     ExperimentCondition cond;
-    if (c->contains("set")) {
-      if (!(*c)["set"].is_table())
-        throw InputError(fmt::format("{}: a condition's set must be a table of config keys", where));
-      cond.set = *(*c)["set"].as_table();
-    }
-    cond.name = (*c)["name"].value_or<std::string>("");
-    const std::string config = (*c)["config"].value_or<std::string>("");
+    if (const toml::table* set = c.raw_table("set")) cond.set = *set;
+    cond.name = c.string("name", "");
+    const std::string config = c.string("config", "");
     if (cond.name.empty() || config.empty())
       throw InputError(fmt::format("{}: every [[condition]] needs a name and a config", where));
     cond.slug = slug_of(cond.name);
@@ -151,6 +123,7 @@ ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicat
                                    cond.config.string()));
     spec.conditions.push_back(std::move(cond));
   }
+  root.finish();
   // A malformed claim would fail only in the report, after every run: refuse it now.
   std::vector<std::string> names;
   for (const auto& c : spec.conditions) names.push_back(c.name);
@@ -189,11 +162,6 @@ void write_spec(const ExperimentSpec& spec, const fs::path& out, ConfigPaths pat
                  "by qdmeta report).\n")
        << t << "\n";
   write_file_atomic(out / "experiment.toml", text.str());
-}
-
-std::int64_t finished_budget(const fs::path& dir) {
-  const toml::table config = load_toml(dir / "config.toml");
-  return config["budget"]["evaluations"].value_or<std::int64_t>(-1);
 }
 
 ReplicateRange checked_range(const ExperimentSpec& spec, std::optional<ReplicateRange> range) {
@@ -279,7 +247,8 @@ void keep_spec(const ExperimentSpec& spec, const fs::path& summaries, ReplicateR
 std::vector<std::int64_t> condition_budgets(const ExperimentSpec& spec) {
   std::vector<std::int64_t> budgets;
   for (const auto& c : spec.conditions)
-    budgets.push_back(build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}).settings.budget);
+    budgets.push_back(
+        build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}, BuildScope::kTasksOnly).settings.budget);
   return budgets;
 }
 
@@ -300,7 +269,9 @@ int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out, std::
       if (!config.contains("budget")) config.insert("budget", toml::table{});
       config["budget"].as_table()->insert_or_assign("evaluations", *spec.evaluations);
     }
-    build_run(config, c.config.string(), {1, std::nullopt});  // refuse a bad config now, not in a batch job
+    // Refuse a bad config now, not in a batch job, without allocating the run.
+    const BuiltRun checked = build_run(config, c.config.string(), {1, std::nullopt}, BuildScope::kTasksOnly);
+    require_memory(checked.memory, memory_limit(), c.config.string());
     fs::create_directories(out / c.slug);
     std::ostringstream text;
     text << "# " << c.name << ": " << c.config.string() << " as experiment '" << spec.name
@@ -331,11 +302,11 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
     const ExperimentCondition& c = spec.conditions[i];
     const std::int64_t budget = budgets[i];
     for (int r = range.first; r <= range.last; ++r) {
-      const fs::path dir = replicate_dir(out, c, r);
-      if (stop_reason_of(dir) == StopReason::kBudget && finished_budget(dir) != budget)
+      const RunState state(replicate_dir(out, c, r));
+      if (state.finished() && state.budget() != budget)
         throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
                                      "use another --out or the same --evals",
-                                     dir.string(), finished_budget(dir), budget));
+                                     state.dir().string(), state.budget(), budget));
     }
   }
   if (options.summaries) keep_spec(spec, *options.summaries, range, budgets);
@@ -366,25 +337,29 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         p.wall_seconds = wall();
         if (progress) progress(p);
       };
-      if (stop_reason_of(dir) == StopReason::kBudget) {
-        remove_stray_checkpoint(dir);
+      const RunState state(dir);  // read under the lock, once
+      std::optional<EliteTable> archive;  // what this call's run wrote to archive.csv, for its tests
+      if (state.finished()) {
+        remove_stray_checkpoint(state);
         p.phase = "skip";
         p.run_fraction = 1.0;
         if (progress) progress(p);
         ++result.runs_skipped;
       } else {
         RunResult rr;
-        if (fs::exists(dir / kCheckpointFile)) {
+        if (state.has_checkpoint()) {
           p.phase = "resume";
-          ResumableRun resumable = open_for_resume(dir);
+          ResumableRun resumable = open_for_resume(state);
           rr = run_to_budget(*resumable.built.algorithm, *evaluator, resumable.built.settings, dir, report, stop,
                              &resumable.cursor);
+          if (rr.reason == StopReason::kBudget) archive = resumable.built.algorithm->elites();
           ++result.runs_resumed;
         } else {
           BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
                                      {static_cast<std::uint64_t>(r), spec.evaluations});
           start_run_directory(dir, fresh, c.config.string(), threads, /*overwrite=*/true);
           rr = run_to_budget(*fresh.algorithm, *evaluator, fresh.settings, dir, report, stop);
+          if (rr.reason == StopReason::kBudget) archive = fresh.algorithm->elites();
         }
         if (rr.reason == StopReason::kInterrupted) {
           result.interrupted = true;
@@ -392,6 +367,8 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         }
         ++result.runs_done;
       }
+      std::optional<RunState> ended;  // the state after this call's run, read once if a test needs it
+      const auto finished = [&]() -> const RunState& { return state.finished() ? state : ended ? *ended : ended.emplace(dir); };
       for (const auto& test : spec.tests) {
         const bool generalisation = test == "generalisation";  // a table, not a curve
         if (fs::exists(dir / (generalisation ? std::string("generalisation.csv") : fmt::format("adapt-{}.csv", test))))
@@ -399,8 +376,9 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         p.phase = "test " + test;
         p.wall_seconds = wall();
         if (progress) progress(p);
-        if (generalisation) generalise_run(dir, std::nullopt, *evaluator, spec.generalisation_solutions);
-        else adapt_run(dir, test, std::nullopt, std::nullopt, *evaluator);
+        const EliteTable* held = archive ? &*archive : nullptr;
+        if (generalisation) generalise_run(finished(), std::nullopt, *evaluator, spec.generalisation_solutions, held);
+        else adapt_run(finished(), test, std::nullopt, std::nullopt, *evaluator, held);
         ++result.tests_done;
       }
       if (summary) {

@@ -11,12 +11,6 @@
 
 namespace qdmeta {
 
-double MemoryEstimate::total() const {
-  double sum = 0;
-  for (const MemoryTerm& t : terms) sum += t.bytes;
-  return sum;
-}
-
 std::optional<MemoryLimit> memory_limit() {
   std::optional<MemoryLimit> best;
   const auto consider = [&](double bytes, const char* source) {

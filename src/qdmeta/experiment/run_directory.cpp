@@ -56,13 +56,12 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
   write_file_atomic(out / "config.toml", text.str());
 }
 
-ResumableRun open_for_resume(const fs::path& dir) {
-  const fs::path config_path = dir / "config.toml";
-  if (!path_taken(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+ResumableRun open_for_resume(const RunState& state, const RunParts& parts) {
+  const fs::path& dir = state.dir();
+  if (!state.has_run()) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
   // Refused as it stands: a refused resume changes nothing, a leftover checkpoint included.
-  if (stop_reason_of(dir) == StopReason::kBudget)
-    throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
-  ResumableRun r{build_run(load_toml(config_path), config_path.string(), {}), {}};
+  if (state.finished()) throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
+  ResumableRun r{build_run(state.config(), state.config_path().string(), {}, parts), {}};
   if (!r.built.algorithm->checkpointable())
     throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
   r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
@@ -74,35 +73,41 @@ ResumableRun open_for_resume(const fs::path& dir) {
   return r;
 }
 
-bool remove_stray_checkpoint(const fs::path& dir) {
+ResumableRun open_for_resume(const fs::path& dir, const RunParts& parts) {
+  return open_for_resume(RunState(dir), parts);
+}
+
+bool remove_stray_checkpoint(const RunState& state) {
   // A run killed between writing its final summary and removing its checkpoint leaves both.
-  if (!fs::exists(dir / kCheckpointFile) || stop_reason_of(dir) != StopReason::kBudget) return false;
-  fs::remove(dir / kCheckpointFile);
+  if (!state.has_checkpoint() || !state.finished()) return false;
+  fs::remove(state.dir() / kCheckpointFile);
   return true;
 }
 
 namespace {
 
-// The config of the finished run in `dir`; InputError when there is none or it has not finished.
-toml::table finished_run_config(const fs::path& dir) {
-  const fs::path config_path = dir / "config.toml";
-  if (!path_taken(config_path)) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
-  if (stop_reason_of(dir) != StopReason::kBudget)
+// The config of the finished run in `state`; InputError when there is none or it has not finished.
+const toml::table& finished_run_config(const RunState& state) {
+  const fs::path& dir = state.dir();
+  if (!state.has_run()) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
+  if (!state.finished())
     throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
                                  dir.string(), dir.string()));
-  return load_toml(config_path);
+  return state.config();
 }
 
 }  // namespace
 
-GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint64_t> seed, Evaluator& evaluator,
-                                    std::optional<Index> solutions) {
+GeneralisationReport generalise_run(const RunState& state, std::optional<std::uint64_t> seed, Evaluator& evaluator,
+                                    std::optional<Index> solutions, const EliteTable* archive) {
   if (solutions && *solutions < 1)
     throw InputError(fmt::format("generalisation: solutions = {} must be at least 1", *solutions));
-  const toml::table config = finished_run_config(dir);
+  const fs::path& dir = state.dir();
+  const toml::table& config = finished_run_config(state);
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
-  const auto groups = build_generalisation_groups(config, (dir / "config.toml").string(), s);
-  const EliteTable elites = read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive);
+  const auto groups = build_generalisation_groups(config, state.config_path().string(), s);
+  std::optional<EliteTable> read;
+  const EliteTable& elites = archive ? *archive : read.emplace(read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive));
   GeneralisationReport r;
   r.archive_size = elites.size();
   RowMatrix scored = elites.solutions;
@@ -122,14 +127,16 @@ GeneralisationReport generalise_run(const fs::path& dir, std::optional<std::uint
   return r;
 }
 
-AdaptationReport adapt_run(const fs::path& dir, std::string_view test, std::optional<Index> budget,
-                           std::optional<std::uint64_t> seed, Evaluator& evaluator) {
-  const fs::path config_path = dir / "config.toml";
-  const toml::table config = finished_run_config(dir);
+AdaptationReport adapt_run(const RunState& state, std::string_view test, std::optional<Index> budget,
+                           std::optional<std::uint64_t> seed, Evaluator& evaluator, const EliteTable* archive) {
+  const fs::path& dir = state.dir();
+  const fs::path config_path = state.config_path();
+  const toml::table& config = finished_run_config(state);
   // Same default seed as the run: every condition of a replicate then meets the same tests.
   const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
   const auto tests = build_adaptation_tests(config, config_path.string(), test, s);
-  const EliteTable elites = read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive);
+  std::optional<EliteTable> read;
+  const EliteTable& elites = archive ? *archive : read.emplace(read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive));
   AdaptationReport r;
   r.functions = tests->count();
   r.budget = budget ? *budget : tests->default_budget();

@@ -9,6 +9,7 @@
 #include "qdmeta/experiment/build.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/experiment/run_state.hpp"
 
 namespace qdmeta {
 
@@ -26,13 +27,15 @@ struct ResumableRun {
   RunCursor cursor;
 };
 
-// Rebuilds the run in `dir` from its config.toml and loads its checkpoint. InputError when the
-// run has finished, cannot checkpoint, or its checkpoint is missing, damaged or mismatched.
-ResumableRun open_for_resume(const std::filesystem::path& dir);
+// Rebuilds the run in `state` from its config.toml (with `parts`, those it was made with, handed
+// over again) and loads its checkpoint. InputError when the run has finished, cannot checkpoint,
+// or its checkpoint is missing, damaged or mismatched.
+ResumableRun open_for_resume(const RunState& state, const RunParts& parts = {});
+ResumableRun open_for_resume(const std::filesystem::path& dir, const RunParts& parts = {});
 
 // A finished run (summary.json says it reached its budget) that still has a checkpoint was
 // killed between the two last steps of its end: removes the stale checkpoint and returns true.
-bool remove_stray_checkpoint(const std::filesystem::path& dir);
+bool remove_stray_checkpoint(const RunState& state);
 
 struct AdaptationReport {
   AdaptationCurve curve;
@@ -42,10 +45,12 @@ struct AdaptationReport {
   std::filesystem::path file;  // the adapt-NAME.csv written
 };
 
-// The test phase on the finished run in `dir` (`qdmeta adapt`): its archive.csv under the
-// task's test family `test`; the budget defaults to the task's, the seed to the run's.
-AdaptationReport adapt_run(const std::filesystem::path& dir, std::string_view test, std::optional<Index> budget,
-                           std::optional<std::uint64_t> seed, Evaluator& evaluator);
+// The test phase on the finished run in `state` (`qdmeta adapt`): its archive.csv under the
+// task's test family `test`; the budget defaults to the task's, the seed to the run's. A caller
+// that holds the archive the run just wrote passes it as `archive` (the same values: archive.csv
+// keeps every float to the bit), so that it is not read back.
+AdaptationReport adapt_run(const RunState& state, std::string_view test, std::optional<Index> budget,
+                           std::optional<std::uint64_t> seed, Evaluator& evaluator, const EliteTable* archive = nullptr);
 
 struct GeneralisationReport {
   std::vector<GeneralisationRow> rows;
@@ -53,10 +58,12 @@ struct GeneralisationReport {
   std::filesystem::path file;  // the generalisation.csv written
 };
 
-// The generalisation test on the finished run in `dir` (`qdmeta adapt --test generalisation`):
+// The generalisation test on the finished run in `state` (`qdmeta adapt --test generalisation`):
 // the mean score of its whole archive.csv over each of the task's generalisation groups, or of
 // `solutions` of them drawn without replacement from the seed (a small experiment's budget).
-GeneralisationReport generalise_run(const std::filesystem::path& dir, std::optional<std::uint64_t> seed,
-                                    Evaluator& evaluator, std::optional<Index> solutions = std::nullopt);
+// `archive`: as adapt_run's.
+GeneralisationReport generalise_run(const RunState& state, std::optional<std::uint64_t> seed,
+                                    Evaluator& evaluator, std::optional<Index> solutions = std::nullopt,
+                                    const EliteTable* archive = nullptr);
 
 }  // namespace qdmeta

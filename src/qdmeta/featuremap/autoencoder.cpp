@@ -59,18 +59,19 @@ void Autoencoder::set_parameters(const Eigen::VectorXd& parameters) {
   parameters_ = parameters;
 }
 
-void Autoencoder::forward(const Matrix& x, std::size_t layers, std::vector<Matrix>& activations) const {
-  activations.resize(layers + 1);
-  activations[0] = x;
+const Autoencoder::Matrix& Autoencoder::forward(const Matrix& x, std::size_t layers, Scratch& scratch) const {
+  std::vector<Matrix>& a = scratch.activations;
+  if (a.size() < layers + 1) a.resize(layers + 1);
   for (std::size_t l = 0; l < layers; ++l) {
     const Layer& L = layers_[l];
     const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
     const Eigen::Map<const Eigen::RowVectorXd> b(parameters_.data() + L.offset + L.in * L.out, L.out);
-    Matrix& a = activations[l + 1];
-    a.noalias() = activations[l] * w.transpose();
-    a.rowwise() += b;
-    if (L.relu) a = a.cwiseMax(0.0);
+    Matrix& out = a[l + 1];
+    out.noalias() = (l == 0 ? x : a[l]) * w.transpose();
+    out.rowwise() += b;
+    if (L.relu) out = out.cwiseMax(0.0);
   }
+  return layers == 0 ? x : a[layers];
 }
 
 Autoencoder::Matrix Autoencoder::normalise(const Real* inputs, Index count) const {
@@ -82,42 +83,94 @@ Autoencoder::Matrix Autoencoder::normalise(const Real* inputs, Index count) cons
 }
 
 Autoencoder::Matrix Autoencoder::encode(const Real* inputs, Index count) const {
-  std::vector<Matrix> a;
-  forward(normalise(inputs, count), encoder_layers_, a);
-  return std::move(a.back());
+  Matrix codes(count, params_.latent_size);
+  Workspace workspace;
+  encode(inputs, count, codes, workspace);
+  return codes;
+}
+
+Eigen::Map<Autoencoder::Matrix> Autoencoder::Workspace::view(std::size_t index, Index rows, Index cols) {
+  if (buffers_.size() <= index) buffers_.resize(index + 1);
+  Eigen::VectorXd& b = buffers_[index];
+  if (b.size() < rows * cols) b.resize(rows * cols);
+  return Eigen::Map<Matrix>(b.data(), rows, cols);
+}
+
+namespace {
+// One layer of forward() on views: out = act(in W^T + b), in the same operations.
+template <class In, class Out>
+void apply_layer(const In& in, const Eigen::Map<const Autoencoder::Matrix>& w,
+                 const Eigen::Map<const Eigen::RowVectorXd>& b, bool relu, Out& out) {
+  out.noalias() = in * w.transpose();
+  out.rowwise() += b;
+  if (relu) out = out.cwiseMax(0.0);
+}
+}  // namespace
+
+void Autoencoder::encode(const Real* inputs, Index count, CodesRef codes, Workspace& workspace) const {
+  Eigen::Map<Matrix> x = workspace.view(0, count, params_.input_size);
+  x = Eigen::Map<const RowMatrix>(inputs, count, params_.input_size).cast<double>();
+  x.rowwise() -= input_mean_;
+  x.array().rowwise() /= input_scale_.array();
+  const double* in = x.data();  // each layer's input: count x L.in, in buffers 0, 1, 2, 1, 2, ...
+  for (std::size_t l = 0; l < encoder_layers_; ++l) {
+    const Layer& L = layers_[l];
+    const Eigen::Map<const Matrix> input(in, count, L.in);
+    const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
+    const Eigen::Map<const Eigen::RowVectorXd> b(parameters_.data() + L.offset + L.in * L.out, L.out);
+    if (l + 1 == encoder_layers_) {
+      apply_layer(input, w, b, L.relu, codes);
+    } else {
+      Eigen::Map<Matrix> out = workspace.view(1 + l % 2, count, L.out);
+      apply_layer(input, w, b, L.relu, out);
+      in = out.data();
+    }
+  }
 }
 
 Autoencoder::Matrix Autoencoder::reconstruct(const Matrix& x) const {
-  std::vector<Matrix> a;
-  forward(x, layers_.size(), a);
-  return std::move(a.back());
+  Scratch scratch;
+  return forward(x, layers_.size(), scratch);
 }
 
 double Autoencoder::loss(const Matrix& x) const {
+  Scratch scratch;
+  return loss(x, scratch);
+}
+
+double Autoencoder::loss(const Matrix& x, Scratch& scratch) const {
   if (x.size() == 0) return 0.0;
-  return (reconstruct(x) - x).squaredNorm() / static_cast<double>(x.size());
+  return (forward(x, layers_.size(), scratch) - x).squaredNorm() / static_cast<double>(x.size());
 }
 
 double Autoencoder::loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient) const {
+  Scratch scratch;
+  return loss_and_gradient(x, gradient, scratch);
+}
+
+double Autoencoder::loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient, Scratch& scratch) const {
   gradient.setZero(parameters_.size());
   if (x.size() == 0) return 0.0;
-  std::vector<Matrix> a;
-  forward(x, layers_.size(), a);
-  Matrix delta = a.back() - x;
-  const double loss = delta.squaredNorm() / static_cast<double>(x.size());
-  delta *= 2.0 / static_cast<double>(x.size());  // d loss / d output
+  forward(x, layers_.size(), scratch);
+  const std::vector<Matrix>& a = scratch.activations;
+  std::vector<Matrix>& deltas = scratch.deltas;
+  if (deltas.size() < layers_.size() + 1) deltas.resize(layers_.size() + 1);
+  Matrix* delta = &deltas[layers_.size()];
+  *delta = a[layers_.size()] - x;
+  const double loss = delta->squaredNorm() / static_cast<double>(x.size());
+  *delta *= 2.0 / static_cast<double>(x.size());  // d loss / d output
   for (std::size_t l = layers_.size(); l-- > 0;) {
     const Layer& L = layers_[l];
     // ReLU passes the gradient where its output was positive.
-    if (L.relu) delta = (a[l + 1].array() > 0.0).select(delta, 0.0);
+    if (L.relu) *delta = (a[l + 1].array() > 0.0).select(*delta, 0.0);
     Eigen::Map<Matrix> dw(gradient.data() + L.offset, L.out, L.in);
     Eigen::Map<Eigen::RowVectorXd> db(gradient.data() + L.offset + L.in * L.out, L.out);
-    dw.noalias() = delta.transpose() * a[l];
-    db = delta.colwise().sum();
+    dw.noalias() = delta->transpose() * (l == 0 ? x : a[l]);
+    db = delta->colwise().sum();
     if (l > 0) {
       const Eigen::Map<const Matrix> w(parameters_.data() + L.offset, L.out, L.in);
-      Matrix previous = delta * w;
-      delta = std::move(previous);
+      deltas[l].noalias() = *delta * w;
+      delta = &deltas[l];
     }
   }
   return loss;
@@ -167,8 +220,13 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
   const Index training_rows = n - validation_rows;
   std::vector<Index> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), Index{0});
-  Matrix train_x, validation_x;
+  // Buffers of the same shapes at every training (the matrices are reassigned, so they keep
+  // their memory unless the row count changes).
+  Matrix& train_x = training_.train_x;
+  Matrix& validation_x = training_.validation_x;
   Eigen::VectorXd gradient;
+  Scratch& fit_scratch = training_.fit;
+  Scratch& validation_scratch = training_.validation;
   std::vector<double> validation_losses;
   const auto window = static_cast<std::size_t>(params_.stopping_window);
   for (int epoch = 0; epoch < params_.max_epochs; ++epoch) {
@@ -182,9 +240,9 @@ TrainingReport Autoencoder::train(const RowMatrix& inputs, Rng& rng) {
         validation_x.row(i) = x.row(order[static_cast<std::size_t>(training_rows + i)]);
     }
     const Matrix& fit_on = split ? train_x : x;
-    const double training_loss = loss_and_gradient(fit_on, gradient);
+    const double training_loss = loss_and_gradient(fit_on, gradient, fit_scratch);
     adam_step(gradient);
-    const double validation_loss = loss(split ? validation_x : x);
+    const double validation_loss = loss(split ? validation_x : x, split ? validation_scratch : fit_scratch);
     if (epoch == 0) report.initial_training_loss = training_loss;
     report.final_training_loss = training_loss;
     report.final_validation_loss = validation_loss;

@@ -9,10 +9,10 @@
 // rows costs well under a second either way, and double keeps the gradient check against finite
 // differences tight and the training free of float round-off drift. Everything is serial and
 // deterministic given the Rng passed in.
-#include <Eigen/Core>
 #include <vector>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/eigen.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
@@ -75,6 +75,24 @@ class Autoencoder {
   Matrix normalise(const Real* inputs, Index count) const;
   // Raw rows -> latent codes (count x latent_size).
   Matrix encode(const Real* inputs, Index count) const;
+
+  // Scratch of the encode() below: Eigen-allocated buffers (so aligned as a Matrix is) that
+  // only grow, so a warm workspace makes encoding allocate nothing. One per concurrent call.
+  class Workspace {
+   public:
+    // A rows x cols view of buffer `index`, grown when too small.
+    Eigen::Map<Matrix> view(std::size_t index, Index rows, Index cols);
+
+   private:
+    std::vector<Eigen::VectorXd> buffers_;
+  };
+  // encode() into `codes` (count x latent_size; a block of rows of a larger matrix will do):
+  // the same bits. Eigen's product computes a row the same way wherever it sits, except the
+  // rows after the last multiple of its row panel (at most 48), so a block that starts at a
+  // multiple of 48 rows and, unless it is the last, ends at one, gives the rows of one whole call
+  // (tests/featuremap/autoencoder_test.cpp checks it).
+  using CodesRef = Eigen::Ref<Matrix, 0, Eigen::OuterStride<>>;
+  void encode(const Real* inputs, Index count, CodesRef codes, Workspace& workspace) const;
   // z-scored inputs -> reconstructions (still z-scored).
   Matrix reconstruct(const Matrix& x) const;
   // Mean over all entries of (reconstruction - x)^2, for z-scored inputs x.
@@ -93,8 +111,16 @@ class Autoencoder {
     Index offset = 0;  // of W in parameters_; b follows W
     bool relu = false;
   };
-  // Activations of every layer for a batch (activations[0] = x).
-  void forward(const Matrix& x, std::size_t layers, std::vector<Matrix>& activations) const;
+  // Buffers of one batch shape, kept across a training's epochs so that they are not
+  // allocated again (Eigen-allocated, so aligned and summed as fresh matrices are).
+  struct Scratch {
+    std::vector<Matrix> activations;  // [l]: the output of layer l - 1 ([0] unused: the input)
+    std::vector<Matrix> deltas;       // [l]: d loss / d (layer l's output)
+  };
+  // Activations of the first `layers` layers for a batch; the last one's is returned.
+  const Matrix& forward(const Matrix& x, std::size_t layers, Scratch& scratch) const;
+  double loss(const Matrix& x, Scratch& scratch) const;
+  double loss_and_gradient(const Matrix& x, Eigen::VectorXd& gradient, Scratch& scratch) const;
   void adam_step(const Eigen::VectorXd& gradient);
 
   AutoencoderParams params_;
@@ -106,6 +132,12 @@ class Autoencoder {
   Eigen::VectorXd adam_m_;
   Eigen::VectorXd adam_v_;
   std::int64_t adam_t_ = 0;
+  // train()'s buffers, kept from one training to the next (not state: never saved).
+  struct TrainingBuffers {
+    Matrix train_x, validation_x;
+    Scratch fit, validation;
+  };
+  TrainingBuffers training_;
 };
 
 }  // namespace qdmeta

@@ -2,8 +2,6 @@
 // An output table declared once: each column's name and how to read its value from a record.
 // The CSV header, every row and any JSON summary are generated from that one declaration, so a
 // column cannot reach the header and be forgotten in the rows.
-#include <fmt/format.h>
-
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -17,9 +15,7 @@ namespace qdmeta {
 // that reads back to the same bits, and a JSON summary gets numbers as numbers.
 using Cell = std::variant<std::int64_t, std::uint64_t, double, std::string>;
 
-inline std::string cell_text(const Cell& cell) {
-  return std::visit([](const auto& value) { return fmt::format("{}", value); }, cell);
-}
+std::string cell_text(const Cell& cell);
 
 template <class Record>
 struct Column {

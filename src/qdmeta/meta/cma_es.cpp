@@ -2,8 +2,6 @@
 // -ffp-contract=off: CMA-ES's bits (and so QD-Meta's results) are then the same on every x86-64
 // CPU, whatever vector width Eigen or the compiler would pick there (docs/architecture.md,
 // "Bit-identical across machines"). Eigen holds the data; it does no arithmetic here.
-#include <Eigen/Core>
-
 #include "qdmeta/meta/cma_es.hpp"
 
 #include <fmt/format.h>

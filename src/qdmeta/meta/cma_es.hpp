@@ -19,9 +19,8 @@
 #include <string_view>
 #include <vector>
 
-#include <Eigen/Dense>
-
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/eigen.hpp"
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 

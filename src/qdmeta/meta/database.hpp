@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
 

@@ -93,12 +93,12 @@ struct CellWinners {
   }
 };
 
-// Rebuilds a contiguous group of maps in one pass over the database: for each block of rows
+// Offers database ranks [lo, hi) to the maps' cell winners in one pass: for each block of rows
 // (read feature-major, as the database keeps them), every map runs its network, bins the
 // block's rows and offers them to its cell winners in turn; the block stays in cache meanwhile.
 template <BlockBinnedArchive Archive>
-void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
-                   std::span<Archive* const> archives) {
+void find_winners(const Database& db, std::span<const NeuralFeatureMap* const> maps, std::span<Archive* const> archives,
+                  Index lo, Index hi, std::vector<CellWinners>& winners) {
   static_assert(kRebuildBlockRows % kKernelRows == 0, "whole kernel steps per block");
   static_assert(kDatabasePadding >= kKernelRows, "a partial block's last kernel step stays in the database's buffer");
   const Index block = kRebuildBlockRows;
@@ -106,17 +106,18 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
   for (const NeuralFeatureMap* m : maps) max_outputs = std::max(max_outputs, m->output_size());
   std::vector<Real> targets_t(static_cast<std::size_t>(max_outputs * block));
   std::vector<std::int32_t> cells(static_cast<std::size_t>(block));
-  std::vector<CellWinners> winners(maps.size());
+  winners.resize(maps.size());
   for (std::size_t i = 0; i < maps.size(); ++i) winners[i].reset(archives[i]->cells(), maps[i]->output_size());
   // The network reads the database's feature-major copy in place. A partial block's padding
-  // columns are the next slots: older rows or the zero padding, finite either way.
+  // columns are the next slots: later rows, older rows or the zero padding, finite either way.
   // Chunks of kRebuildChunkRows rows, map by map: one map's cell winners (~200 KB for 10,000
   // cells) then stay in L2 while it streams the chunk, which the first map brought into L3.
   // Offering block by block to all maps at once made the maps' winners evict each other
   // (perf of a full run: a third of the time on those misses).
   for (const DatabaseSegment& seg : db.segments()) {
-    for (Index chunk = 0; chunk < seg.count; chunk += kRebuildChunkRows) {
-      const Index chunk_end = std::min(seg.count, chunk + kRebuildChunkRows);
+    const Index from = std::max<Index>(lo - seg.first_rank, 0), to = std::min<Index>(hi - seg.first_rank, seg.count);
+    for (Index chunk = from; chunk < to; chunk += kRebuildChunkRows) {
+      const Index chunk_end = std::min(to, chunk + kRebuildChunkRows);
       for (std::size_t i = 0; i < maps.size(); ++i) {
         const NeuralFeatureMap& map = *maps[i];
         for (Index first = chunk; first < chunk_end; first += block) {
@@ -129,27 +130,53 @@ void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> 
       }
     }
   }
-  for (std::size_t i = 0; i < maps.size(); ++i) {
-    Archive& archive = *archives[i];
-    const CellWinners& w = winners[i];
-    const Index nt = maps[i]->output_size();
-    const bool keep_base = archive.base_feature_size() > 0;
-    // The winners lie scattered over the database (tens of MB): prefetching a few cells ahead
-    // hides the cache misses that otherwise dominated this copy (perf of a full run: 17%).
-    constexpr std::size_t kAhead = 8;
-    const std::size_t filled = w.fill_order.size();
-    for (std::size_t k = 0; k < filled; ++k) {
-      if (k + kAhead < filled) {
-        const Index ahead = w.rank(static_cast<std::size_t>(w.fill_order[k + kAhead]));
-        prefetch_row(db.genotype(ahead), db.genotype_size());
-        if (keep_base) prefetch_row(db.base_features(ahead), db.base_feature_size());
-      }
-      const auto c = static_cast<std::size_t>(w.fill_order[k]);
-      // Each cell once, into an empty archive: the winner's cell is where the bins put it.
-      archive.place(static_cast<Index>(c), db.genotype(w.rank(c)), w.winner[c].fitness,
-                    w.measures.data() + c * static_cast<std::size_t>(nt), keep_base ? db.base_features(w.rank(c)) : nullptr);
-    }
+}
+
+// The winners of later ranks offered to those of earlier ones, as the later rows themselves
+// would be: a cell reached first in `later` is filled in the order `later` reached it, and a
+// winner replaces an earlier one only when strictly fitter.
+void merge_winners(CellWinners& earlier, const CellWinners& later, Index nt) {
+  for (const Index cell : later.fill_order) {
+    const auto c = static_cast<std::size_t>(cell);
+    const CellWinners::Winner w = later.winner[c];
+    CellWinners::Winner& old = earlier.winner[c];
+    if (old.rank < 0) earlier.fill_order.push_back(cell);
+    else if (!(w.fitness > old.fitness)) continue;
+    old = w;
+    std::copy_n(later.measures.data() + c * static_cast<std::size_t>(nt), nt,
+                earlier.measures.data() + c * static_cast<std::size_t>(nt));
   }
+}
+
+// Copies each cell's winner into the (empty) archive, cells in the order they were first reached.
+template <BlockBinnedArchive Archive>
+void place_winners(const Database& db, const NeuralFeatureMap& map, Archive& archive, const CellWinners& w) {
+  const Index nt = map.output_size();
+  const bool keep_base = archive.base_feature_size() > 0;
+  // The winners lie scattered over the database (tens of MB): prefetching a few cells ahead
+  // hides the cache misses that otherwise dominated this copy (perf of a full run: 17%).
+  constexpr std::size_t kAhead = 8;
+  const std::size_t filled = w.fill_order.size();
+  for (std::size_t k = 0; k < filled; ++k) {
+    if (k + kAhead < filled) {
+      const Index ahead = w.rank(static_cast<std::size_t>(w.fill_order[k + kAhead]));
+      prefetch_row(db.genotype(ahead), db.genotype_size());
+      if (keep_base) prefetch_row(db.base_features(ahead), db.base_feature_size());
+    }
+    const auto c = static_cast<std::size_t>(w.fill_order[k]);
+    // Each cell once, into an empty archive: the winner's cell is where the bins put it.
+    archive.place(static_cast<Index>(c), db.genotype(w.rank(c)), w.winner[c].fitness,
+                  w.measures.data() + c * static_cast<std::size_t>(nt), keep_base ? db.base_features(w.rank(c)) : nullptr);
+  }
+}
+
+// Rebuilds a contiguous group of maps in one pass over the database.
+template <BlockBinnedArchive Archive>
+void rebuild_group(const Database& db, std::span<const NeuralFeatureMap* const> maps,
+                   std::span<Archive* const> archives) {
+  std::vector<CellWinners> winners;
+  find_winners(db, maps, archives, 0, db.size(), winners);
+  for (std::size_t i = 0; i < maps.size(); ++i) place_winners(db, *maps[i], *archives[i], winners[i]);
 }
 
 template <BlockBinnedArchive Archive>
@@ -158,7 +185,24 @@ void rebuild_all(const Database& db, std::span<const NeuralFeatureMap* const> ma
   for (Archive* a : archives) a->clear();
   if (db.empty() || maps.empty()) return;
   const auto n = static_cast<Index>(maps.size());
-  const Index groups = std::min<Index>(n, std::max(1, tbb::this_task_arena::max_concurrency()));
+  const Index threads = std::max(1, tbb::this_task_arena::max_concurrency());
+  if (threads > 1 && n % threads != 0) {
+    // Maps that do not split evenly over the threads (one map on two): each thread streams a
+    // slice of the database ranks for every map, then each map's slices merge in rank order,
+    // which leaves the winners (and the order cells were reached) of one pass over all ranks.
+    std::vector<std::vector<CellWinners>> slices(static_cast<std::size_t>(threads));
+    tbb::parallel_for(Index{0}, threads, [&](Index t) {
+      find_winners(db, maps, archives, t * db.size() / threads, (t + 1) * db.size() / threads,
+                   slices[static_cast<std::size_t>(t)]);
+    });
+    tbb::parallel_for(Index{0}, n, [&](Index m) {
+      const auto i = static_cast<std::size_t>(m);
+      for (std::size_t t = 1; t < slices.size(); ++t) merge_winners(slices[0][i], slices[t][i], maps[i]->output_size());
+      place_winners(db, *maps[i], *archives[i], slices[0][i]);
+    });
+    return;
+  }
+  const Index groups = std::min<Index>(n, threads);
   auto group = [&](Index g) {
     const Index lo = g * n / groups;
     const Index hi = (g + 1) * n / groups;

@@ -13,7 +13,9 @@
 // maps that one task handles while it is in cache; each map runs its network on it in registers
 // (network_kernel.hpp), bins it in one vectorised pass (grid_index.hpp) and keeps each cell's
 // winner. Maps are split into as many contiguous groups as the current
-// task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control).
+// task arena has threads (fix the thread count with tbb::task_arena or tbb::global_control);
+// when they do not split evenly (one map on two threads), the database ranks are split
+// instead, and each map's winners of the slices merge in rank order.
 #include <span>
 
 #include "qdmeta/archive/grid_archive.hpp"

@@ -7,7 +7,7 @@
 // on any IEEE-754 machine. CMA-ES decomposes its covariance with it: a library solver (Eigen's)
 // picks its blocking and reduction order from the instruction set, and QD-Meta's results then
 // changed from one CPU model to the next.
-#include <Eigen/Core>
+#include "qdmeta/core/eigen.hpp"
 
 namespace qdmeta {
 

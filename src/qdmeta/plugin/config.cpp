@@ -59,6 +59,25 @@ void ConfigReader::record(std::string_view key, std::string type, std::string fa
   if (t_key_log) t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range)});
 }
 
+namespace {
+std::string quoted_list(const std::vector<std::string_view>& choices) {
+  std::string out;
+  for (std::string_view c : choices) out += fmt::format("{}\"{}\"", out.empty() ? "" : ", ", c);
+  return out;
+}
+}  // namespace
+
+void ConfigReader::record_choice(std::string_view key, std::string_view fallback,
+                                 const std::vector<std::string_view>& choices) const {
+  record(key, "string", fmt::format("\"{}\"", fallback), quoted_list(choices));
+}
+
+void ConfigReader::refuse_choice(std::string_view key, std::string_view text,
+                                 const std::vector<std::string_view>& choices) const {
+  throw InputError(fmt::format("{}: {} = \"{}\" is not a valid choice: use one of {}", source_, qualified(key), text,
+                               quoted_list(choices)));
+}
+
 struct ConfigReader::Scope {
   std::set<std::string, std::less<>> known;  // the keys read
   std::vector<ConfigReader> opened;          // the tables opened through this one, in order
@@ -177,6 +196,70 @@ std::vector<std::int64_t> ConfigReader::integers(std::string_view key, const std
   }
   resolved_.insert_or_assign(key, std::move(out));
   return values;
+}
+
+std::optional<std::int64_t> ConfigReader::optional_integer(std::string_view key, std::int64_t lo, std::int64_t hi) {
+  if (!has(key)) {
+    (void)lookup(key);  // a known key, absent
+    record(key, "integer", "none", integer_range(lo, hi));
+    return std::nullopt;
+  }
+  return integer(key, lo, lo, hi);
+}
+
+std::vector<std::string> ConfigReader::strings(std::string_view key, const std::vector<std::string>& fallback) {
+  std::vector<std::string> values = fallback;
+  std::string quoted;
+  for (const auto& v : fallback) quoted += fmt::format("{}\"{}\"", quoted.empty() ? "" : ", ", v);
+  record(key, "array of strings", fmt::format("[{}]", quoted), "");
+  if (const toml::node* node = lookup(key)) {
+    const toml::array* array = node->as_array();
+    if (!array) type_error(key, "an array of strings");
+    values.clear();
+    for (const toml::node& item : *array) {
+      if (!item.is_string()) type_error(key, "an array of strings");
+      values.push_back(item.as_string()->get());
+    }
+  }
+  toml::array out;
+  for (const auto& v : values) out.push_back(v);
+  resolved_.insert_or_assign(key, std::move(out));
+  return values;
+}
+
+std::vector<ConfigReader> ConfigReader::tables(std::string_view key) {
+  const toml::node* node = lookup(key);
+  const toml::array* array = node ? node->as_array() : nullptr;
+  if (node && (!array || !array->is_array_of_tables())) type_error(key, "an array of tables ([[" + std::string(key) + "]])");
+  toml::array resolved_tables;
+  const std::size_t n = array ? array->size() : 0;
+  for (std::size_t i = 0; i < n; ++i) resolved_tables.push_back(toml::table{});
+  auto [it, inserted] = resolved_.insert_or_assign(key, std::move(resolved_tables));
+  toml::array& out = *it->second.as_array();
+  std::vector<ConfigReader> readers;
+  for (std::size_t i = 0; i < n; ++i) {
+    ConfigReader sub(*(*array)[i].as_table(), source_, *out[i].as_table(), fmt::format("{}[{}]", qualified(key), i + 1));
+    scope_->opened.push_back(sub);
+    readers.push_back(std::move(sub));
+  }
+  return readers;
+}
+
+const toml::table* ConfigReader::raw_table(std::string_view key) {
+  const toml::node* node = lookup(key);
+  if (!node) return nullptr;
+  if (!node->is_table()) type_error(key, "a table");
+  resolved_.insert_or_assign(key, *node->as_table());
+  return node->as_table();
+}
+
+const toml::array* ConfigReader::raw_tables(std::string_view key) {
+  const toml::node* node = lookup(key);
+  if (!node) return nullptr;
+  const toml::array* array = node->as_array();
+  if (!array || !array->is_array_of_tables()) type_error(key, "an array of tables ([[" + std::string(key) + "]])");
+  resolved_.insert_or_assign(key, *array);
+  return array;
 }
 
 ConfigReader ConfigReader::table(std::string_view key) {

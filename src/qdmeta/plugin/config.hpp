@@ -8,6 +8,7 @@
 #include <limits>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -63,17 +64,25 @@ class ConfigReader {
                                      std::string_view range_doc = {});
   template <class E, std::size_t N>
   E choice(std::string_view key, E fallback, const EnumNames<E, N>& names) {
+    std::vector<std::string_view> choices;
+    for (const auto& [e, name] : names) choices.push_back(name);
     const std::string text = read_string(key, enum_to_string(names, fallback));
-    std::string valid;
-    for (const auto& [e, name] : names) valid += fmt::format("{}\"{}\"", valid.empty() ? "" : ", ", name);
-    record(key, "string", fmt::format("\"{}\"", enum_to_string(names, fallback)), valid);
-    try {
-      return enum_from_string(names, qualified(key), text);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", source_, e.what()));
-    }
+    record_choice(key, enum_to_string(names, fallback), choices);
+    for (const auto& [e, name] : names)
+      if (name == text) return e;
+    refuse_choice(key, text, choices);
   }
+  // An integer that may be absent (nullopt), with no default standing in for it.
+  std::optional<std::int64_t> optional_integer(std::string_view key, std::int64_t lo, std::int64_t hi);
+  std::vector<std::string> strings(std::string_view key, const std::vector<std::string>& fallback);
   bool has(std::string_view key) const { return table_.contains(key); }
+  // An array of tables ([[key]]), one reader each, named key[1], key[2], ... in messages; finish()
+  // checks their keys too. Absent: none.
+  std::vector<ConfigReader> tables(std::string_view key);
+  // A table or an array of tables taken as it is, for a caller that checks its contents itself
+  // (an experiment's `set`, its claims); null when absent. Copied to the resolved table as it is.
+  const toml::table* raw_table(std::string_view key);
+  const toml::array* raw_tables(std::string_view key);
   // A sub-table ([task], [archive], ...); absent means all defaults. This reader remembers it,
   // so that finish() checks its keys too.
   ConfigReader table(std::string_view key);
@@ -92,6 +101,10 @@ class ConfigReader {
   std::string qualified(std::string_view key) const;
   std::string read_string(std::string_view key, std::string_view fallback);
   void record(std::string_view key, std::string type, std::string fallback, std::string range) const;
+  // choice()'s key log entry, and its error (out of line: the messages are formatted there).
+  void record_choice(std::string_view key, std::string_view fallback, const std::vector<std::string_view>& choices) const;
+  [[noreturn]] void refuse_choice(std::string_view key, std::string_view text,
+                                  const std::vector<std::string_view>& choices) const;
   [[noreturn]] void type_error(std::string_view key, std::string_view expected) const;
   const toml::node* lookup(std::string_view key);
 

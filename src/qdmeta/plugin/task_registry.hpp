@@ -55,8 +55,8 @@ void register_task_plugin(const std::string& name, TaskPlugin plugin);
 // `task` is not registered.
 void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader);
 // Remove a plugin, or one meta-objective kind of a registered task; false when there was none.
-// For registrations that must not outlive their use (the Python module's tasks, held only
-// while a run is built); lookups already made keep their snapshots.
+// Lookups already made keep their snapshots. (A part used for one run only needs no
+// registration at all: hand it to build_run() as a value, experiment/run_parts.hpp.)
 bool unregister_task_plugin(std::string_view name);
 bool unregister_meta_objective(std::string_view task, std::string_view kind);
 // A task this build lacks but a user may ask for: `[task] name = NAME` then fails with `why`

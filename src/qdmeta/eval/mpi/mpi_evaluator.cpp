@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/notice.hpp"
 #include "qdmeta/eval/mpi/mpi_protocol.hpp"
 #include "qdmeta/eval/mpi/mpi_session.hpp"
 
@@ -225,8 +226,8 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     const auto it = index_.find(j.task->id());
     if (it == index_.end()) {
       if (!warned_)
-        std::fprintf(stderr, "qdmeta: warning: task '%s' is not among the run's evaluation tasks: rank 0 evaluates it alone\n",
-                     j.task->name().c_str());
+        notice(NoticeKind::kWarning,
+               fmt::format("task '{}' is not among the run's evaluation tasks: rank 0 evaluates it alone", j.task->name()));
       warned_ = true;
       local_->evaluate(*j.task, j.genotypes, j.out);
       continue;

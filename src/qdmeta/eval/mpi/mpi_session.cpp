@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "qdmeta/core/notice.hpp"
 #include "qdmeta/eval/mpi/mpi_protocol.hpp"
 
 namespace qdmeta {
@@ -189,9 +190,9 @@ MpiSession::~MpiSession() {
     }
     if (missing) {
       if (!who.empty())
-        std::fprintf(stderr, "qdmeta: warning: MPI rank%s %s stopped answering (crashed or killed) after rank 0's last "
-                             "evaluation (what rank 0 wrote is unaffected)\n",
-                     who.find(',') != std::string::npos ? "s" : "", who.c_str());
+        notice(NoticeKind::kWarning, fmt::format("MPI rank{} {} stopped answering (crashed or killed) after rank 0's "
+                                                 "last evaluation (what rank 0 wrote is unaffected)",
+                                                 who.find(',') != std::string::npos ? "s" : "", who));
       for (int r = 1; r < size_; ++r) {
         const auto i = static_cast<std::size_t>(r);
         if (answered[i]) outbox.send({}, r, mpi::kAbort, MPI_COMM_WORLD);

@@ -8,6 +8,11 @@
 
 #include <fmt/format.h>
 
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define QDMETA_META_FITNESS_AVX2 1
+#endif
+
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/params.hpp"
@@ -95,7 +100,7 @@ std::vector<Index> sample_elites(Index archive_size, Index count, Rng& rng) {
   return all;
 }
 
-double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
+double pairwise_distance_sum_portable(const Eigen::Ref<const ColMatrix>& points) {
   const Index n = points.rows();
   if (n < 2) return 0.0;
   // The points as rows of an n x d column-major matrix in double. For each s, the squared
@@ -128,6 +133,69 @@ double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
   return total;
 }
 
+#if defined(QDMETA_META_FITNESS_AVX2)
+namespace {
+// The same sums four t's to a register: lane L of the partial-sum register is part[L] above,
+// fed t = L, L + 4, L + 8, ... in order, and a lane past the last t adds sqrt(0) = +0, which
+// leaves a sum of non-negative terms unchanged. Sixteen t's per step, from a copy of the
+// columns padded with zeros so that a step never reads past them.
+double pairwise_distance_sum_avx2(const Eigen::Ref<const ColMatrix>& points) {
+  const Index n = points.rows(), d = points.cols();
+  constexpr Index kStep = 16;
+  const Index stride = n + kStep;
+  std::vector<double> x(static_cast<std::size_t>(stride * d), 0.0);
+  for (Index j = 0; j < d; ++j)
+    for (Index t = 0; t < n; ++t) x[static_cast<std::size_t>(j * stride + t)] = static_cast<double>(points(t, j));
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d lane = _mm256_set_pd(3.0, 2.0, 1.0, 0.0);
+  double total = 0.0;
+  for (Index s = 1; s < n; ++s) {
+    __m256d part = zero;
+    for (Index t0 = 0; t0 < s; t0 += kStep) {
+      __m256d a0 = zero, a1 = zero, a2 = zero, a3 = zero;
+      const double* column = x.data() + t0;
+      const double* own = x.data() + s;
+      for (Index j = 0; j < d; ++j, column += stride, own += stride) {
+        const __m256d xs = _mm256_broadcast_sd(own);
+        const __m256d d0 = _mm256_sub_pd(_mm256_loadu_pd(column), xs);
+        const __m256d d1 = _mm256_sub_pd(_mm256_loadu_pd(column + 4), xs);
+        const __m256d d2 = _mm256_sub_pd(_mm256_loadu_pd(column + 8), xs);
+        const __m256d d3 = _mm256_sub_pd(_mm256_loadu_pd(column + 12), xs);
+        a0 = _mm256_fmadd_pd(d0, d0, a0);
+        a1 = _mm256_fmadd_pd(d1, d1, a1);
+        a2 = _mm256_fmadd_pd(d2, d2, a2);
+        a3 = _mm256_fmadd_pd(d3, d3, a3);
+      }
+      if (s - t0 < kStep) {  // the last step: lanes at t >= s count 0
+        const __m256d left = _mm256_set1_pd(static_cast<double>(s - t0));
+        a0 = _mm256_and_pd(a0, _mm256_cmp_pd(lane, left, _CMP_LT_OQ));
+        a1 = _mm256_and_pd(a1, _mm256_cmp_pd(_mm256_add_pd(lane, _mm256_set1_pd(4.0)), left, _CMP_LT_OQ));
+        a2 = _mm256_and_pd(a2, _mm256_cmp_pd(_mm256_add_pd(lane, _mm256_set1_pd(8.0)), left, _CMP_LT_OQ));
+        a3 = _mm256_and_pd(a3, _mm256_cmp_pd(_mm256_add_pd(lane, _mm256_set1_pd(12.0)), left, _CMP_LT_OQ));
+      }
+      part = _mm256_add_pd(part, _mm256_sqrt_pd(a0));
+      part = _mm256_add_pd(part, _mm256_sqrt_pd(a1));
+      part = _mm256_add_pd(part, _mm256_sqrt_pd(a2));
+      part = _mm256_add_pd(part, _mm256_sqrt_pd(a3));
+    }
+    alignas(32) double p[4];
+    _mm256_store_pd(p, part);
+    total += (p[0] + p[1]) + (p[2] + p[3]);
+  }
+  return total;
+}
+}  // namespace
+#endif
+
+double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
+  if (points.rows() < 2) return 0.0;
+#if defined(QDMETA_META_FITNESS_AVX2)
+  return pairwise_distance_sum_avx2(points);
+#else
+  return pairwise_distance_sum_portable(points);
+#endif
+}
+
 RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions)
     : params_(params), dimensions_(std::move(dimensions)) {
   params_.validate();
@@ -143,9 +211,11 @@ RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::
   }
 }
 
-MetaPlan RastriginDimensionMeta::plan(const RowMatrix& elites, Rng& rng) const { return analytic_plan(compute(elites, rng)); }
+MetaPlan RastriginDimensionMeta::plan(const MetaArchive& archive, Rng& rng) const {
+  return analytic_plan(compute(archive.genotypes(), rng));
+}
 
-MetaFitnessResult RastriginDimensionMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+MetaFitnessResult RastriginDimensionMeta::score(const MetaArchive& /*archive*/, const MetaPlan& plan,
                                                 std::span<const EvaluationBatch> /*results*/) const {
   return analytic_result(plan, name());
 }
@@ -188,11 +258,11 @@ RastriginTranslationMeta::RastriginTranslationMeta(RastriginMetaParams params) :
   params_.validate();
 }
 
-MetaPlan RastriginTranslationMeta::plan(const RowMatrix& elites, Rng& rng) const {
-  return analytic_plan(compute(elites, rng));
+MetaPlan RastriginTranslationMeta::plan(const MetaArchive& archive, Rng& rng) const {
+  return analytic_plan(compute(archive.genotypes(), rng));
 }
 
-MetaFitnessResult RastriginTranslationMeta::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+MetaFitnessResult RastriginTranslationMeta::score(const MetaArchive& /*archive*/, const MetaPlan& plan,
                                                   std::span<const EvaluationBatch> /*results*/) const {
   return analytic_result(plan, name());
 }

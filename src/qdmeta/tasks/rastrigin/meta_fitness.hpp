@@ -46,8 +46,8 @@ class RastriginDimensionMeta final : public MetaObjective {
   // of them, distinct and non-negative (checked against the genotype size in evaluate()).
   RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions);
   std::string name() const override { return "rastrigin-dimension"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,
                           std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   const std::vector<int>& dimensions() const { return dimensions_; }
@@ -65,8 +65,8 @@ class RastriginTranslationMeta final : public MetaObjective {
  public:
   explicit RastriginTranslationMeta(RastriginMetaParams params = {});
   std::string name() const override { return "rastrigin-translation"; }
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,
                           std::span<const EvaluationBatch> results) const override;
   const RastriginMetaParams& params() const { return params_; }
   int transform_count() const { return 8 * params_.transform_repetitions; }
@@ -80,5 +80,9 @@ class RastriginTranslationMeta final : public MetaObjective {
 // coordinate differences, every sum in an order the code fixes (the same bits on any CPU);
 // memory O(rows x columns). 0 for fewer than 2 rows. Exposed for tests and benchmarks.
 double pairwise_distance_sum(const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>& points);
+// The same sums in plain loops: pairwise_distance_sum() on a CPU without AVX2 and FMA, and on
+// one with them the bits that its vector steps (sixteen pairs at a time) reproduce (tested).
+double pairwise_distance_sum_portable(
+    const Eigen::Ref<const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>>& points);
 
 }  // namespace qdmeta

@@ -1,5 +1,6 @@
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <vector>

@@ -1,6 +1,7 @@
 // One RHex episode: walk, watch for turnover, settle, measure (docs/specification.md, RHex).
 #include "qdmeta/tasks/rhex/rhex_episode.hpp"
 
+#include <fmt/format.h>
 #include <dart/collision/CollisionObject.hpp>
 #include <dart/collision/CollisionResult.hpp>
 #include <dart/dynamics/BodyNode.hpp>

@@ -27,7 +27,8 @@ RhexMetaFitness::RhexMetaFitness(std::string name, RhexMetaParams params, RhexTa
   }
 }
 
-MetaPlan RhexMetaFitness::plan(const RowMatrix& elites, Rng& rng) const {
+MetaPlan RhexMetaFitness::plan(const MetaArchive& archive, Rng& rng) const {
+  const RowMatrix& elites = archive.genotypes();
   MetaPlan plan;
   const Index n = meta_sample_size(params_.sample_fraction, elites.rows());
   if (n == 0) return plan;
@@ -39,7 +40,7 @@ MetaPlan RhexMetaFitness::plan(const RowMatrix& elites, Rng& rng) const {
   return plan;
 }
 
-MetaFitnessResult RhexMetaFitness::score(const RowMatrix& /*elites*/, const MetaPlan& plan,
+MetaFitnessResult RhexMetaFitness::score(const MetaArchive& /*archive*/, const MetaPlan& plan,
                                          std::span<const EvaluationBatch> results) const {
   if (plan.batches.empty()) return {};
   const auto env_count = static_cast<Index>(environments_.size());

@@ -30,8 +30,8 @@ class RhexMetaFitness final : public MetaObjective {
   // per environment (the n sampled genotypes; QD-Meta sends them as one request, so MPI ranks
   // can share them); score() sums the episodes in a fixed order (solution-major), so F does not
   // depend on the threads or ranks. f is the task's fitness (Real, float), as stored in archives.
-  MetaPlan plan(const RowMatrix& elites, Rng& rng) const override;
-  MetaFitnessResult score(const RowMatrix& elites, const MetaPlan& plan,
+  MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
+  MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,
                           std::span<const EvaluationBatch> results) const override;
   // One RHex task per environment, in environments() order.
   std::vector<Task> tasks() const override { return env_tasks_; }

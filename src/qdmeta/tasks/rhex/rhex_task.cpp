@@ -1,5 +1,6 @@
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <array>
 
