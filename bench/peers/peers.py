@@ -55,17 +55,7 @@ sigma = 0.05
 [map_elites]
 batch_size = 400
 initial_population = 2000
-[cvt]
-centroids = {centroids}
-samples = {samples}
-init = "random"
-init_samples = {samples}
-method = "lloyd"
-iterations = {iterations}
-seed = 1
-cache = true
-cache_dir = "{cache}"
-"""
+{cvt}"""
 
 
 QDMETA_ARM_CONFIG = """# Written by bench/peers/peers.py: the 100-joint planar arm (examples/own-task), the peers'
@@ -90,7 +80,8 @@ initial_population = 2000
 ARM_GRID = """[archive]
 bins = [100, 100]
 measures = [0, 1]"""
-ARM_CVT = """[cvt]
+# The peers' centroid construction, the same for both tasks.
+CVT_TABLE = """[cvt]
 centroids = {centroids}
 samples = {samples}
 init = "random"
@@ -153,20 +144,22 @@ class Qdmeta:
         version = subprocess.run([binary, "--version"], capture_output=True, text=True).stdout.split()
         self.version = version[-1] if version else "?"
 
+    def _cvt_table(self, task):
+        return CVT_TABLE.format(centroids=self.centroids, samples=self.cvt_samples, iterations=self.kmeans_iterations,
+                                cache=self.cache / task)
+
     def _config(self, task, algorithm, operator, evals, seed):
         if task == "rastrigin" and algorithm == "map-elites":
             return ROOT / "configs/rastrigin/map-elites.toml"
         path = self.work / f"qdmeta-{variant(task, algorithm, operator)}-{seed}.toml"
         if task == "rastrigin":
-            text = QDMETA_CVT_CONFIG.format(seed=seed, evals=evals, centroids=self.centroids, samples=self.cvt_samples,
-                                            iterations=self.kmeans_iterations, cache=self.cache / task)
+            text = QDMETA_CVT_CONFIG.format(seed=seed, evals=evals, samples=self.cvt_samples,
+                                            iterations=self.kmeans_iterations, cvt=self._cvt_table(task))
         else:
             mutation = (f'kind = "gaussian"\nrate = {common.MUTATION_RATE}\nsigma = {common.MUTATION_SD}'
                         if operator == "gaussian" else
                         f'kind = "iso-line"\niso_sigma = {common.ISO_SIGMA}\nline_sigma = {common.LINE_SIGMA}')
-            layout = ARM_GRID if algorithm == "map-elites" else ARM_CVT.format(
-                centroids=self.centroids, samples=self.cvt_samples, iterations=self.kmeans_iterations,
-                cache=self.cache / task)
+            layout = ARM_GRID if algorithm == "map-elites" else self._cvt_table(task)
             text = QDMETA_ARM_CONFIG.format(algorithm="map-elites" if algorithm == "map-elites" else "cvt-map-elites",
                                             operator=operator, seed=seed, evals=evals, joints=common.ARM_JOINTS,
                                             mutation=mutation, layout=layout)
