@@ -16,6 +16,23 @@
 
 namespace {
 
+// Times runs of `budget` evaluations from an empty archive (its centroids made before the
+// timing): items_per_second is evaluations per second.
+void time_runs(benchmark::State& state, const qdmeta::CvtMapElitesParams& p, const qdmeta::RastriginParams& task,
+               const qdmeta::MutationParams& mutation, int threads, std::int64_t budget) {
+  auto evaluator = qdmeta::make_evaluator(threads);
+  for (auto _ : state) {
+    state.PauseTiming();
+    qdmeta::CvtMapElites cvt(p, qdmeta::Task{qdmeta::RastriginTask{task}}, mutation, 1);
+    cvt.prepare(*evaluator);
+    state.ResumeTiming();
+    while (cvt.counters().bottom < budget) cvt.step(*evaluator);
+    state.counters["num_elites"] = static_cast<double>(cvt.archive().size());
+    state.counters["searched"] = static_cast<double>(cvt.searched()) / static_cast<double>(cvt.counters().bottom);
+  }
+  state.SetItemsProcessed(state.iterations() * budget);
+}
+
 void BM_CvtMapElitesRastrigin(benchmark::State& state) {
   const auto search = static_cast<qdmeta::CvtSearch>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
@@ -27,17 +44,7 @@ void BM_CvtMapElitesRastrigin(benchmark::State& state) {
     state.SkipWithError("no cached centroids: run configs/rastrigin/cvt-map-elites.toml once");
     return;
   }
-  auto evaluator = qdmeta::make_evaluator(threads);
-  for (auto _ : state) {
-    state.PauseTiming();
-    qdmeta::CvtMapElites cvt(p, qdmeta::Task{qdmeta::RastriginTask{}}, {}, 1);
-    cvt.prepare(*evaluator);
-    state.ResumeTiming();
-    while (cvt.counters().bottom < budget) cvt.step(*evaluator);
-    state.counters["num_elites"] = static_cast<double>(cvt.archive().size());
-    state.counters["searched"] = static_cast<double>(cvt.searched()) / static_cast<double>(cvt.counters().bottom);
-  }
-  state.SetItemsProcessed(state.iterations() * budget);
+  time_runs(state, p, {}, {}, threads, budget);
 }
 BENCHMARK(BM_CvtMapElitesRastrigin)
     ->ArgNames({"search", "threads"})  // search 0: parent-bound, 1: brute-force
@@ -64,18 +71,7 @@ void BM_CvtMapElites2D(benchmark::State& state) {
   task.dimensions = 2;
   qdmeta::MutationParams mutation;
   mutation.rate = 1.0;
-  const std::int64_t budget = 500'000;
-  auto evaluator = qdmeta::make_evaluator(1);
-  for (auto _ : state) {
-    state.PauseTiming();
-    qdmeta::CvtMapElites cvt(p, qdmeta::Task{qdmeta::RastriginTask{task}}, mutation, 1);
-    cvt.prepare(*evaluator);
-    state.ResumeTiming();
-    while (cvt.counters().bottom < budget) cvt.step(*evaluator);
-    state.counters["num_elites"] = static_cast<double>(cvt.archive().size());
-    state.counters["searched"] = static_cast<double>(cvt.searched()) / static_cast<double>(cvt.counters().bottom);
-  }
-  state.SetItemsProcessed(state.iterations() * budget);
+  time_runs(state, p, task, mutation, 1, 500'000);
 }
 BENCHMARK(BM_CvtMapElites2D)
     ->ArgName("search")  // 0: parent-bound, 1: brute-force (auto in 2-D)

@@ -16,16 +16,10 @@
 #include "qdmeta/archive/nearest_centroid.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
+#include "random_block.hpp"
 
 namespace qdmeta {
 namespace {
-
-RowMatrix random_block(Index rows, Index cols, std::uint64_t seed, double lo = 0.0, double hi = 1.0) {
-  Rng rng(seed);
-  RowMatrix m(rows, cols);
-  for (Index i = 0; i < m.size(); ++i) m.data()[i] = static_cast<Real>(rng.uniform(lo, hi));
-  return m;
-}
 
 // The rows of `m` in a random order, so that the lowest index of a tie is not the first in space.
 RowMatrix shuffled(const RowMatrix& m, std::uint64_t seed) {

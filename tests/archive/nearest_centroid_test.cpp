@@ -13,16 +13,10 @@
 #include "qdmeta/archive/list_selection.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
+#include "random_block.hpp"
 
 namespace qdmeta {
 namespace {
-
-RowMatrix random_block(Index rows, Index cols, std::uint64_t seed, double lo = 0.0, double hi = 1.0) {
-  Rng rng(seed);
-  RowMatrix m(rows, cols);
-  for (Index i = 0; i < m.size(); ++i) m.data()[i] = static_cast<Real>(rng.uniform(lo, hi));
-  return m;
-}
 
 void expect_matches_naive(const RowMatrix& centroids, const RowMatrix& points) {
   const NearestCentroid search(centroids);
