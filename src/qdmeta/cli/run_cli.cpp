@@ -385,9 +385,9 @@ std::string describe_registered_parts() {
   for (const std::string& name : registered_task_names()) {
     const auto plugin = find_task_plugin(name);
     if (plugin == nullptr) continue;
-    std::vector<std::string> kinds, tests = plugin->adaptation_tests;
+    std::vector<std::string> kinds;
     for (const auto& [kind, reader] : plugin->meta_objectives) kinds.push_back(kind);
-    if (!plugin->generalisation_groups.empty()) tests.push_back("generalisation");
+    const std::vector<std::string> tests = adaptation_test_names(*plugin);
     out += fmt::format("  [task] name = \"{}\": [meta_fitness] kind {}; adapt --test {}\n", name,
                        kinds.empty() ? "(none)" : joined(kinds), tests.empty() ? "(none)" : joined(tests));
   }

@@ -1,6 +1,7 @@
 #include "qdmeta/plugin/task_registry.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -62,15 +63,18 @@ std::vector<std::string> registered_task_names() {
 
 std::vector<std::string> unavailable_task_names() { return tasks().unavailable_names(); }
 
+std::vector<std::string> adaptation_test_names(const TaskPlugin& plugin) {
+  std::vector<std::string> names = plugin.adaptation_tests;
+  if (!plugin.generalisation_groups.empty()) names.emplace_back("generalisation");
+  return names;
+}
+
 std::string describe_adaptation_tests() {
   std::string out;
   for (const auto& name : registered_task_names()) {
     const auto plugin = find_task_plugin(name);
     if (plugin == nullptr || plugin->adaptation_tests.empty()) continue;
-    std::string families;
-    for (const auto& t : plugin->adaptation_tests) families += fmt::format("{}{}", families.empty() ? "" : ", ", t);
-    if (!plugin->generalisation_groups.empty()) families += ", generalisation";
-    out += fmt::format("{}{}: {}", out.empty() ? "" : "; ", name, families);
+    out += fmt::format("{}{}: {}", out.empty() ? "" : "; ", name, fmt::join(adaptation_test_names(*plugin), ", "));
   }
   return out;
 }

@@ -70,6 +70,8 @@ std::shared_ptr<const TaskPlugin> find_task_plugin(std::string_view name);
 std::vector<std::string> registered_task_names();
 // Names registered as unavailable (register_unavailable_task) and not registered since, sorted.
 std::vector<std::string> unavailable_task_names();
+// A task's `qdmeta adapt --test` names: its families, then "generalisation" where it has one.
+std::vector<std::string> adaptation_test_names(const TaskPlugin& plugin);
 // The registered test families of every task, "rastrigin: dimension, translation; rhex: ...",
 // with "generalisation" where a task has one (the help text of `qdmeta adapt --test`).
 std::string describe_adaptation_tests();
