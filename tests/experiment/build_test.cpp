@@ -262,7 +262,7 @@ TEST(BuildRun, BadAuroraConfigsNameTheKey) {
       {"algorithm = \"aurora\"\n[aurora]\neps = 1.5\n", "aurora.eps = 1.5 is out of range"},
       {"algorithm = \"aurora\"\n[aurora]\nhidden = []\n", "aurora.hidden has 0 entries"},
       {"algorithm = \"aurora\"\n[aurora]\ntarget_size = 0\n", "aurora.target_size = 0 is out of range"},
-      {"algorithm = \"aurora\"\n[archive]\nbins = [10, 10]\n", "unknown key 'archive' at the top level"},
+      {"algorithm = \"aurora\"\n[archive]\nbins = [10, 10]\n", "[archive] does not apply to algorithm \"aurora\""},
   };
   for (const auto& c : cases) {
     const toml::table cfg = toml::parse(c.toml_text);

@@ -40,5 +40,6 @@ void check_map_elites_parts(const Task& task, const FeatureMap* feature_map, Ind
 }
 
 template class BasicMapElites<GridArchive>;
+template class BasicMapElites<AnyArchive>;
 
 }  // namespace qdmeta

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/archive/any_archive.hpp"
 #include "qdmeta/archive/archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/copy_row.hpp"
@@ -33,12 +34,30 @@ void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Ta
 // Building blocks shared with QD-Meta's per-map evolution and CVT-MAP-Elites.
 // Fills `genotypes` (count x n) uniformly at random in [0, 1].
 void random_genotypes(RowMatrix& genotypes, Rng& rng);
+// Offspring by the caller's operator (Mutation::plugged): per row, in order, its parent and its
+// second parent, each pick_parent(rng) (which may record its choice), then the operator's seed
+// from `rng`, so the call is as deterministic as the operator is given its seed.
+template <class PickParent>
+void vary_plugged(PickParent&& pick_parent, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
+  const Index n = offspring.cols();
+  RowMatrix parents(offspring.rows(), n), partners(offspring.rows(), n);
+  for (Index r = 0; r < offspring.rows(); ++r) {
+    copy_row(pick_parent(rng), n, parents.row(r).data());
+    copy_row(pick_parent(rng), n, partners.row(r).data());
+  }
+  mutation.vary(parents, partners, rng(), offspring);
+}
+
 // Fills `offspring` (rows already sized) with mutated copies of parents, all drawn first:
 // pick_parent(rng) returns a pointer to one parent's genes (any archive's selection). Iso+line
-// draws, row by row, the parent, the second parent, then the row's variation.
+// and a caller's operator draw, row by row, the parent, then the second parent.
 template <class PickParent>
 void mutate_copies(PickParent&& pick_parent, const Mutation& mutation, Rng& rng, RowMatrix& offspring) {
   const Index n = offspring.cols();
+  if (mutation.plugged()) {
+    vary_plugged(pick_parent, mutation, rng, offspring);
+    return;
+  }
   if (mutation.needs_two_parents()) {
     for (Index r = 0; r < offspring.rows(); ++r) {
       Real* child = offspring.row(r).data();
@@ -75,6 +94,18 @@ void generate_offspring(const Archive& archive, const Mutation& mutation, Rng& r
   const Index n = offspring.cols();
   const Index rows = offspring.rows();
   if (parents) parents->resize(static_cast<std::size_t>(rows));
+  if (mutation.plugged()) {
+    Index picks = 0;  // even: a row's parent (recorded), odd: its second parent
+    vary_plugged(
+        [&](Rng& r) {
+          const Index cell = archive.sample_cell(r);
+          if (parents && picks % 2 == 0) (*parents)[static_cast<std::size_t>(picks / 2)] = cell;
+          ++picks;
+          return archive.solution(cell);
+        },
+        mutation, rng, offspring);
+    return;
+  }
   if (mutation.needs_two_parents()) {
     generate_iso_line_offspring(archive, mutation, rng, offspring, parents);
     return;
@@ -122,28 +153,6 @@ void next_genotypes(const Archive& archive, const MapElitesParams& params, const
     generate_offspring(archive, mutation, rng, genotypes, parents);
   }
 }
-// A variation operator supplied by the caller (the Python module's `variation=`): fills
-// `offspring` (rows already sized) from rows r of `parents` and `partners`, two elites per
-// offspring, and `seed`, a number for its own generator.
-using VariationFunction = std::function<void(const RowMatrix& parents, const RowMatrix& partners, std::uint64_t seed,
-                                             RowMatrix& offspring)>;
-
-// Offspring by `variation`: per row, in order, its parent and its second parent drawn from
-// `rng` as iso+line draws them, then the seed from `rng`, so the call is as deterministic as
-// the function is given its seed.
-template <EliteArchive Archive>
-void vary_by_function(const Archive& archive, const VariationFunction& variation, Rng& rng, RowMatrix& parents,
-                      RowMatrix& partners, RowMatrix& offspring) {
-  const Index n = offspring.cols();
-  parents.resize(offspring.rows(), n);
-  partners.resize(offspring.rows(), n);
-  for (Index r = 0; r < offspring.rows(); ++r) {
-    copy_row(archive.solution(archive.sample_cell(rng)), n, parents.row(r).data());
-    copy_row(archive.solution(archive.sample_cell(rng)), n, partners.row(r).data());
-  }
-  variation(parents, partners, rng(), offspring);
-}
-
 // Maps base features to target features and adds the valid rows in batch order
 // (archive.add_batch; base features go along when the archive keeps them). `targets` is a
 // scratch buffer. Returns the number of rows that entered the archive.
@@ -182,8 +191,14 @@ class BasicMapElites final : public Algorithm {
   EliteTable elites() const override { return archive_.elites(); }
   const Archive& archive() const { return archive_; }
   // From then on, offspring come from `variation` instead of the [mutation] operator (the
-  // initial population stays random); not saved by save(): a loaded run needs it again.
-  void set_variation(VariationFunction variation) { variation_ = std::move(variation); }
+  // initial population stays random); not saved by save(): a loaded run needs it again. The
+  // same as building with MutationParams::variation.
+  void set_variation(VariationFunction variation) {
+    MutationParams p = mutation_.params();
+    p.variation = std::move(variation);
+    p.variation_name = "variation";
+    mutation_ = Mutation(std::move(p));
+  }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
@@ -208,11 +223,9 @@ class BasicMapElites final : public Algorithm {
   std::unique_ptr<FeatureMap> feature_map_;
   Archive archive_;
   Mutation mutation_;
-  VariationFunction variation_;
   std::uint64_t seed_;
   std::int64_t generation_ = 0;
   RowMatrix genotypes_;
-  RowMatrix parents_, partners_;  // the variation function's input
   EvaluationBatch evaluations_;
   RowMatrix targets_;
 };
@@ -220,6 +233,8 @@ class BasicMapElites final : public Algorithm {
 // The paper's MAP-Elites: a grid over the feature-map's target features.
 using MapElites = BasicMapElites<GridArchive>;
 extern template class BasicMapElites<GridArchive>;
+// MAP-Elites over an archive a config chose by kind (plugin/part_registries.hpp).
+extern template class BasicMapElites<AnyArchive>;
 
 // Checks that the feature-map and the archive fit `task` (InputError naming what differs).
 void check_map_elites_parts(const Task& task, const FeatureMap* feature_map, Index archive_solution_size,
@@ -232,7 +247,7 @@ BasicMapElites<Archive>::BasicMapElites(MapElitesParams params, Task task, std::
       task_(std::move(task)),
       feature_map_(std::move(feature_map)),
       archive_(std::move(archive)),
-      mutation_(mutation),
+      mutation_(std::move(mutation)),
       seed_(seed) {
   params_.validate();
   check_map_elites_parts(task_, feature_map_.get(), archive_.solution_size(), archive_.dimensions());
@@ -241,13 +256,7 @@ BasicMapElites<Archive>::BasicMapElites(MapElitesParams params, Task task, std::
 template <EliteArchive Archive>
 void BasicMapElites<Archive>::next_request(std::vector<EvaluationJob>& jobs) {
   const Index n = task_.genotype_size();
-  if (variation_ && !archive_.empty()) {
-    genotypes_.resize(params_.batch_size, n);
-    Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(generation_)});
-    vary_by_function(archive_, variation_, rng, parents_, partners_, genotypes_);
-  } else {
-    next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
-  }
+  next_genotypes(archive_, params_, mutation_, seed_, generation_, n, genotypes_);
   evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
   jobs.push_back({&task_, {genotypes_.data(), genotypes_.rows(), n}, evaluations_.view()});
 }

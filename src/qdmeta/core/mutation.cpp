@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace qdmeta {
 
 void MutationParams::validate() const {
+  if (variation) return;  // the caller's operator checks its own parameters
   require_range("mutation.rate", rate, 0.0, 1.0);
   if (kind == MutationKind::kGaussian && !(sigma > 0.0 && std::isfinite(sigma)))
     throw InputError(fmt::format("mutation.sigma = {} is out of range: must be a positive number", sigma));
@@ -25,7 +27,7 @@ void MutationParams::validate() const {
   }
 }
 
-Mutation::Mutation(MutationParams params) : params_(params) {
+Mutation::Mutation(MutationParams params) : params_(std::move(params)) {
   params_.validate();
   if (params_.rate > 0.0 && params_.rate < 1.0) inv_log1m_rate_ = static_cast<float>(1.0 / std::log1p(-params_.rate));
   if (params_.kind == MutationKind::kDiscreteStep || params_.kind == MutationKind::kUniformResample) grid_steps_ = static_cast<int>(std::lround(1.0 / params_.step));
@@ -77,7 +79,24 @@ void Mutation::apply_iso_line(Real* genes, const Real* other, Index n, Rng& rng)
   }
 }
 
+void Mutation::vary(const RowMatrix& parents, const RowMatrix& partners, std::uint64_t seed,
+                    RowMatrix& offspring) const {
+  if (!plugged()) throw Error("Mutation::vary: no variation operator was given (MutationParams::variation)");
+  const Index rows = offspring.rows(), cols = offspring.cols();
+  params_.variation(parents, partners, seed, offspring);
+  const std::string name = params_.variation_name.empty() ? "the variation operator" : params_.variation_name;
+  if (offspring.rows() != rows || offspring.cols() != cols)
+    throw InputError(fmt::format("mutation kind \"{}\" returned {} x {} offspring for {} x {} parents: keep the shape",
+                                 name, offspring.rows(), offspring.cols(), rows, cols));
+  const Real* g = offspring.data();
+  for (Index i = 0; i < offspring.size(); ++i)
+    if (!(g[i] >= Real{0} && g[i] <= Real{1}))  // NaN fails too
+      throw InputError(fmt::format("mutation kind \"{}\" wrote gene {} = {} of offspring {}: genes must be in [0, 1]",
+                                   name, i % cols, g[i], i / cols));
+}
+
 void Mutation::apply(Real* genes, Index count, Rng& rng) const {
+  if (plugged()) throw Error("a caller's variation operator makes whole offspring (Mutation::vary), not apply()");
   if (needs_two_parents()) throw Error("the iso-line operator needs two parents per offspring (apply_iso_line)");
   if (params_.rate <= 0.0 || count <= 0) return;
   if (params_.kind == MutationKind::kGaussian && params_.rate < 1.0) {

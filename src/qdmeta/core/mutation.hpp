@@ -3,13 +3,16 @@
 // probability `rate`; the mask is drawn by geometric skipping over the whole block, so the cost
 // is proportional to the number of mutated genes, not to the block size. The iso+line operator
 // is the exception: it varies every gene of a parent along the line to a second parent, so its
-// callers draw two parents per offspring (needs_two_parents) and call apply_iso_line.
+// callers draw two parents per offspring (needs_two_parents) and call apply_iso_line. So does a
+// variation operator of the caller's (core/variation.hpp), which replaces the built-in kinds.
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
+#include "qdmeta/core/variation.hpp"
 
 namespace qdmeta {
 
@@ -31,6 +34,10 @@ struct MutationParams {
   double step = 0.025;                          // grid step (kDiscreteStep, kUniformResample), in (0, 1]
   double iso_sigma = 0.01;                      // kIsoLine: SD of the isotropic noise on every gene, >= 0
   double line_sigma = 0.2;                      // kIsoLine: SD of the step along x_j - x_i, >= 0
+  // A caller's operator (core/variation.hpp): when set, it makes every offspring, and the fields
+  // above are unused; `variation_name` names it in messages ([mutation] kind).
+  VariationFunction variation;
+  std::string variation_name;
   void validate() const;
 };
 
@@ -39,7 +46,13 @@ class Mutation {
   explicit Mutation(MutationParams params);
   const MutationParams& params() const { return params_; }
   // True for iso+line: each offspring needs a second parent and apply_iso_line, not apply.
-  bool needs_two_parents() const { return params_.kind == MutationKind::kIsoLine; }
+  bool needs_two_parents() const { return params_.kind == MutationKind::kIsoLine && !plugged(); }
+  // True when the caller's operator makes the offspring (vary(), not apply or apply_iso_line).
+  bool plugged() const { return static_cast<bool>(params_.variation); }
+  // The caller's operator on rows of `parents` and `partners` (sized alike), writing `offspring`
+  // (sized already); InputError naming the operator when it changed the shape or wrote a gene
+  // outside [0, 1] (NaN included).
+  void vary(const RowMatrix& parents, const RowMatrix& partners, std::uint64_t seed, RowMatrix& offspring) const;
   // Mutates every row of `genotypes` in place.
   void apply(RowMatrix& genotypes, Rng& rng) const;
   // Mutates `count` contiguous genes in place (the rows of a block, flattened).

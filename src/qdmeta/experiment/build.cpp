@@ -10,6 +10,7 @@
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
 #include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/experiment/standard_tables.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/registry.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
@@ -18,22 +19,6 @@ namespace qdmeta {
 namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
-
-MutationParams read_mutation(ConfigReader& m) {
-  MutationParams p;
-  p.kind = m.choice("kind", p.kind, kMutationKindNames);
-  p.rate = m.number("rate", p.rate, 0.0, 1.0);
-  p.sigma = m.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
-  p.step = m.number("step", p.step, 0.0, 1.0, Open::kLower);
-  p.iso_sigma = m.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
-  p.line_sigma = m.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
-  try {
-    p.validate();
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", m.source(), e.what()));
-  }
-  return p;
-}
 
 // The name `key` gives a part handed over: absent, the part's (recorded); any other is refused.
 std::string read_part_name(ConfigReader& r, std::string_view key, const std::string& part_name) {
@@ -103,7 +88,15 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   if (parts.task) read_part_name(task_table, "name", task.name());
   s.task = task.name();
   ConfigReader mutation_table = root.table("mutation");
-  const MutationParams mutation = read_mutation(mutation_table);
+  MutationParams mutation;
+  if (parts.variation) {
+    read_part_name(mutation_table, "kind", parts.variation->kind);
+    mutation.variation = naming_source(mutation_table, [&] { return parts.variation->read(mutation_table, task); });
+    if (!mutation.variation) throw InputError(fmt::format("{}: the variation part made no operator", source));
+    mutation.variation_name = parts.variation->kind;
+  } else {
+    mutation = read_mutation_table(mutation_table, task);
+  }
   built.evaluation_tasks.push_back(task);
 
   // The builder protocol (algorithm_registry.hpp), the same around every builder: read and

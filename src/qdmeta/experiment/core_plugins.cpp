@@ -4,6 +4,8 @@
 
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/builtin_algorithms.hpp"
+#include "qdmeta/experiment/standard_tables.hpp"
+#include "qdmeta/plugin/part_registries.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_config.hpp"
 
@@ -15,6 +17,8 @@ void register_core_plugins() {
   if (find_task_plugin("rastrigin") == nullptr) register_rastrigin_task();
   for (auto& [name, builder] : builtin_algorithms())
     if (find_algorithm(name) == nullptr) register_algorithm(name, std::move(builder));
+  if (!controller_registry().contains("static")) controller_registry().add("static", read_static_control);
+  if (!controller_registry().contains("sarsa")) controller_registry().add("sarsa", read_sarsa_control);
 }
 
 }  // namespace

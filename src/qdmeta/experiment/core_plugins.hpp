@@ -1,6 +1,7 @@
 #pragma once
 // What every build of the library offers without asking: the Rastrigin task with its
-// meta-objectives and test families, the four algorithms, and a hint for the RHex task of a build
+// meta-objectives and test families, the four algorithms, the controllers "static" and "sarsa"
+// (plugin/part_registries.hpp), and a hint for the RHex task of a build
 // without DART. They register as a user's plugins do, through register_task_plugin() and
 // register_algorithm(); the registries themselves know nothing of them.
 namespace qdmeta {

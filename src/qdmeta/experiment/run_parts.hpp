@@ -1,6 +1,6 @@
 #pragma once
 // Parts handed to build_run() as values: a program's (or the Python module's) own task,
-// meta-objective and algorithm, used without registering anything. The registries are only how
+// meta-objective, algorithm and variation operator, used without registering anything. The registries are only how
 // a name in a config file finds a part; where a part is given, the config's name for it must be
 // the part's (or absent: the resolved config then records the part's name), and the part is used.
 #include <memory>
@@ -10,6 +10,7 @@
 #include "qdmeta/core/meta_objective.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/experiment/algorithm_builder.hpp"
+#include "qdmeta/plugin/part_registries.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {
@@ -28,10 +29,18 @@ struct AlgorithmPart {
   AlgorithmBuilder build;
 };
 
+// A variation operator: `read` makes it for a run from the rest of its [mutation] table, as a
+// registered kind's reader does (plugin/part_registries.hpp).
+struct VariationPart {
+  std::string kind;  // [mutation] kind
+  VariationReader read;
+};
+
 struct RunParts {
   std::optional<Task> task;  // [task] then holds only its name
   std::optional<MetaObjectivePart> meta_objective;
   std::optional<AlgorithmPart> algorithm;
+  std::optional<VariationPart> variation;
 };
 
 // The meta-objective of the run being built, for a builder that uses one (QD-Meta's): the part
