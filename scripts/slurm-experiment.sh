@@ -48,6 +48,10 @@ case $mode in
     command -v sbatch > /dev/null || die "sbatch not found: run this on the cluster's login node"
     "$QDMETA" experiment --config "$experiment" --out "$out" --plan "$@"
     runs=$(( $(wc -l < "$out/plan.tsv") - 1 ))
+    if (( runs == 0 )); then  # every run's summary is kept (--summaries): nothing to submit
+      echo "slurm-experiment: no run to submit"
+      exit 0
+    fi
     mkdir -p "$out/slurm"
     limit=${MAX_PARALLEL:+%$MAX_PARALLEL}
     # shellcheck disable=SC2086  # the ARGS variables are lists of options

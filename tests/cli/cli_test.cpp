@@ -468,6 +468,16 @@ TEST(Cli, AReportFromKeptSummariesEqualsTheReportFromTheRuns) {
             std::string::npos)
       << again.output;
   EXPECT_FALSE(fs::exists(elsewhere / "map-elites/seed-1"));
+  // A batch system's plan leaves out the runs whose summaries are kept.
+  const fs::path planned = fresh_dir("summaries_plan");
+  const Outcome plan = qdmeta_cli("experiment --config " + config + " --evals 20000 --plan --summaries " +
+                                  kept.string() + " --out " + planned.string() + " --seeds 1-2");
+  ASSERT_EQ(plan.status, 0) << plan.output;
+  EXPECT_NE(plan.output.find("0 runs planned in " + (planned / "plan.tsv").string() + " (4 more are done: their "
+                             "summaries are in " + kept.string() + ")"),
+            std::string::npos)
+      << plan.output;
+  EXPECT_EQ(slurp(planned / "plan.tsv"), "index\tcondition\tseed\tconfig\tdir\n");
   // A lost summary of a finished run is written again, the same bytes.
   const std::string summary = slurp(kept / "map-elites/seed-2.json");
   fs::remove(kept / "map-elites/seed-2.json");

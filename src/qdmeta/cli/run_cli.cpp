@@ -290,12 +290,15 @@ int command_experiment(const ExperimentArgs& a) {
   ExperimentOptions options;
   if (a.seeds) options.replicates = parse_replicate_range(*a.seeds);
   if (a.plan) {
-    const int runs = write_experiment_plan(spec, a.out, options.replicates);
     if (a.summaries) keep_experiment_spec(spec, *a.summaries, options.replicates);
+    const PlannedRuns runs = write_experiment_plan(spec, a.out, options.replicates, a.summaries);
     if (!a.quiet)
-      fmt::print("{} runs planned in {}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
+      fmt::print("{} runs planned in {}{}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
                  "scripts/slurm-experiment.sh), then this command without --plan runs the tests and the report\n",
-                 runs, (fs::path(a.out) / "plan.tsv").string());
+                 runs.planned, (fs::path(a.out) / "plan.tsv").string(),
+                 runs.summarised ? fmt::format(" ({} more are done: their summaries are in {})", runs.summarised,
+                                               *a.summaries)
+                                 : "");
     return 0;
   }
   if (a.summaries) {
@@ -438,7 +441,7 @@ int parse_and_run(int argc, char** argv) {
   experiment_cmd->add_option("--summaries", experiment.summaries,
                              "Keep each finished run's summary in DIR/<condition>/seed-<r>.json (with DIR/experiment.toml) "
                              "and skip the runs whose summary is there (tools/run_summary.py; needs numpy); with "
-                             "--plan: only check the summaries there and write DIR/experiment.toml");
+                             "--plan: check the summaries there, write DIR/experiment.toml and leave their runs out of the plan");
   experiment_cmd->add_option("--evals", experiment.evals, "Evaluation budget of every run (overrides the configs)")
       ->check(CLI::PositiveNumber);
   experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);

@@ -259,7 +259,8 @@ void keep_experiment_spec(const ExperimentSpec& spec, const fs::path& summaries,
   keep_spec(spec, summaries, checked_range(spec, replicates), condition_budgets(spec));
 }
 
-int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out, std::optional<ReplicateRange> replicates) {
+PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& out,
+                                  std::optional<ReplicateRange> replicates, const std::optional<fs::path>& summaries) {
   const ReplicateRange range = checked_range(spec, replicates);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
   write_spec(spec, out);
@@ -281,13 +282,18 @@ int write_experiment_plan(const ExperimentSpec& spec, const fs::path& out, std::
   }
   std::ostringstream plan;
   plan << "index\tcondition\tseed\tconfig\tdir\n";
-  int index = 0;
+  PlannedRuns runs;
   for (int r = range.first; r <= range.last; ++r)  // replicate-major, as run_experiment
-    for (const auto& c : spec.conditions)
-      plan << ++index << '\t' << c.slug << '\t' << r << '\t' << (out / c.slug / "condition.toml").string() << '\t'
-           << replicate_dir(out, c, r).string() << '\n';
+    for (const auto& c : spec.conditions) {
+      if (summaries && fs::is_regular_file(summary_file(*summaries, c, r))) {
+        ++runs.summarised;
+        continue;
+      }
+      plan << ++runs.planned << '\t' << c.slug << '\t' << r << '\t' << (out / c.slug / "condition.toml").string()
+           << '\t' << replicate_dir(out, c, r).string() << '\n';
+    }
   write_file_atomic(out / "plan.tsv", plan.str());
-  return index;
+  return runs;
 }
 
 ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,

@@ -62,9 +62,15 @@ ReplicateRange parse_replicate_range(std::string_view text);
 // written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
 // them: index (1-based), condition slug, seed, config, run directory. `qdmeta run --config
 // CONFIG --seed SEED --out DIR` then gives the bits run_experiment() would, which later skips the
-// finished run. Only the runs of `replicates` when given. Returns the number of runs.
-int write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
-                          std::optional<ReplicateRange> replicates = std::nullopt);
+// finished run. Only the runs of `replicates` when given; with `summaries`, a run whose summary
+// is kept there is done and left out (check them first: keep_experiment_spec).
+struct PlannedRuns {
+  int planned = 0;     // lines of plan.tsv
+  int summarised = 0;  // left out: their summaries are kept
+};
+PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
+                                  std::optional<ReplicateRange> replicates = std::nullopt,
+                                  const std::optional<std::filesystem::path>& summaries = std::nullopt);
 
 // Writes the summary of the finished run in `run_dir` into `summary_file` (the CLI: by
 // tools/run_summary.py; README.md, "Experiments and the report").
