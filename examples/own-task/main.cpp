@@ -1,14 +1,16 @@
-// arm-qd: qdmeta's whole command line with one more task, "arm", and one more mutation operator,
-// "sbx".
+// arm-qd: qdmeta's whole command line with one more task, "arm", one more mutation operator,
+// "sbx", and one more algorithm, "random-search".
 #include <qdmeta/cli/builtin_plugins.hpp>
 #include <qdmeta/cli/run_cli.hpp>
 
 #include "arm_plugin.hpp"
+#include "random_search.hpp"
 #include "sbx.hpp"
 
 int main(int argc, char** argv) {
   qdmeta::register_builtin_plugins();  // Rastrigin, the algorithms (and RHex when linked)
   arm::register_arm_task();            // before run_cli, on every MPI rank
   arm::register_sbx();                 // [mutation] kind = "sbx"
+  arm::register_random_search();       // algorithm = "random-search"
   return qdmeta::run_cli(argc, argv);
 }
