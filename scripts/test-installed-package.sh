@@ -9,8 +9,10 @@
 # examples/own-task against it (also for the baseline) with find_package(qdmeta), and runs that
 # program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run resumed
 # to the same archive, arm-parts (the task handed to build_run as a value) killed at a checkpoint
-# and resumed to arm-qd's archive, the test phase, an experiment with its report (by the installed
-# report.py), a misspelt [task] key refused, and `mpirun -np 2` where the build has MPI.
+# and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
+# definition by sbx-check) and algorithm (random search, killed at a checkpoint and resumed to the
+# uninterrupted run's archive), the test phase, an experiment with its report (by the installed
+# report.py), misspelt [task] and [mutation] keys refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
 
@@ -184,6 +186,40 @@ QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$example/arm-parts" run "$parts_config"
 "$example/arm-parts" resume "$runs/parts" || fail "arm-parts resume"
 check_run "$runs/parts"
 cmp -s "$runs/qd-meta/archive.csv" "$runs/parts/archive.csv" || fail "arm-parts's archive differs from arm-qd's"
+
+step "the program's own mutation operator: [mutation] kind = \"sbx\""
+"$example/sbx-check" || fail "sbx-check: the SBX operator's offspring do not follow its definition"
+"$arm" run --config "$root/examples/own-task/configs/sbx.toml" --out "$runs/sbx" --threads "$jobs" --quiet \
+  || fail "arm-qd run (sbx)"
+check_run "$runs/sbx"
+python3 - "$runs/sbx" <<'PY' || fail "the SBX run did not record its operator or found no elite"
+import json, sys, tomllib
+d = sys.argv[1]
+mutation = tomllib.load(open(f"{d}/config.toml", "rb"))["mutation"]
+assert mutation == {"kind": "sbx", "eta": 20.0}, mutation
+assert json.load(open(f"{d}/summary.json"))["num_elites"] > 0
+assert sum(1 for _ in open(f"{d}/archive.csv")) > 1, "archive.csv has no elite"
+PY
+sed 's/^eta = /etta = /' "$root/examples/own-task/configs/sbx.toml" > "$runs/bad-sbx.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-sbx.toml" --out "$runs/bad-sbx" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'mutation.etta' in [mutation]"* ]] \
+  || fail "a misspelt sbx key gave status $status: $message"
+
+step "the program's own algorithm (random-search): killed at its first checkpoint, resumed"
+random_config=$runs/random-search.toml
+cp "$root/examples/own-task/configs/random-search.toml" "$random_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$random_config"
+"$arm" run --config "$random_config" --out "$runs/random-straight" --threads 1 --quiet || fail "arm-qd run (random-search)"
+check_run "$runs/random-straight"
+status=0
+QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$random_config" --out "$runs/random" --threads 1 --quiet \
+  || status=$?
+[[ $status -eq 137 && -e $runs/random/checkpoint.bin ]] || fail "random-search was not killed at its checkpoint ($status)"
+"$arm" resume --out "$runs/random" --threads "$jobs" --quiet || fail "arm-qd resume (random-search)"
+check_run "$runs/random"
+cmp -s "$runs/random-straight/archive.csv" "$runs/random/archive.csv" \
+  || fail "the resumed random-search archive differs from the uninterrupted run's"
 
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"
