@@ -1,6 +1,6 @@
 // The documentation against the registries: docs/config.md lists exactly the algorithms, tasks
-// and meta-objective kinds that are registered, and every code block of the tutorial
-// docs/library.md is the example's code, verbatim, so neither can rot.
+// and meta-objective kinds that are registered, and every code block of the tutorials
+// (docs/library.md, docs/tutorials/*.md) is the example's code, verbatim, so neither can rot.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -146,21 +146,19 @@ TEST_F(RegistryDocs, ALookupSurvivesReRegistration) {
   EXPECT_TRUE(static_cast<bool>(*held_builder));
 }
 
-// Each ```cpp block of docs/library.md appears, verbatim, in one file of examples/own-task/.
-TEST(LibraryDocs, EveryCodeBlockIsTheExamplesCode) {
-  std::string example;
-  for (const auto& entry : fs::recursive_directory_iterator(fs::path(QDMETA_SOURCE_DIR) / "examples" / "own-task"))
-    if (entry.is_regular_file()) example += slurp(entry.path()) + "\n\x1f\n";  // no block spans two files
+// The ```cpp, ```cmake and ```toml blocks of the Markdown file `doc`: how many there are, each
+// checked to appear verbatim in `example`.
+int expect_blocks_in(const fs::path& doc, const std::string& example) {
   int blocks = 0;
   std::string block, fence;
-  for (const std::string& line : lines_of(slurp(fs::path(QDMETA_SOURCE_DIR) / "docs" / "library.md"))) {
+  for (const std::string& line : lines_of(slurp(doc))) {
     if (fence.empty() && line.starts_with("```") && line.size() > 3) {
       fence = line.substr(3);
       block.clear();
     } else if (!fence.empty() && line == "```") {
       if (fence == "cpp" || fence == "cmake" || fence == "toml") {
         ++blocks;
-        EXPECT_NE(example.find(block), std::string::npos) << "docs/library.md's " << fence
+        EXPECT_NE(example.find(block), std::string::npos) << doc.filename().string() << "'s " << fence
                                                           << " block is not in examples/own-task/:\n" << block;
       }
       fence.clear();
@@ -168,7 +166,23 @@ TEST(LibraryDocs, EveryCodeBlockIsTheExamplesCode) {
       block += line + "\n";
     }
   }
-  EXPECT_GE(blocks, 5);
+  return blocks;
+}
+
+// Each such block of docs/library.md and of the tutorials in docs/tutorials/ appears, verbatim,
+// in one file of examples/own-task/.
+TEST(LibraryDocs, EveryCodeBlockIsTheExamplesCode) {
+  const fs::path source(QDMETA_SOURCE_DIR);
+  std::string example;
+  for (const auto& entry : fs::recursive_directory_iterator(source / "examples" / "own-task"))
+    if (entry.is_regular_file()) example += slurp(entry.path()) + "\n\x1f\n";  // no block spans two files
+  std::vector<fs::path> docs;
+  for (const auto& entry : fs::directory_iterator(source / "docs" / "tutorials"))
+    if (entry.path().extension() == ".md") docs.push_back(entry.path());
+  std::sort(docs.begin(), docs.end());
+  EXPECT_GE(docs.size(), 2u);  // mutation-operator.md, algorithm.md
+  docs.insert(docs.begin(), source / "docs" / "library.md");
+  for (const fs::path& doc : docs) EXPECT_GE(expect_blocks_in(doc, example), 5) << doc;
 }
 
 }  // namespace
