@@ -110,6 +110,10 @@ TEST(Cli, TheTopLevelHelpListsWhatAConfigMayName) {
   const Outcome o = qdmeta_cli("--help");
   EXPECT_EQ(o.status, 0);
   EXPECT_NE(o.output.find("algorithm: map-elites, qd-meta, cvt-map-elites, aurora\n"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("  [mutation] kind: gaussian, discrete-step, uniform-resample, iso-line\n  [control] kind: "
+                          "static, sarsa\n  [archive] kind: grid\n  [feature_map] kind: select\n"),
+            std::string::npos)
+      << o.output;
   EXPECT_NE(o.output.find("[task] name = \"rastrigin\": [meta_fitness] kind translation, dimension; adapt --test "
                           "dimension, translation"),
             std::string::npos)

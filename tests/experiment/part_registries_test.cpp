@@ -150,6 +150,15 @@ TEST(RegisteredVariation, AnUnknownKindListsTheBuiltInAndRegisteredOnes) {
   EXPECT_NE(msg.find("\"test-blend\""), std::string::npos) << msg;
 }
 
+TEST(RegisteredVariation, ABuiltInKindCannotBeRegisteredOver) {
+  register_test_parts();
+  variation_registry().add("iso-line", [](ConfigReader&, const Task&) { return blend(0.5, nullptr); });
+  EXPECT_ERROR_STARTS(build_run(map_elites_config(""), "x.toml"),
+                      "x.toml: this program registered a part under \"iso-line\", a built-in kind of this table");
+  variation_registry().remove("iso-line");
+  EXPECT_NE(build_run(map_elites_config(""), "x.toml").algorithm, nullptr);
+}
+
 TEST(VariationPart, IsUsedWithoutRegisteringAndTheConfigOnlyNamesIt) {
   ensure_core_plugins();
   RunParts parts;

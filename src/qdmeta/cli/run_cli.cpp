@@ -29,6 +29,7 @@
 #include "qdmeta/experiment/experiment.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/experiment/standard_tables.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/run_lock.hpp"
@@ -396,6 +397,9 @@ std::string describe_registered_parts() {
   }
   if (const auto missing = unavailable_task_names(); !missing.empty())
     out += fmt::format("  not in this build: {}\n", joined(missing));
+  out += fmt::format("  [mutation] kind: {}\n  [control] kind: {}\n  [archive] kind: {}\n  [feature_map] kind: {}\n",
+                     joined(mutation_kinds()), joined(control_kinds()), joined(archive_kinds()),
+                     joined(feature_map_kinds()));
   return out;
 }
 

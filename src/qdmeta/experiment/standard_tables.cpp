@@ -36,7 +36,22 @@ auto rethrow_with_source(const ConfigReader& table, F&& f) {
   }
 }
 
+const std::vector<std::string> kBuiltinArchives{"grid"};
+const std::vector<std::string> kBuiltinFeatureMaps{"select"};
+
+std::vector<std::string> joined(std::vector<std::string> builtin, const std::vector<std::string>& registered) {
+  builtin.insert(builtin.end(), registered.begin(), registered.end());
+  return builtin;
+}
+
 }  // namespace
+
+std::vector<std::string> mutation_kinds() {
+  return joined(names_of(kMutationKindNames), variation_registry().names());
+}
+std::vector<std::string> archive_kinds() { return joined(kBuiltinArchives, archive_registry().names()); }
+std::vector<std::string> feature_map_kinds() { return joined(kBuiltinFeatureMaps, feature_map_registry().names()); }
+std::vector<std::string> control_kinds() { return controller_registry().names(); }
 
 MutationParams read_mutation_table(ConfigReader& m, const Task& task) {
   MutationParams p;
@@ -76,7 +91,9 @@ GridArchiveParams read_grid_table(ConfigReader& a) {
   return p;
 }
 
-std::string read_archive_kind(ConfigReader& a) { return read_kind(a, {"grid"}, archive_registry().names(), "grid"); }
+std::string read_archive_kind(ConfigReader& a) {
+  return read_kind(a, kBuiltinArchives, archive_registry().names(), "grid");
+}
 
 AnyArchive read_registered_archive(ConfigReader& a, const std::string& kind, const Task& task, MemoryEstimate& memory) {
   const auto reader = archive_registry().find(kind);
@@ -96,7 +113,7 @@ AnyArchive read_registered_archive(ConfigReader& a, const std::string& kind, con
 
 std::unique_ptr<FeatureMap> read_feature_map_table(ConfigReader& f, ConfigReader& archive, Index base_features,
                                                    Index targets) {
-  const std::string kind = read_kind(f, {"select"}, feature_map_registry().names(), "select");
+  const std::string kind = read_kind(f, kBuiltinFeatureMaps, feature_map_registry().names(), "select");
   if (kind == "select") {
     // Without `measures`, target feature i is base feature i.
     // Name the key the user wrote: entry i of a grid's bins is base feature i.

@@ -4,6 +4,7 @@
 // its builder (algorithm_builder.hpp) calls them on tables of build.root. Each reads only its
 // table's keys and leaves the unknown-key check to the builder protocol.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "qdmeta/algorithms/aurora.hpp"
@@ -53,6 +54,13 @@ std::unique_ptr<GenerationController> read_static_control(ConfigReader& control)
 CvtMapElitesParams read_cvt_table(ConfigReader& cvt);
 // [aurora].
 AuroraParams read_aurora_table(ConfigReader& aurora);
+
+// The kinds a config may name in each table: the built-in ones, then the registered ones (the
+// top-level help lists them).
+std::vector<std::string> mutation_kinds();
+std::vector<std::string> archive_kinds();
+std::vector<std::string> feature_map_kinds();
+std::vector<std::string> control_kinds();
 
 // InputError when `root` has table `name`, which `algorithm` does not read: `why` says what it
 // does instead ("qd-meta evolves its own neural feature-maps").

@@ -1,6 +1,10 @@
 #include "qdmeta/plugin/part_registries.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+
+#include "qdmeta/core/error.hpp"
 
 #include "qdmeta/plugin/config.hpp"
 
@@ -29,8 +33,15 @@ Registry<ArchiveReader>& archive_registry() {
 std::string read_kind(ConfigReader& table, const std::vector<std::string>& builtin,
                       const std::vector<std::string>& registered, std::string_view fallback) {
   std::vector<std::string> names = builtin;
-  for (const auto& name : registered)
-    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  for (const auto& name : registered) {
+    // A built-in kind is a fast path the algorithms call directly: a plugin of its name would be
+    // silently ignored or silently win, so neither happens.
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      throw InputError(fmt::format("{}: this program registered a part under \"{}\", a built-in kind of this "
+                                   "table: register it under another name",
+                                   table.source(), name));
+    names.push_back(name);
+  }
   const std::string valid = quoted_names(names);
   const std::string kind = table.string("kind", fallback, valid);
   if (std::find(names.begin(), names.end(), kind) == names.end()) table.not_a_valid_choice("kind", kind, valid);

@@ -10,7 +10,7 @@
 // algorithm; a controller, QD-Meta; a feature-map and an archive, MAP-Elites. The built-in kinds
 // that are the library's fast paths ("gaussian", "discrete-step", "uniform-resample",
 // "iso-line"; feature-map "select"; archive "grid") are not in these registries: a registered
-// name must differ from them. The controllers "static" and "sarsa" register here as a user's do
+// name must differ from them (a config that reads the table says so). The controllers "static" and "sarsa" register here as a user's do
 // (experiment/core_plugins.cpp). Register at start-up, before building runs; a reader may be
 // called from any thread, and a variation operator from several at once (QD-Meta varies its maps
 // in parallel), so neither may share mutable state.
@@ -58,8 +58,9 @@ Registry<ControllerReader>& controller_registry();
 Registry<FeatureMapReader>& feature_map_registry();
 Registry<ArchiveReader>& archive_registry();
 
-// Reads `kind` of `table`: one of `builtin` (the first is the default where given) or a name in
-// `registered`; an unknown name is refused listing them all. Returns the name.
+// Reads `kind` of `table`: one of `builtin` or a name in `registered` (`fallback` when absent);
+// an unknown name is refused listing them all, and so is a registered name that is also built in.
+// Returns the name.
 std::string read_kind(ConfigReader& table, const std::vector<std::string>& builtin,
                       const std::vector<std::string>& registered, std::string_view fallback);
 
