@@ -98,7 +98,12 @@ ask() {
   local want=$1 from=$2
   shift 2
   rm -rf "$wants/build"
-  cmake -S "$wants/source" -B "$wants/build" -DWANT="$want" -DCMAKE_PREFIX_PATH="$from" "$@" 2>&1
+  # CMake wraps its messages at a width, so where a line breaks depends on the prefix's length:
+  # the output as one line, each run of blanks and newlines one space.
+  local status=0 output
+  output=$(cmake -S "$wants/source" -B "$wants/build" -DWANT="$want" -DCMAKE_PREFIX_PATH="$from" "$@" 2>&1) || status=$?
+  tr -s ' \n' ' ' <<< "$output"
+  return "$status"
 }
 # An installation without RHex and MPI: this one without their targets files.
 lean=$consumer/lean-prefix

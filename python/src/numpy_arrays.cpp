@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/task.hpp"
 
 namespace py = pybind11;
 
@@ -90,7 +91,8 @@ void check_result_values(const EvaluationView& out, const std::string& who) {
       throw InputError(fmt::format("{} row {}: fitness {} is not finite", who, i, out.fitness[i]));
     for (Index k = 0; k < out.base_feature_size; ++k)
       if (const Real v = out.base_row(i)[k]; !(v >= 0 && v <= 1))
-        throw InputError(fmt::format("{} row {}: base feature {} is {}, outside [0, 1]", who, i, k, v));
+        throw InputError(fmt::format("{} row {}: base feature {} is {}, outside [0, 1]{}", who, i, k, v,
+                                     kBaseFeatureRangeHint));
   }
 }
 

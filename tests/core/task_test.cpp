@@ -180,16 +180,16 @@ TEST(Task, InvalidSizesThrowAtConstruction) {
 
 struct FaultCase {
   BadTask::Fault fault;
-  const char* expected;  // part of the message
+  std::string expected;  // the whole message
 };
 
 TEST(Task, BadOutputOnAValidRowThrowsWithTheRowIndex) {
   const FaultCase cases[] = {
       {BadTask::Fault::kNanFitness, "task 'bad-task': fitness of solution 3 is nan"},
       {BadTask::Fault::kInfFitness, "task 'bad-task': fitness of solution 3 is -inf"},
-      {BadTask::Fault::kBaseAbove, "task 'bad-task': base feature 2 of solution 3 is 1.5, outside [0, 1]"},
-      {BadTask::Fault::kBaseBelow, "task 'bad-task': base feature 1 of solution 3 is -0.25, outside [0, 1]"},
-      {BadTask::Fault::kBaseNan, "task 'bad-task': base feature 2 of solution 3 is nan, outside [0, 1]"},
+      {BadTask::Fault::kBaseAbove, "task 'bad-task': base feature 2 of solution 3 is 1.5, outside [0, 1]" + std::string(kBaseFeatureRangeHint)},
+      {BadTask::Fault::kBaseBelow, "task 'bad-task': base feature 1 of solution 3 is -0.25, outside [0, 1]" + std::string(kBaseFeatureRangeHint)},
+      {BadTask::Fault::kBaseNan, "task 'bad-task': base feature 2 of solution 3 is nan, outside [0, 1]" + std::string(kBaseFeatureRangeHint)},
   };
   RowMatrix g(5, 2);
   g.setConstant(0.5f);
@@ -238,7 +238,7 @@ TEST(Task, FirstBadRowIsNamed) {
   g.setZero();
   EvaluationBatch out;
   out.resize(4, 1);
-  EXPECT_EQ(error_of(task, {g.data(), 4, 1}, out.view()), "task 'two': base feature 0 of solution 1 is 2, outside [0, 1]");
+  EXPECT_EQ(error_of(task, {g.data(), 4, 1}, out.view()), "task 'two': base feature 0 of solution 1 is 2, outside [0, 1]" + std::string(kBaseFeatureRangeHint));
 }
 
 TEST(Task, CopiesShareCloneDoesNot) {

@@ -52,8 +52,8 @@ void Task::evaluate(GenotypeView genotypes, EvaluationView out) const {
     const Real* b = out.base_row(i);
     for (Index j = 0; j < out.base_feature_size; ++j)
       if (!(b[j] >= 0 && b[j] <= 1))
-        throw Error(fmt::format("task '{}': base feature {} of solution {} is {}, outside [0, 1]", name(), j, i,
-                                b[j]));
+        throw Error(fmt::format("task '{}': base feature {} of solution {} is {}, outside [0, 1]{}", name(), j, i,
+                                b[j], kBaseFeatureRangeHint));
   }
 }
 

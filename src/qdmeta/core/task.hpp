@@ -6,12 +6,20 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 
 #include "qdmeta/core/scalars.hpp"
 
 namespace qdmeta {
+
+// Ends the message for a base feature outside [0, 1], for a user who set [archive] lower and
+// upper to the task's own range: the contract is [0, 1] (QD-Meta's networks and the CVT centroids
+// are built on it), and those keys bound the archive's axes, the target features.
+inline constexpr std::string_view kBaseFeatureRangeHint =
+    " (base features are in [0, 1] whatever [archive] lower and upper say: those bound the archive's axes; "
+    "scale the task's features into [0, 1])";
 
 // A contiguous, row-major block of genotypes (one per row), each gene in [0, 1].
 struct GenotypeView {
