@@ -174,6 +174,10 @@ TEST(VariationPart, IsUsedWithoutRegisteringAndTheConfigOnlyNamesIt) {
   expect_same_elites(from_part, run_generations(*by_hand.algorithm, 12, 1));
   EXPECT_ERROR_STARTS(build_run(map_elites_config("[mutation]\nkind = \"gaussian\"\n"), "x.toml", {}, parts),
                      "x.toml: mutation.kind = \"gaussian\" is not a valid choice: use one of \"part-blend\"");
+  // The part reads its own keys, and their errors name the file once.
+  parts.variation->read = [](ConfigReader& m, const Task&) { return blend(m.number("scale", 0.5, 0.0, 1.0), nullptr); };
+  EXPECT_INPUT_ERROR(build_run(map_elites_config("[mutation]\nscale = 3\n"), "x.toml", {}, parts),
+                     "x.toml: mutation.scale = 3 is out of range: must be in [0, 1]");
 }
 
 // A controller that alternates G = 1, 2, 1, ... and counts what it is told.

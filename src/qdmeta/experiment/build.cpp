@@ -91,7 +91,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   MutationParams mutation;
   if (parts.variation) {
     read_part_name(mutation_table, "kind", parts.variation->kind);
-    mutation.variation = naming_source(mutation_table, [&] { return parts.variation->read(mutation_table, task); });
+    mutation.variation = parts.variation->read(mutation_table, task);  // its key errors name the file already
     if (!mutation.variation) throw InputError(fmt::format("{}: the variation part made no operator", source));
     mutation.variation_name = parts.variation->kind;
   } else {
