@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "expect_same_elites.hpp"
+#include "mutation_params.hpp"
 
 #include <vector>
 
@@ -18,14 +19,6 @@
 
 namespace qdmeta {
 namespace {
-
-MutationParams iso_line(double iso_sigma = 0.01, double line_sigma = 0.2) {
-  MutationParams p;
-  p.kind = MutationKind::kIsoLine;
-  p.iso_sigma = iso_sigma;
-  p.line_sigma = line_sigma;
-  return p;
-}
 
 // MAP-Elites's offspring of a grid archive: per row its parent cell, its second parent cell
 // (drawn independently, uniformly over the filled cells), then the row's variation.

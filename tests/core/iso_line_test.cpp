@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "expect_input_error.hpp"
+#include "mutation_params.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,18 +16,6 @@
 
 namespace qdmeta {
 namespace {
-
-MutationParams iso_line(double iso_sigma = 0.01, double line_sigma = 0.2) {
-  MutationParams p;
-  p.kind = MutationKind::kIsoLine;
-  p.iso_sigma = iso_sigma;
-  p.line_sigma = line_sigma;
-  return p;
-}
-
-std::string message_of(const MutationParams& p) {
-  return input_error_message([&] { p.validate(); });
-}
 
 TEST(IsoLine, DefaultsArePyribsAndNamed) {
   const MutationParams p;

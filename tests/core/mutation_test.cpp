@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "expect_input_error.hpp"
+#include "mutation_params.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,14 +18,6 @@
 
 namespace qdmeta {
 namespace {
-
-MutationParams gaussian(double rate, double sigma = 0.05) {
-  MutationParams p;
-  p.kind = MutationKind::kGaussian;
-  p.rate = rate;
-  p.sigma = sigma;
-  return p;
-}
 
 MutationParams grid(MutationKind kind, double rate, double step = 0.025) {
   MutationParams p;
@@ -39,10 +32,6 @@ Real on_grid(long k) { return static_cast<Real>(static_cast<double>(k) / 40.0); 
 bool is_on_grid(Real g) {
   const double k = std::round(static_cast<double>(g) * 40.0);
   return k >= 0 && k <= 40 && g == on_grid(static_cast<long>(k));
-}
-
-std::string message_of(const MutationParams& p) {
-  return input_error_message([&] { p.validate(); });
 }
 
 TEST(Mutation, DefaultParamsAreValidAndMatchThePaper) {
