@@ -3,8 +3,8 @@
 # from what is committed: a study of 100,000,000 evaluations takes hours, so it is run in slices
 # (about two hours each) across sessions and machines.
 #
-#   scripts/rastrigin-study.sh --study NAME [--replicates A-B] [--evals N] [--jobs J]
-#                              [--work DIR] [--results DIR] [--report-only] [--config FILE]
+#   scripts/rastrigin-study.sh --study NAME [--replicates A-B] [--conditions A,B] [--evals N]
+#                              [--jobs J] [--work DIR] [--results DIR] [--report-only] [--config FILE]
 #
 # Studies (experiment files in configs/rastrigin/):
 #   paper      experiment.toml            the paper's four conditions at the authors' effective
@@ -26,6 +26,10 @@
 # says how many. --report-only runs nothing: it refreshes RESULTS/summaries/experiment.toml from
 # the experiment file (e.g. after its claims changed) and rebuilds the report.
 #
+# --conditions runs only the named conditions (their directory names, e.g. cvt-map-elites,aurora)
+# of each replicate: the short ones fill the last hour of a session that a long run would not
+# finish in (bench/README.md lists each condition's time).
+#
 # Defaults: --evals 100000000; --jobs 2 (replicates in parallel, one thread each: whole runs in
 # parallel scale better than threads inside one run, and every run gives the same bits at any
 # thread count); --work results/rastrigin-study/<budget>/<study>; --results
@@ -41,11 +45,12 @@ usage() { sed -n '6,7p' "$0" | sed 's/^# *//' >&2; exit 2; }
 fail() { echo "rastrigin-study: $*" >&2; exit 2; }
 from_caller() { [[ -z $1 || $1 == /* ]] && echo "$1" || echo "$caller/$1"; }
 
-study='' replicates='' evals=100000000 jobs=2 work='' results='' report_only=0 config=
+study='' replicates='' conditions='' evals=100000000 jobs=2 work='' results='' report_only=0 config=
 while (( $# )); do
   case $1 in
     --study) study=${2:-}; shift 2 || usage ;;
     --replicates) replicates=${2:-}; shift 2 || usage ;;
+    --conditions) conditions=${2:-}; shift 2 || usage ;;
     --evals) evals=${2:-}; shift 2 || usage ;;
     --jobs) jobs=${2:-}; shift 2 || usage ;;
     --work) work=$(from_caller "${2:-}"); shift 2 || usage ;;
@@ -84,12 +89,13 @@ first=${BASH_REMATCH[1]} last=${BASH_REMATCH[3]:-${BASH_REMATCH[1]}}
 
 if (( ! report_only )); then
   mkdir -p "$work"
-  echo "rastrigin-study: $study, replicates $first-$last of $total, $evals evaluations, $jobs at a time" \
+  echo "rastrigin-study: $study, replicates $first-$last of $total${conditions:+ ($conditions only)}," \
+       "$evals evaluations, $jobs at a time" \
        "(logs in $work/seed-<r>.log, summaries into $summaries)"
   declare -A seed_of=()  # the experiment running each replicate, by process id
   launch() {  # one replicate: every condition, its tests, each run's summary as it finishes
     "$BIN" experiment --config "$config" --out "$work/seed-$1" --seeds "$1" --evals "$evals" --threads 1 \
-      --summaries "$summaries" --no-report > "$work/seed-$1.log" 2>&1 &
+      --summaries "$summaries" --no-report ${conditions:+--conditions "$conditions"} > "$work/seed-$1.log" 2>&1 &
     seed_of[$!]=$1
   }
   reap() {  # waits for one replicate; its exit status

@@ -504,6 +504,56 @@ TEST(Cli, AReportFromKeptSummariesEqualsTheReportFromTheRuns) {
   EXPECT_NE(past.output.find("replicates 2-3 are not within the experiment's 1-2"), std::string::npos) << past.output;
 }
 
+TEST(Cli, ConditionsRunsOnlyTheNamedConditionsAndTheRestFollowLater) {
+  // A study's short conditions now, its long ones in another call: the summaries of both calls
+  // together are the experiment's, and the second call skips what the first kept.
+  const fs::path runs = fresh_dir("conditions_runs"), kept = fresh_dir("conditions_kept");
+  const std::string config = small_experiment().string();
+  const std::string common = "experiment --config " + config + " --evals 20000 --no-report --summaries " + kept.string() +
+                             " --out " + runs.string();
+  const Outcome some = qdmeta_cli(common + " --conditions map-elites");
+  ASSERT_EQ(some.status, 0) << some.output;
+  EXPECT_NE(some.output.find("(now map-elites)"), std::string::npos) << some.output;
+  EXPECT_NE(some.output.find("2 runs finished now, 0 resumed, 0 already finished; 4 test phases\n"
+                             "2 summaries written, 0 runs skipped"),
+            std::string::npos)
+      << some.output;
+  EXPECT_TRUE(fs::exists(kept / "map-elites/seed-1.json") && fs::exists(kept / "map-elites/seed-2.json"));
+  EXPECT_FALSE(fs::exists(runs / "qd-meta-sarsa")) << "--conditions map-elites ran QD-Meta";
+  const Outcome rest = qdmeta_cli(common + " --seeds 2 --conditions qd-meta-sarsa,map-elites");
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  EXPECT_NE(rest.output.find("(now replicates 2 of qd-meta-sarsa, map-elites)"), std::string::npos) << rest.output;
+  EXPECT_NE(rest.output.find("1 runs finished now, 0 resumed, 0 already finished; 2 test phases\n"
+                             "1 summaries written, 1 runs skipped"),
+            std::string::npos)
+      << rest.output;
+  EXPECT_FALSE(fs::exists(runs / "qd-meta-sarsa/seed-1"));
+  // A batch system's plan of the same subset.
+  const fs::path planned = fresh_dir("conditions_plan");
+  const Outcome plan = qdmeta_cli("experiment --config " + config + " --evals 20000 --plan --conditions qd-meta-sarsa "
+                                  "--summaries " + kept.string() + " --out " + planned.string());
+  ASSERT_EQ(plan.status, 0) << plan.output;
+  EXPECT_EQ(slurp(planned / "plan.tsv"), "index\tcondition\tseed\tconfig\tdir\n1\tqd-meta-sarsa\t1\t" +
+                                             (planned / "qd-meta-sarsa/condition.toml").string() + "\t" +
+                                             (planned / "qd-meta-sarsa/seed-1").string() + "\n");
+  // A name the experiment does not have: one line that lists its conditions, nothing written.
+  const fs::path untouched = fresh_dir("conditions_unknown") / "out";
+  const Outcome unknown = qdmeta_cli("experiment --config " + config + " --evals 20000 --out " + untouched.string() +
+                                     " --conditions map-elites,mapelites");
+  EXPECT_EQ(unknown.status, 2) << unknown.output;
+  EXPECT_EQ(count_lines(unknown.output), 1) << unknown.output;
+  EXPECT_NE(unknown.output.find("experiment 'small' has no condition 'mapelites': its conditions are qd-meta-sarsa, "
+                                "map-elites"),
+            std::string::npos)
+      << unknown.output;
+  EXPECT_FALSE(fs::exists(untouched));
+  const Outcome empty = qdmeta_cli("experiment --config " + config + " --out " + untouched.string() + " --conditions a,");
+  EXPECT_EQ(empty.status, 2) << empty.output;
+  EXPECT_NE(empty.output.find("conditions 'a,' must be condition directory names separated by commas"),
+            std::string::npos)
+      << empty.output;
+}
+
 TEST(Cli, AMalformedClaimIsRefusedBeforeAnyRun) {
   std::string text = slurp(small_experiment());
   const auto at = text.find("kind = \"below\"");

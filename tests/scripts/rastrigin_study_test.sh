@@ -3,9 +3,10 @@
 # replicate killed after a run's first checkpoint and continued from its directory; another
 # machine (a fresh work folder and a copy of the committed summaries, nothing else) that skips
 # every kept run and adds a replicate; the report from whatever summaries are present; a budget
-# that does not match the kept summaries refused. A study of two small conditions (QD-Meta and
-# MAP-Elites, --config) stands in for the paper's, whose CVT-MAP-Elites spends minutes on its
-# centroids on a machine that has not cached them.
+# that does not match the kept summaries refused; one condition of a replicate alone
+# (--conditions). A study of two small conditions (QD-Meta and MAP-Elites, --config) stands in
+# for the paper's, whose CVT-MAP-Elites spends minutes on its centroids on a machine that has not
+# cached them.
 # Usage: rastrigin_study_test.sh QDMETA_BINARY SOURCE_DIR
 set -euo pipefail
 bin=$1 src=$2
@@ -81,4 +82,11 @@ fi
 [[ $out == *"its summaries were made with evaluations = $evals, this experiment has evaluations = 5000"* ]] \
   || fail "the refusal: $out"
 [[ $(count "$there") == 10 ]] || fail "the refused call kept a summary"
+
+# Only the short condition of a replicate (--conditions): its summary alone is kept.
+out=$(study --replicates 6 --conditions map-elites --work "$tmp/there/work" --results "$there") \
+  || fail "replicate 6, map-elites only: $out"
+[[ -f $there/summaries/map-elites/seed-6.json && ! -e $there/summaries/qd-meta/seed-6.json ]] \
+  || fail "--conditions map-elites kept: $(ls "$there"/summaries/*/seed-6.json 2>&1)"
+[[ ! -e $tmp/there/work/seed-6/qd-meta ]] || fail "--conditions map-elites made a QD-Meta run"
 echo "rastrigin study script: ok"

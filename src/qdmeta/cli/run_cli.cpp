@@ -205,11 +205,18 @@ int command_adapt(const AdaptArgs& a) {
   return 0;
 }
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += fmt::format("{}{}", out.empty() ? "" : ", ", n);
+  return out;
+}
+
 struct ExperimentArgs {
   std::string config;
   std::string out;
   std::optional<int> replicates;
   std::optional<std::string> seeds;      // a range of the replicates, "A-B" or "A"
+  std::optional<std::string> conditions; // condition directory names, "a,b"
   std::optional<std::string> summaries;  // where each finished run's summary goes
   std::optional<std::int64_t> evals;
   int threads = 0;
@@ -290,9 +297,11 @@ int command_experiment(const ExperimentArgs& a) {
   const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
   ExperimentOptions options;
   if (a.seeds) options.replicates = parse_replicate_range(*a.seeds);
+  if (a.conditions) options.conditions = parse_condition_list(*a.conditions);
+  selected_conditions(spec, options.conditions);  // an unknown name is refused before anything is written
   if (a.plan) {
     if (a.summaries) keep_experiment_spec(spec, *a.summaries, options.replicates);
-    const PlannedRuns runs = write_experiment_plan(spec, a.out, options.replicates, a.summaries);
+    const PlannedRuns runs = write_experiment_plan(spec, a.out, options.replicates, a.summaries, options.conditions);
     if (!a.quiet)
       fmt::print("{} runs planned in {}{}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
                  "scripts/slurm-experiment.sh), then this command without --plan runs the tests and the report\n",
@@ -315,7 +324,12 @@ int command_experiment(const ExperimentArgs& a) {
   const bool tty = isatty(fileno(stdout)) != 0;
   if (!a.quiet)
     fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{}{} -> {}\n", kVersion, spec.name,
-               spec.conditions.size(), spec.replicates, a.seeds ? fmt::format(" (now {})", *a.seeds) : std::string(),
+               spec.conditions.size(), spec.replicates,
+               a.seeds || a.conditions
+                   ? fmt::format(" (now {}{}{})", a.seeds ? "replicates " + *a.seeds : std::string(),
+                                 a.seeds && a.conditions ? " of " : "",
+                                 a.conditions ? joined(options.conditions) : std::string())
+                   : std::string(),
                spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
   std::fflush(stdout);  // before any error line in a log that holds both
   auto last = std::make_shared<double>(-1.0);
@@ -374,12 +388,6 @@ int run_cli_with_tools(int argc, char** argv, const fs::path& tools, Distributio
 }
 
 namespace {
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += fmt::format("{}{}", out.empty() ? "" : ", ", n);
-  return out;
-}
 
 // The top-level help's footer: what a config of this program may name, from the registries (a
 // program that registers its own task or algorithm sees it listed here).
@@ -442,6 +450,8 @@ int parse_and_run(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   experiment_cmd->add_option("--seeds", experiment.seeds,
                              "Run only these replicates now, A-B or A (within 1..R; default: all)");
+  experiment_cmd->add_option("--conditions", experiment.conditions,
+                             "Run only these conditions now, by directory name: NAME,NAME,... (default: all)");
   experiment_cmd->add_option("--summaries", experiment.summaries,
                              "Keep each finished run's summary in DIR/<condition>/seed-<r>.json (with DIR/experiment.toml) "
                              "and skip the runs whose summary is there (tools/run_summary.py; needs numpy); with "

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <limits>
@@ -77,6 +78,36 @@ ReplicateRange parse_replicate_range(std::string_view text) {
   if (!first || !last || *first > *last)
     throw InputError(fmt::format("replicates '{}' must be a range A-B or one replicate A, with 1 <= A <= B", text));
   return {*first, *last};
+}
+
+std::vector<std::string> parse_condition_list(std::string_view text) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', from);
+    const std::string_view name = text.substr(from, comma == std::string_view::npos ? std::string_view::npos : comma - from);
+    if (name.empty())
+      throw InputError(fmt::format("conditions '{}' must be condition directory names separated by commas, e.g. "
+                                   "cvt-map-elites,aurora",
+                                   text));
+    out.emplace_back(name);
+    if (comma == std::string_view::npos) return out;
+    from = comma + 1;
+  }
+}
+
+std::vector<const ExperimentCondition*> selected_conditions(const ExperimentSpec& spec,
+                                                            const std::vector<std::string>& slugs) {
+  std::vector<const ExperimentCondition*> out;
+  for (const std::string& slug : slugs)
+    if (std::none_of(spec.conditions.begin(), spec.conditions.end(), [&](const auto& c) { return c.slug == slug; })) {
+      std::string known;
+      for (const auto& c : spec.conditions) known += fmt::format("{}{}", known.empty() ? "" : ", ", c.slug);
+      throw InputError(fmt::format("experiment '{}' has no condition '{}': its conditions are {}", spec.name, slug, known));
+    }
+  for (const auto& c : spec.conditions)
+    if (slugs.empty() || std::find(slugs.begin(), slugs.end(), c.slug) != slugs.end()) out.push_back(&c);
+  return out;
 }
 
 ExperimentSpec load_experiment(const fs::path& file, std::optional<int> replicates,
@@ -260,8 +291,10 @@ void keep_experiment_spec(const ExperimentSpec& spec, const fs::path& summaries,
 }
 
 PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& out,
-                                  std::optional<ReplicateRange> replicates, const std::optional<fs::path>& summaries) {
+                                  std::optional<ReplicateRange> replicates, const std::optional<fs::path>& summaries,
+                                  const std::vector<std::string>& conditions) {
   const ReplicateRange range = checked_range(spec, replicates);
+  const std::vector<const ExperimentCondition*> selected = selected_conditions(spec, conditions);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
   write_spec(spec, out);
   for (const auto& c : spec.conditions) {
@@ -284,7 +317,8 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
   plan << "index\tcondition\tseed\tconfig\tdir\n";
   PlannedRuns runs;
   for (int r = range.first; r <= range.last; ++r)  // replicate-major, as run_experiment
-    for (const auto& c : spec.conditions) {
+    for (const ExperimentCondition* condition : selected) {
+      const ExperimentCondition& c = *condition;
       if (summaries && fs::is_regular_file(summary_file(*summaries, c, r))) {
         ++runs.summarised;
         continue;
@@ -300,6 +334,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
                                 const ExperimentCallback& progress, const std::atomic<bool>* stop,
                                 const ExperimentOptions& options) {
   const ReplicateRange range = checked_range(spec, options.replicates);
+  const std::vector<const ExperimentCondition*> selected = selected_conditions(spec, options.conditions);
   if (options.summaries && !options.summarise) throw Error("run_experiment: summaries asked for without a summariser");
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out
   // Refuse before touching anything when finished runs here, or kept summaries, had another budget.
@@ -321,10 +356,11 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
   const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   auto evaluator = make_evaluator(threads);
   ExperimentResult result;
-  const int runs = static_cast<int>(spec.conditions.size()) * (range.last - range.first + 1);
+  const int runs = static_cast<int>(selected.size()) * (range.last - range.first + 1);
   int run = 0;
   for (int r = range.first; r <= range.last; ++r) {  // replicate-major: a partial experiment has every condition
-    for (const auto& c : spec.conditions) {
+    for (const ExperimentCondition* condition : selected) {
+      const ExperimentCondition& c = *condition;
       ++run;
       ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
       const std::optional<fs::path> summary =

@@ -57,20 +57,32 @@ struct ReplicateRange {
 // "A-B" or "A" (qdmeta experiment --seeds), 1 <= A <= B; InputError otherwise.
 ReplicateRange parse_replicate_range(std::string_view text);
 
+// "a,b,..." (qdmeta experiment --conditions): condition directory names, e.g. "cvt-map-elites";
+// InputError for an empty list or an empty name.
+std::vector<std::string> parse_condition_list(std::string_view text);
+
+// The conditions of `spec` that one call runs, in the experiment's order: those whose directory
+// name (slug) is in `slugs`, or all of them when `slugs` is empty. InputError, listing the
+// experiment's conditions, for a name it does not have.
+std::vector<const ExperimentCondition*> selected_conditions(const ExperimentSpec& spec,
+                                                            const std::vector<std::string>& slugs);
+
 // For a batch system (scripts/slurm-experiment.sh): writes DIR/experiment.toml, every condition's
 // config in force (DIR/<slug>/condition.toml: its `set` merged in and the experiment's budget
 // written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
 // them: index (1-based), condition slug, seed, config, run directory. `qdmeta run --config
 // CONFIG --seed SEED --out DIR` then gives the bits run_experiment() would, which later skips the
-// finished run. Only the runs of `replicates` when given; with `summaries`, a run whose summary
-// is kept there is done and left out (check them first: keep_experiment_spec).
+// finished run. Only the runs of `replicates` and of `conditions` (slugs) when given; with
+// `summaries`, a run whose summary is kept there is done and left out (check them first:
+// keep_experiment_spec).
 struct PlannedRuns {
   int planned = 0;     // lines of plan.tsv
   int summarised = 0;  // left out: their summaries are kept
 };
 PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
                                   std::optional<ReplicateRange> replicates = std::nullopt,
-                                  const std::optional<std::filesystem::path>& summaries = std::nullopt);
+                                  const std::optional<std::filesystem::path>& summaries = std::nullopt,
+                                  const std::vector<std::string>& conditions = {});
 
 // Writes the summary of the finished run in `run_dir` into `summary_file` (the CLI: by
 // tools/run_summary.py; README.md, "Experiments and the report").
@@ -78,6 +90,9 @@ using RunSummariser = std::function<void(const std::filesystem::path& run_dir, c
 
 struct ExperimentOptions {
   std::optional<ReplicateRange> replicates;  // default: every replicate, 1..spec.replicates
+  // The conditions to run now, by directory name (slug), e.g. the short ones of a study while a
+  // session's last hour would not finish a long one; default (empty): every condition.
+  std::vector<std::string> conditions;
   // Where each finished run's summary goes, SUMMARIES/<condition>/seed-<r>.json, once its test
   // phases are done, beside SUMMARIES/experiment.toml; a run whose summary is there is skipped
   // without its directory. Summaries made for another budget, config or tests are refused.
@@ -97,7 +112,7 @@ std::filesystem::path summary_file(const std::filesystem::path& summaries, const
 
 struct ExperimentProgress {
   int run = 0;             // 1-based index of the current run
-  int runs = 0;            // conditions x replicates
+  int runs = 0;            // conditions x replicates of this call
   std::string condition;
   int replicate = 0;
   std::string phase;       // "run", "resume", "skip", "test ...", "summary", "kept"
@@ -113,7 +128,7 @@ struct ExperimentResult {
   int runs_kept = 0;  // skipped without their directory: their summary was already kept
 };
 
-// Runs the replicates of `options` (all by default), writes OUT/experiment.toml (the spec in
+// Runs the replicates and conditions of `options` (all by default), writes OUT/experiment.toml (the spec in
 // force, read by the report) first. A spec whose evaluations differ from the finished runs
 // already in OUT, or a range past spec.replicates, is refused.
 ExperimentResult run_experiment(const ExperimentSpec& spec, const std::filesystem::path& out, int threads,
