@@ -322,14 +322,12 @@ int command_experiment(const ExperimentArgs& a) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   const bool tty = isatty(fileno(stdout)) != 0;
+  std::string now;  // the part of the experiment this call runs, when not all of it
+  if (a.seeds) now = "replicates " + *a.seeds;
+  if (a.conditions) now += (now.empty() ? "" : " of ") + joined(options.conditions);
   if (!a.quiet)
     fmt::print("qdmeta {}: experiment '{}': {} conditions x {} replicates{}{} -> {}\n", kVersion, spec.name,
-               spec.conditions.size(), spec.replicates,
-               a.seeds || a.conditions
-                   ? fmt::format(" (now {}{}{})", a.seeds ? "replicates " + *a.seeds : std::string(),
-                                 a.seeds && a.conditions ? " of " : "",
-                                 a.conditions ? joined(options.conditions) : std::string())
-                   : std::string(),
+               spec.conditions.size(), spec.replicates, now.empty() ? std::string() : fmt::format(" (now {})", now),
                spec.evaluations ? fmt::format(", {} evaluations each", *spec.evaluations) : std::string(), a.out);
   std::fflush(stdout);  // before any error line in a log that holds both
   auto last = std::make_shared<double>(-1.0);

@@ -1,6 +1,7 @@
 #include "qdmeta/experiment/experiment.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <nlohmann/json.hpp>
 
@@ -101,9 +102,10 @@ std::vector<const ExperimentCondition*> selected_conditions(const ExperimentSpec
   std::vector<const ExperimentCondition*> out;
   for (const std::string& slug : slugs)
     if (std::none_of(spec.conditions.begin(), spec.conditions.end(), [&](const auto& c) { return c.slug == slug; })) {
-      std::string known;
-      for (const auto& c : spec.conditions) known += fmt::format("{}{}", known.empty() ? "" : ", ", c.slug);
-      throw InputError(fmt::format("experiment '{}' has no condition '{}': its conditions are {}", spec.name, slug, known));
+      std::vector<std::string_view> known;
+      for (const auto& c : spec.conditions) known.push_back(c.slug);
+      throw InputError(fmt::format("experiment '{}' has no condition '{}': its conditions are {}", spec.name, slug,
+                                   fmt::join(known, ", ")));
     }
   for (const auto& c : spec.conditions)
     if (slugs.empty() || std::find(slugs.begin(), slugs.end(), c.slug) != slugs.end()) out.push_back(&c);
