@@ -6,11 +6,18 @@
 //                       in a real run, so rows often replace their cell's winner.
 //   BM_RebuildMaps/M/T: M maps (1 or 5: not a multiple of T) at once on T threads, trend database.
 //   BM_MapOnly:         the feature-map alone over the database (no insertion), one thread.
+//   BM_NetworkOverDatabase/S: the network kernel over the database's feature-major rows in a
+//                       rebuild's blocks, one thread, told the rows are cached (S = 0: no
+//                       prefetch, what every map did before) or streamed (S = 1: prefetched
+//                       ahead, what a rebuild's first map over a chunk does now). The database
+//                       (its feature-major copy alone is 40 MB) does not fit in the caches, so the rows come
+//                       from memory either way.
 //   BM_BaselineEigen:   the "before" version: blocked Eigen float products, a scalar std::exp
 //                       sigmoid, add per row; one map, one thread.
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -128,6 +135,23 @@ void BM_MapOnly(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * db.size());
 }
 BENCHMARK(BM_MapOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_NetworkOverDatabase(benchmark::State& state) {
+  const qdmeta::Database& db = database();
+  const qdmeta::NeuralFeatureMap map(shape(), random_weights(7));
+  const qdmeta::BaseRows rows = state.range(0) != 0 ? qdmeta::BaseRows::streamed : qdmeta::BaseRows::cached;
+  const Index block = qdmeta::kRebuildBlockRows;
+  std::vector<Real> targets(static_cast<std::size_t>(2 * block));
+  for (auto _ : state) {
+    for (const qdmeta::DatabaseSegment& seg : db.segments())
+      for (Index first = 0; first < seg.count; first += block)
+        map.map_transposed(seg.base_t + first, seg.base_t_ld, std::min(block, seg.count - first), targets.data(),
+                           block, rows);
+    benchmark::DoNotOptimize(targets.data());
+  }
+  state.SetItemsProcessed(state.iterations() * db.size());
+}
+BENCHMARK(BM_NetworkOverDatabase)->ArgName("streamed")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_BaselineEigen(benchmark::State& state) {
   using Matrix = Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>;

@@ -233,17 +233,20 @@ TEST_P(NeuralFeatureMapShapes, BlockEqualsRowByRowBitForBit) {
     for (Index t = 0; t < s.outputs; ++t) ASSERT_EQ(row(0, t), block(r, t)) << "row " << r << " output " << t;
   }
   // Odd block sizes through the transposed entry point (padded leading dimensions) give the same
-  // bits too.
-  for (const Index n : {Index{13}, Index{16}, Index{33}}) {
-    const Index ld = padded_rows(n) + 5;
-    std::vector<Real> base_t(static_cast<std::size_t>(s.inputs * ld), 0.0f);
-    transpose_rows(base.data(), n, s.inputs, base_t.data(), ld);
-    std::vector<Real> part(static_cast<std::size_t>(s.outputs * ld), -1.0f);
-    map.map_transposed(base_t.data(), ld, n, part.data(), ld);
-    for (Index r = 0; r < n; ++r)
-      for (Index t = 0; t < s.outputs; ++t) ASSERT_EQ(part[static_cast<std::size_t>(t * ld + r)], block(r, t));
-    EXPECT_EQ(part[static_cast<std::size_t>(padded_rows(n))], -1.0f) << "wrote past the padding";
-  }
+  // bits too, whether the rows are read as cached or as streamed (prefetched ahead, past the
+  // array's end for the last steps).
+  for (const BaseRows rows : {BaseRows::cached, BaseRows::streamed})
+    for (const Index n : {Index{13}, Index{16}, Index{33}, count}) {
+      const Index ld = padded_rows(n) + 5;
+      std::vector<Real> base_t(static_cast<std::size_t>(s.inputs * ld), 0.0f);
+      transpose_rows(base.data(), n, s.inputs, base_t.data(), ld);
+      std::vector<Real> part(static_cast<std::size_t>(s.outputs * ld), -1.0f);
+      map.map_transposed(base_t.data(), ld, n, part.data(), ld, rows);
+      for (Index r = 0; r < n; ++r)
+        for (Index t = 0; t < s.outputs; ++t)
+          ASSERT_EQ(part[static_cast<std::size_t>(t * ld + r)], block(r, t)) << n << " rows, row " << r;
+      EXPECT_EQ(part[static_cast<std::size_t>(padded_rows(n))], -1.0f) << "wrote past the padding";
+    }
 }
 
 // The float definition the vector kernel must reproduce, one row at a time: each weight and

@@ -7,6 +7,7 @@
 #include "qdmeta/featuremap/network_kernel.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include "qdmeta/featuremap/neural_feature_map.hpp"
@@ -21,6 +22,26 @@
 
 namespace qdmeta {
 namespace {
+
+#if defined(QDMETA_NETWORK_AVX512) || defined(QDMETA_NETWORK_AVX2)
+
+// Streamed rows (BaseRows::streamed): each step asks for its features' rows kPrefetchRows ahead.
+// Without it a rebuild's kernel ran 2.3x slower per row on rows from memory than on rows in L2
+// (Zen 5); on cached rows the prefetches only cost, so they are skipped there. A prefetch never
+// faults, so one past the database's end is harmless; the address is formed as an integer
+// because a pointer past the end of its array would be undefined.
+constexpr Index kPrefetchRows = 512;
+
+inline void prefetch_ahead(const Real* base_t, Index base_ld, Index inputs, Index rows) {
+  constexpr Index kRowsPerLine = 64 / static_cast<Index>(sizeof(Real));
+  const auto first = reinterpret_cast<std::uintptr_t>(base_t) + kPrefetchRows * sizeof(Real);
+  for (Index k = 0; k < inputs; ++k)
+    for (Index r = 0; r < rows; r += kRowsPerLine)
+      _mm_prefetch(reinterpret_cast<const char*>(first + static_cast<std::uintptr_t>(k * base_ld + r) * sizeof(Real)),
+                   _MM_HINT_T0);
+}
+
+#endif
 
 #if defined(QDMETA_NETWORK_AVX512)
 
@@ -245,8 +266,9 @@ void layer_scalar(const Real* w, Index units, Index inputs, Real bias, const Rea
 }  // namespace
 
 void run_network_t(const NetworkView& net, const Real* base_t, Index base_ld, Index count, Real* target_t,
-                   Index target_ld) {
+                   Index target_ld, [[maybe_unused]] BaseRows rows) {
   if (count <= 0) return;
+  [[maybe_unused]] const bool streamed = rows == BaseRows::streamed;
 #if defined(QDMETA_NETWORK_AVX512)
   // 32 rows per step (two vectors per unit), a last step of 16 when the padded count is odd.
   constexpr Index kStackHidden = 64;
@@ -259,8 +281,10 @@ void run_network_t(const NetworkView& net, const Real* base_t, Index base_ld, In
   }
   const Index n = padded_rows(count);
   Index r = 0;
-  for (; r + 2 * kKernelRows <= n; r += 2 * kKernelRows)
+  for (; r + 2 * kKernelRows <= n; r += 2 * kKernelRows) {
+    if (streamed) prefetch_ahead(base_t + r, base_ld, net.inputs, 2 * kKernelRows);
     network_step<2>(net, base_t + r, base_ld, hidden, target_t + r, target_ld);
+  }
   for (; r < n; r += kKernelRows) network_step<1>(net, base_t + r, base_ld, hidden, target_t + r, target_ld);
 #elif defined(QDMETA_NETWORK_AVX2)
   // The hidden layer of 16 rows: on the stack for any realistic network.
@@ -273,6 +297,7 @@ void run_network_t(const NetworkView& net, const Real* base_t, Index base_ld, In
     hidden = heap.data();
   }
   for (Index r = 0; r < count; r += kKernelRows) {
+    if (streamed) prefetch_ahead(base_t + r, base_ld, net.inputs, kKernelRows);
     layer16(net.w1, net.hidden, net.inputs, net.b1, base_t + r, base_ld, hidden, kKernelRows);
     layer16(net.w2, net.outputs, net.hidden, net.b2, hidden, kKernelRows, target_t + r, target_ld);
   }

@@ -25,10 +25,17 @@ struct NetworkView {
   Real b2 = 0;
 };
 
+// Where base_t's rows are when the network reads them: `cached` when an earlier pass brought them
+// into the caches (a rebuild's later maps over a chunk), `streamed` when they come from memory (its
+// first map, every map when lambda = 1). Streamed rows are asked for ahead of the kernel: one
+// stream per base feature is more than the hardware prefetcher follows, and the kernel then
+// waited on memory. Only the speed depends on it, never a bit of the result.
+enum class BaseRows { cached, streamed };
+
 // target_t (outputs x target_ld) = the network over base_t (inputs x base_ld), row-major, for
 // columns [0, padded_rows(count)): both leading dimensions must be at least that, the padding
 // columns of base_t are read (keep them finite, e.g. zero) and those of target_t are written.
 void run_network_t(const NetworkView& net, const Real* base_t, Index base_ld, Index count, Real* target_t,
-                   Index target_ld);
+                   Index target_ld, BaseRows rows = BaseRows::cached);
 
 }  // namespace qdmeta

@@ -90,9 +90,9 @@ NeuralFeatureMap::NeuralFeatureMap(NeuralFeatureMapShape shape, std::span<const 
 }
 
 void NeuralFeatureMap::map_transposed(const Real* base_t, Index base_ld, Index count, Real* target_t,
-                                      Index target_ld) const {
+                                      Index target_ld, BaseRows rows) const {
   const NetworkView net{w1_.data(), w2_.data(), shape_.inputs, shape_.hidden, shape_.outputs, b1_, b2_};
-  run_network_t(net, base_t, base_ld, count, target_t, target_ld);
+  run_network_t(net, base_t, base_ld, count, target_t, target_ld, rows);
 }
 
 void NeuralFeatureMap::map(const Real* base, Index count, Real* target) const {

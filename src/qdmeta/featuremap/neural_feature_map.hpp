@@ -20,6 +20,7 @@
 
 #include "qdmeta/core/fused.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
+#include "qdmeta/featuremap/network_kernel.hpp"
 
 namespace qdmeta {
 
@@ -133,8 +134,10 @@ class NeuralFeatureMap final : public FeatureMap {
   // several maps (network_kernel.hpp). base_t: N_b x base_ld row-major (row k holds base
   // feature k of every row); target_t: N_t x target_ld, feature-major too. Both leading
   // dimensions must be at least padded_rows(count); base_t's padding columns are read (keep
-  // them finite, e.g. zero) and target_t's are written. Each row's result equals map()'s.
-  void map_transposed(const Real* base_t, Index base_ld, Index count, Real* target_t, Index target_ld) const;
+  // them finite, e.g. zero) and target_t's are written. Each row's result equals map()'s, for
+  // either `rows` (where base_t's rows are: network_kernel.hpp).
+  void map_transposed(const Real* base_t, Index base_ld, Index count, Real* target_t, Index target_ld,
+                      BaseRows rows = BaseRows::cached) const;
 
  private:
   NeuralFeatureMapShape shape_;

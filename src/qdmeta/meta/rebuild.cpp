@@ -120,9 +120,11 @@ void find_winners(const Database& db, std::span<const NeuralFeatureMap* const> m
       const Index chunk_end = std::min(to, chunk + kRebuildChunkRows);
       for (std::size_t i = 0; i < maps.size(); ++i) {
         const NeuralFeatureMap& map = *maps[i];
+        // The first map brings the chunk from memory; the others find it in the caches.
+        const BaseRows rows = i == 0 ? BaseRows::streamed : BaseRows::cached;
         for (Index first = chunk; first < chunk_end; first += block) {
           const Index n = std::min(block, chunk_end - first);
-          map.map_transposed(seg.base_t + first, seg.base_t_ld, n, targets_t.data(), block);
+          map.map_transposed(seg.base_t + first, seg.base_t_ld, n, targets_t.data(), block, rows);
           archives[i]->cells_of_t(targets_t.data(), block, n, cells.data());
           winners[i].offer(cells.data(), seg.fitness + first, targets_t.data(), block, map.output_size(), n,
                            seg.first_rank + first);
