@@ -20,7 +20,8 @@ Expressions see: study(PATH), a committed report directory under docs/results
 (tools/study_data.py: S.mean(condition, measure), S.se, S.pm, S.median, S.u, S.holm, S.a12,
 S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXPERIMENT FILE,
 [(LABEL, study)]), ...) (tools/claims_summary.py) and verdict(EXPERIMENT FILE, CLAIM TEXT,
-[study, ...]) for one claim's verdict on the last study; table2(study) (the report's Table 2 from
+[study, ...]) for one claim's verdict on the last study; claim_texts(EXPERIMENT FILE[, SOURCE]) the
+texts of its claims; table2(study) (the report's Table 2 from
 data/generalisation.csv); config(PATH) (a committed TOML file, parsed); and Python's builtins
 (min, max, sorted, ...).
 """
@@ -71,10 +72,15 @@ def namespace():
             raise ValueError(f"{experiment_file} has {len(matching)} claims with text '{text}'")
         return claims_summary.verdicts(matching[0], studies)[-1][1]
 
+    def claim_texts(experiment_file, source="paper"):
+        """The texts of an experiment file's claims of `source`, in the file's order."""
+        return [c["text"] for c in claims_summary.claims_of(os.path.join(ROOT, experiment_file), source)]
+
     def config(path):
         with open(os.path.join(ROOT, path), "rb") as f:
             return tomllib.load(f)
-    return {"study": study, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict}
+    return {"study": study, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
+            "claim_texts": claim_texts}
 
 
 def value_text(value, spec):
