@@ -25,9 +25,9 @@ namespace {
 
 #if defined(QDMETA_NETWORK_AVX512) || defined(QDMETA_NETWORK_AVX2)
 
-// Streamed rows (BaseRows::streamed): each step asks for its features' rows kPrefetchRows ahead.
-// Without it a rebuild's kernel ran 2.3x slower per row on rows from memory than on rows in L2
-// (Zen 5); on cached rows the prefetches only cost, so they are skipped there. A prefetch never
+// Streamed rows (BaseRows::streamed): each step asks for its features' rows kPrefetchRows ahead
+// (BM_NetworkOverDatabase: 1.7-2.0x faster over the database on Zen 5, bench/README.md); on
+// cached rows the prefetches only cost, so they are skipped there. A prefetch never
 // faults, so one past the database's end is harmless; the address is formed as an integer
 // because a pointer past the end of its array would be undefined.
 constexpr Index kPrefetchRows = 512;
@@ -266,7 +266,7 @@ void layer_scalar(const Real* w, Index units, Index inputs, Real bias, const Rea
 }  // namespace
 
 void run_network_t(const NetworkView& net, const Real* base_t, Index base_ld, Index count, Real* target_t,
-                   Index target_ld, [[maybe_unused]] BaseRows rows) {
+                   Index target_ld, BaseRows rows) {
   if (count <= 0) return;
   [[maybe_unused]] const bool streamed = rows == BaseRows::streamed;
 #if defined(QDMETA_NETWORK_AVX512)
