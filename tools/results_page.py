@@ -21,7 +21,8 @@ Expressions see: study(PATH), a committed report directory under docs/results
 S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXPERIMENT FILE,
 [(LABEL, study)]), ...) (tools/claims_summary.py) and verdict(EXPERIMENT FILE, CLAIM TEXT,
 [study, ...]) for one claim's verdict on the last study; claim_texts(EXPERIMENT FILE[, SOURCE]) the
-texts of its claims; table2(study) (the report's Table 2 from
+texts of its claims; ratio_stat(NUMERATOR VALUES, [DENOMINATOR VALUES, ...]) a ratio claim's
+(ratio, SE) as tools/claims.py computes it; table2(study) (the report's Table 2 from
 data/generalisation.csv); config(PATH) (a committed TOML file, parsed); and Python's builtins
 (min, max, sorted, ...).
 """
@@ -35,6 +36,7 @@ TOOLS = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(TOOLS)
 RESULTS = os.path.join(ROOT, "docs", "results")
 sys.path.insert(0, TOOLS)
+import claims  # noqa: E402
 import claims_summary  # noqa: E402
 from study_data import Study  # noqa: E402
 
@@ -80,7 +82,7 @@ def namespace():
         with open(os.path.join(ROOT, path), "rb") as f:
             return tomllib.load(f)
     return {"study": study, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
-            "claim_texts": claim_texts}
+            "claim_texts": claim_texts, "ratio_stat": claims.ratio_stat}
 
 
 def value_text(value, spec):
