@@ -10,10 +10,11 @@
 #   paper      experiment.toml            the paper's four conditions at the authors' effective
 #                                         mutation SD 0.0025, with QD-Meta Translation's
 #                                         frozen-CMA-ES control; 20 replicates (the headline study)
-#   lambda     experiment-lambda.toml     meta-population size lambda in {1, 2, 5, 10, 20} (Fig S1)
-#                                         at SD 0.0025; 20 replicates
+#   lambda     experiment-lambda.toml     meta-population size lambda in {1, 2, 3, 5, 10, 20}
+#                                         (Fig S1) at SD 0.0025; 20 replicates
+#   lambda-stated-sd  experiment-lambda-stated-sd.toml  the same at the stated SD 0.05
 #   stated-sd  experiment-stated-sd.toml  the paper's four conditions at its stated SD 0.05;
-#                                         10 replicates
+#                                         20 replicates
 #
 # Each run of the range (default: every replicate of the study) writes its summary (kilobytes:
 # the numbers and curves the report needs, tools/runs.py) the moment it finishes, with its test
@@ -63,8 +64,9 @@ done
 case $study in
   paper) config=${config:-configs/rastrigin/experiment.toml} ;;
   lambda) config=${config:-configs/rastrigin/experiment-lambda.toml} ;;
+  lambda-stated-sd) config=${config:-configs/rastrigin/experiment-lambda-stated-sd.toml} ;;
   stated-sd) config=${config:-configs/rastrigin/experiment-stated-sd.toml} ;;
-  *) echo "rastrigin-study: --study must be paper, lambda or stated-sd" >&2; usage ;;
+  *) echo "rastrigin-study: --study must be paper, lambda, lambda-stated-sd or stated-sd" >&2; usage ;;
 esac
 [[ -f $config ]] || fail "$config: no such experiment file"
 [[ $evals =~ ^[1-9][0-9]*$ ]] || fail "--evals must be a positive integer"
