@@ -47,10 +47,20 @@ CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams 
       seed_(seed),
       search_(resolve_cvt_search(params_.search, task_.base_feature_size())) {
   params_.validate();
+  const RowMatrix* given = params_.centroids.get();
+  if (given && (given->rows() != params_.kmeans.centroids || given->cols() != task_.base_feature_size()))
+    throw InputError(fmt::format("cvt-map-elites: the given centroids are {} x {}, expected cvt.centroids x base "
+                                 "features = {} x {}",
+                                 given->rows(), given->cols(), params_.kmeans.centroids, task_.base_feature_size()));
 }
 
 void CvtMapElites::prepare(Evaluator& evaluator) {
   if (archive_) return;
+  const Index lists = search_ == CvtSearch::kParentBound ? params_.neighbours : 0;
+  if (params_.centroids) {
+    archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, RowMatrix(*params_.centroids));
+    return;
+  }
   CachedCentroids made;
   // k-means on a cache miss can take minutes (about 140 CPU-seconds with the paper's settings).
   const auto announce = [](const std::string& line) {
@@ -81,7 +91,6 @@ void CvtMapElites::prepare(Evaluator& evaluator) {
   }
   if (!made.warning.empty()) notice(NoticeKind::kWarning, made.warning);
   cache_outcome_ = made.outcome;
-  const Index lists = search_ == CvtSearch::kParentBound ? params_.neighbours : 0;
   archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
 }
 

@@ -5,6 +5,7 @@
 // its base features, its cell the nearest centroid. The centroids are made (or read from the
 // cache) by the first step, on the evaluator's workers.
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "qdmeta/algorithms/algorithm.hpp"
@@ -47,6 +48,9 @@ struct CvtMapElitesParams {
   // random-descriptors: names the task settings that determine its descriptors, in the cache key
   // (the config reader uses a hash of the resolved [task] table); empty: the task's name only.
   std::string task_key;
+  // Centroids given instead of made by k-means (cvt.centroids_file; e.g. the authors' file): then
+  // kmeans.centroids x base-features in [0, 1], and neither k-means nor its cache runs.
+  std::shared_ptr<const RowMatrix> centroids;
   void validate() const;
 };
 

@@ -56,6 +56,7 @@ CmaEsParams make_cma(const QdMetaParams& p, Index dimension) {
   c.upper_bound = 1.0;
   c.bounds = p.cma_bounds;
   c.frozen = p.frozen;
+  c.small_population = p.cma_small_population;
   return c;
 }
 
@@ -239,7 +240,11 @@ void QdMeta::begin_meta_generation() {
 
   // One number of generations for the whole meta-population.
   Rng control_rng = Rng::stream(seed_, {key(StreamKey::kControl), t});
-  const int generations = controller_->choose_generations(samples, control_rng);
+  // The controller sees the evaluated meta-population only (the authors' realisation of
+  // lambda = 1 samples more candidates than it evaluates).
+  const int generations = samples.cols() == lambda
+                              ? controller_->choose_generations(samples, control_rng)
+                              : controller_->choose_generations(Eigen::MatrixXd(samples.leftCols(lambda)), control_rng);
   if (generations < 1) throw Error(fmt::format("controller '{}' chose {} generations", controller_->name(), generations));
   generations_ = generations;
   next_generation_ = 0;

@@ -43,6 +43,8 @@ struct QdMetaParams {
   double cma_sigma = 2.0 / 3.0;        // CMA-ES initial step size
   CmaBoundsHandling cma_bounds = CmaBoundsHandling::kClamp;
   bool frozen = false;                 // ablation: sample from the initial distribution forever
+  // meta_population = 1: a (1,1)-ES, or the authors' library's realisation (docs/fidelity.md)
+  CmaSmallPopulation cma_small_population = CmaSmallPopulation::kOneOne;
   bool count_meta_evaluations = false; // does the controller's "evaluations spent" include them
   void validate() const;
 };

@@ -15,6 +15,7 @@
 #include "qdmeta/experiment/memory_estimate.hpp"
 #include "qdmeta/experiment/run_parts.hpp"
 #include "qdmeta/experiment/standard_tables.hpp"
+#include "qdmeta/io/centroid_text.hpp"
 #include "qdmeta/plugin/config.hpp"
 
 namespace qdmeta {
@@ -23,6 +24,16 @@ namespace {
 constexpr EnumNames<CmaBoundsHandling, 3> kCmaBoundsNames{{{CmaBoundsHandling::kNone, "none"},
                                                           {CmaBoundsHandling::kClamp, "clamp"},
                                                           {CmaBoundsHandling::kResample, "resample"}}};
+
+// cvt.centroids_file's centroids, read when a run is built (never for BuildScope::kTasksOnly).
+std::shared_ptr<const RowMatrix> read_given_centroids(const std::string& file, const std::string& source,
+                                                      const CvtMapElitesParams& p, const Task& task) {
+  try {
+    return std::make_shared<const RowMatrix>(read_centroid_text(file, p.kmeans.centroids, task.base_feature_size()));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: cvt.centroids_file = \"{}\": {}", source, file, e.what()));
+  }
+}
 
 // MAP-Elites over a grid (the paper's, called directly) or an archive of a registered kind.
 AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
@@ -63,9 +74,13 @@ AlgorithmMaker build_cvt_map_elites(AlgorithmBuild& b) {
   // The descriptors' centroids depend on every task setting (episode length, features ...).
   if (const auto* task_resolved = b.built.resolved["task"].as_table())
     p.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
+  // Read only where written, so that the resolved config (and the checkpoint fingerprint) of
+  // every run made before this key existed stays what it was.
+  const std::string centroids_file = cvt.has("centroids_file") ? cvt.string("centroids_file", "") : "";
   add_cvt_map_elites_memory(b.built.memory, p, b.task);
-  return [p = std::move(p), task = std::move(b.task), mutation = b.mutation,
-          seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
+  return [p = std::move(p), task = std::move(b.task), mutation = b.mutation, seed = b.settings.seed, centroids_file,
+          source = cvt.source()]() mutable -> std::unique_ptr<Algorithm> {
+    if (!centroids_file.empty()) p.centroids = read_given_centroids(centroids_file, source, p, task);
     return std::make_unique<CvtMapElites>(std::move(p), std::move(task), mutation, seed);
   };
 }
@@ -83,6 +98,10 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   p.cma_sigma = cma.number("sigma", p.cma_sigma, 0.0, kNoUpper, Open::kLower);
   p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
   p.frozen = cma.boolean("frozen", p.frozen);
+  // Read only where written, so that the resolved config (and the checkpoint fingerprint) of
+  // every run made before this key existed stays what it was.
+  if (cma.has("small_population"))
+    p.cma_small_population = cma.choice("small_population", p.cma_small_population, kCmaSmallPopulationNames);
   p.count_meta_evaluations = b.settings.counts == BudgetCount::kAll;
   ConfigReader control = b.root.table("control");
   auto controller = read_control_table(control);

@@ -63,16 +63,24 @@ bool same(const A& a, const B& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() && (a.array() == b.array()).all();
 }
 
-CmaEsStrategy make_strategy(int n, int lambda) {
+bool authors_realisation(const CmaEsParams& p) {
+  return p.population_size < 2 && p.small_population == CmaSmallPopulation::kAuthors;
+}
+
+CmaEsStrategy make_strategy(const CmaEsParams& p) {
+  const int n = p.dimension;
+  const int lambda = CmaEs::sampled_population(p);
   CmaEsStrategy s;
   s.n = n;
   s.lambda = lambda;
+  s.evaluated = p.population_size;
+  s.library_ranking = authors_realisation(p);
   s.mu = std::max(1, lambda / 2);
   const double dn = n;
   s.weights.resize(s.mu);
-  for (int i = 0; i < s.mu; ++i) {
-    s.weights(i) = std::log((lambda + 1.0) / 2.0) - std::log(i + 1.0);
-  }
+  // c-cmaes's default weights, ln(mu + 1) - ln i, where its realisation of lambda = 1 is asked for.
+  const double top = s.library_ranking ? std::log(s.mu + 1.0) : std::log((lambda + 1.0) / 2.0);
+  for (int i = 0; i < s.mu; ++i) s.weights(i) = top - std::log(i + 1.0);
   // lambda = 1 (the paper's smallest meta-population): the one parent takes all the weight
   // (the formula gives 0 / 0 there).
   if (s.mu == 1) s.weights(0) = 1.0;
@@ -103,6 +111,14 @@ CmaBoundsHandling cma_bounds_handling_from_string(std::string_view text) {
   return enum_from_string(kCmaBoundsHandlingNames, "CMA-ES bounds handling", text);
 }
 
+std::string to_string(CmaSmallPopulation value) {
+  return std::string(enum_to_string(kCmaSmallPopulationNames, value));
+}
+
+CmaSmallPopulation cma_small_population_from_string(std::string_view text) {
+  return enum_from_string(kCmaSmallPopulationNames, "CMA-ES small population", text);
+}
+
 std::string to_string(CmaObjective value) { return std::string(enum_to_string(kCmaObjectiveNames, value)); }
 
 CmaObjective cma_objective_from_string(std::string_view text) {
@@ -127,6 +143,9 @@ void CmaEsParams::validate() const {
     invalid_param("bounds", static_cast<int>(bounds), "must be one of none, clamp, resample");
   }
   require_at_least("CmaEsParams.max_resample_attempts", max_resample_attempts, 1);
+  if (enum_to_string(kCmaSmallPopulationNames, small_population) == "?") {
+    invalid_param("small_population", static_cast<int>(small_population), "must be one of one-one, authors");
+  }
   if (bounds == CmaBoundsHandling::kNone) return;
   if (!std::isfinite(lower_bound)) invalid_param("lower_bound", lower_bound, "must be finite");
   if (!std::isfinite(upper_bound) || upper_bound <= lower_bound) {
@@ -166,18 +185,24 @@ CmaEsState CmaEs::initial_state(const CmaEsParams& params) {
   s.D = Eigen::VectorXd::Ones(n);
   s.p_sigma = Eigen::VectorXd::Zero(n);
   s.p_c = Eigen::VectorXd::Zero(n);
-  s.samples = Eigen::MatrixXd::Zero(n, params.population_size);
+  s.samples = Eigen::MatrixXd::Zero(n, sampled_population(params));
   return s;
+}
+
+int CmaEs::sampled_population(const CmaEsParams& params) {
+  if (!authors_realisation(params)) return params.population_size;
+  // c-cmaes's default population (its readpara_SupplementDefaults), with the same int cast.
+  return 4 + static_cast<int>(3.0 * std::log(static_cast<double>(params.dimension)));
 }
 
 CmaEs::CmaEs(CmaEsParams params) : params_(std::move(params)) {
   params_.validate();
-  strategy_ = make_strategy(params_.dimension, params_.population_size);
+  strategy_ = make_strategy(params_);
   state_ = initial_state(params_);
   initial_ = state_;
-  z_.resize(params_.dimension, params_.population_size);
+  z_.resize(params_.dimension, strategy_.lambda);
   y_.resize(params_.dimension, strategy_.mu);
-  order_.resize(static_cast<std::size_t>(params_.population_size));
+  order_.resize(static_cast<std::size_t>(strategy_.lambda));
 }
 
 // Draws the normals column by column (the order every source sees), scales them by D, and maps
@@ -187,10 +212,12 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
   if (state_.awaiting_tell) {
     throw InputError(fmt::format("CmaEs::ask: called twice without tell; tell the fitness of the {} pending "
                                  "candidates first",
-                                 params_.population_size));
+                                 strategy_.evaluated));
   }
   const int n = params_.dimension;
-  const int lambda = params_.population_size;
+  const int lambda = strategy_.lambda;
+  // Bounds apply to the candidates that are evaluated: the authors' EA clamped only those.
+  const int bounded = strategy_.evaluated;
   const CmaEsState& dist = params_.frozen ? initial_ : state_;
   state_.samples.resize(n, lambda);
   const auto sample_columns = [&](int first, int count) {
@@ -212,14 +239,17 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
     };
     for (int k = 0; k < lambda; ++k) {
       sample_columns(k, 1);
-      for (int attempt = 1; attempt < params_.max_resample_attempts && !inside(k); ++attempt) sample_columns(k, 1);
+      for (int attempt = 1; attempt < params_.max_resample_attempts && k < bounded && !inside(k); ++attempt) {
+        sample_columns(k, 1);
+      }
     }
   } else {
     sample_columns(0, lambda);
   }
   if (params_.bounds != CmaBoundsHandling::kNone) {
     double* x = state_.samples.data();
-    for (Eigen::Index i = 0; i < state_.samples.size(); ++i) x[i] = std::min(std::max(x[i], lo), hi);
+    const Eigen::Index count = Eigen::Index{n} * bounded;
+    for (Eigen::Index i = 0; i < count; ++i) x[i] = std::min(std::max(x[i], lo), hi);
   }
   state_.awaiting_tell = true;
   return state_.samples;
@@ -239,12 +269,13 @@ const Eigen::MatrixXd& CmaEs::ask(const std::function<double()>& standard_normal
 }
 
 void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
-  const int lambda = params_.population_size;
+  const int lambda = strategy_.lambda;
   if (!state_.awaiting_tell) {
     throw InputError("CmaEs::tell: called without a pending ask; call ask() first");
   }
-  if (fitness.size() != lambda) {
-    throw InputError(fmt::format("CmaEs::tell: expected {} fitness values, got {}", lambda, fitness.size()));
+  if (fitness.size() != strategy_.evaluated) {
+    throw InputError(
+        fmt::format("CmaEs::tell: expected {} fitness values, got {}", strategy_.evaluated, fitness.size()));
   }
   for (Eigen::Index i = 0; i < fitness.size(); ++i) {
     if (std::isnan(fitness(i))) {
@@ -262,15 +293,7 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
 
   const CmaEsStrategy& s = strategy_;
   CmaEsState& st = state_;
-  // Rank the candidates, best first; stable so that ties keep ask() order.
-  std::iota(order_.begin(), order_.end(), 0);
-  if (objective == CmaObjective::kMinimise) {
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](int a, int b) { return fitness(a) < fitness(b); });
-  } else {
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](int a, int b) { return fitness(a) > fitness(b); });
-  }
+  rank(fitness, objective);
   const int n = s.n;
   // Steps of the mu best, recomputed from the returned (possibly clamped) points.
   for (int k = 0; k < s.mu; ++k) {
@@ -323,6 +346,32 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
   if (static_cast<double>(st.evaluations - st.eigen_evaluations) > s.eigen_interval) decompose();
 }
 
+void CmaEs::rank(const Eigen::VectorXd& fitness, CmaObjective objective) {
+  if (!strategy_.library_ranking) {
+    // Best first; stable so that ties keep ask() order.
+    std::iota(order_.begin(), order_.end(), 0);
+    if (objective == CmaObjective::kMinimise) {
+      std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return fitness(a) < fitness(b); });
+    } else {
+      std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return fitness(a) > fitness(b); });
+    }
+    return;
+  }
+  // The authors' realisation: the library minimised the negated meta-fitness of the evaluated
+  // candidates, and the unevaluated ones kept its initial value 0. Its index sort inserts each
+  // candidate before every earlier one that is not strictly smaller, so equal values end up
+  // latest first (the 19 unevaluated candidates of K = 222 rank 19, 18, ..., 1).
+  std::vector<double> value(order_.size(), 0.0);
+  for (Eigen::Index i = 0; i < fitness.size(); ++i) {
+    value[static_cast<std::size_t>(i)] = objective == CmaObjective::kMinimise ? fitness(i) : -fitness(i);
+  }
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    std::size_t j = i;
+    for (; j > 0 && !(value[static_cast<std::size_t>(order_[j - 1])] < value[i]); --j) order_[j] = order_[j - 1];
+    order_[j] = static_cast<int>(i);
+  }
+}
+
 void CmaEs::decompose() {
   SymmetricEigen eigen;
   try {
@@ -343,7 +392,7 @@ void CmaEs::decompose() {
 
 void CmaEs::set_state(const CmaEsState& state) {
   const Eigen::Index n = params_.dimension;
-  const Eigen::Index lambda = params_.population_size;
+  const Eigen::Index lambda = strategy_.lambda;
   const auto check_vector = [&](const char* name, const Eigen::VectorXd& v) {
     if (v.size() != n) {
       invalid_state(fmt::format("{} has size {}, expected dimension {}", name, v.size(), n));

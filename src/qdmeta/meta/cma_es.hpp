@@ -39,6 +39,22 @@ std::string to_string(CmaBoundsHandling value);
 // Accepts "none", "clamp", "resample"; anything else throws InputError listing those.
 CmaBoundsHandling cma_bounds_handling_from_string(std::string_view text);
 
+// How a population_size below 2 is run.
+enum class CmaSmallPopulation {
+  kOneOne,   // a (1,1)-ES: the one candidate takes weight 1
+  // As the authors' C CMA-ES (Hansen's c-cmaes) ran it: the library replaced lambda < 2 by its
+  // default 4 + floor(3 ln n) and recombined mu = lambda / 2 samples with weights
+  // ln(mu + 1) - ln i, while their EA evaluated (and clamped) only the first population_size
+  // samples; the rest kept the library's initial fitness 0 (in minimisation terms). ask() then
+  // returns all the samples and tell() takes the population_size evaluated fitness values.
+  kAuthors,
+};
+inline constexpr EnumNames<CmaSmallPopulation, 2> kCmaSmallPopulationNames{
+    {{CmaSmallPopulation::kOneOne, "one-one"}, {CmaSmallPopulation::kAuthors, "authors"}}};
+std::string to_string(CmaSmallPopulation value);
+// Accepts "one-one", "authors"; anything else throws InputError listing those.
+CmaSmallPopulation cma_small_population_from_string(std::string_view text);
+
 // Whether tell() receives values to minimise or to maximise (QD-Meta maximises meta-fitness).
 enum class CmaObjective { kMinimise, kMaximise };
 inline constexpr EnumNames<CmaObjective, 2> kCmaObjectiveNames{
@@ -58,6 +74,7 @@ struct CmaEsParams {
   CmaBoundsHandling bounds = CmaBoundsHandling::kClamp;  // what to do outside the bounds
   int max_resample_attempts = 100;   // kResample: draws per candidate before clamping (>= 1)
   bool frozen = false;  // ablation control: always sample the initial distribution, never update
+  CmaSmallPopulation small_population = CmaSmallPopulation::kOneOne;  // population_size 1 only
 
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
@@ -66,9 +83,11 @@ struct CmaEsParams {
 // Constants derived from (n, lambda) once, as in the tutorial's Table 1 (positive weights).
 struct CmaEsStrategy {
   int n = 0;                  // dimension
-  int lambda = 0;             // population size
+  int lambda = 0;             // samples per ask (population_size unless the authors' realisation)
+  int evaluated = 0;          // fitness values per tell (population_size)
+  bool library_ranking = false;  // the authors' realisation: c-cmaes's ranking, unevaluated = 0
   int mu = 0;                 // parents, floor(lambda / 2)
-  Eigen::VectorXd weights;    // w_i proportional to ln((lambda + 1) / 2) - ln i, sum 1
+  Eigen::VectorXd weights;    // w_i proportional to ln((lambda + 1) / 2) - ln i (c-cmaes: ln(mu + 1) - ln i), sum 1
   double mu_eff = 0.0;        // 1 / sum w_i^2
   double c_sigma = 0.0;       // step-size path learning rate
   double d_sigma = 0.0;       // step-size damping
@@ -102,7 +121,7 @@ class CmaEs {
  public:
   explicit CmaEs(CmaEsParams params);
 
-  // Samples lambda candidates (columns of an n x lambda matrix) from N(m, sigma^2 C), with
+  // Samples lambda candidates (columns of an n x lambda matrix; lambda = strategy().lambda) from N(m, sigma^2 C), with
   // bounds handling applied, drawing the n x lambda standard normals from rng.normal() in one
   // pass (column by column; with kResample one column at a time, as each may be redrawn). The
   // reference stays valid until the next ask() or set_state().
@@ -120,7 +139,8 @@ class CmaEs {
     return ask(std::function<double()>([&urbg, &normal] { return normal(urbg); }));
   }
 
-  // Updates the distribution from the fitness of the pending candidates, in ask() order.
+  // Updates the distribution from the fitness of the pending candidates, in ask() order: the
+  // first strategy().evaluated of them (all but in the authors' realisation of lambda = 1).
   void tell(const Eigen::VectorXd& fitness, CmaObjective objective);
 
   const CmaEsParams& params() const { return params_; }
@@ -136,12 +156,17 @@ class CmaEs {
 
   // The state of a freshly constructed optimiser for these params.
   static CmaEsState initial_state(const CmaEsParams& params);
+  // Candidates per ask() for these params: population_size, or c-cmaes's default
+  // 4 + floor(3 ln n) where the authors' realisation replaces a population_size below 2.
+  static int sampled_population(const CmaEsParams& params);
 
  private:
   // fill_normals(double* out, Eigen::Index count) writes `count` independent N(0, 1) draws.
   template <class FillNormals>
   const Eigen::MatrixXd& ask_with(FillNormals&& fill_normals);
   void decompose();
+  // Fills order_ with the candidates best first.
+  void rank(const Eigen::VectorXd& fitness, CmaObjective objective);
 
   CmaEsParams params_;
   CmaEsStrategy strategy_;
