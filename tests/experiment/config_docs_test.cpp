@@ -38,7 +38,7 @@ std::vector<std::string> every_kind_of_config() {
       configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\npoints = \"" + points + "\"\ncache = false\n");
     // Keys read only where written (so older runs' resolved configs stay as they were).
     configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\ncache = false\ncentroids_file = \"unread.dat\"\n");
-    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[cma_es]\nsmall_population = \"authors\"\n");
+    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\ndatabase_inputs = \"authors-2g-1\"\n[cma_es]\nsmall_population = \"authors\"\n");
     configs.push_back("algorithm = \"aurora\"\n" + head);
     const std::vector<std::string> metas =
         task == "rastrigin" ? std::vector<std::string>{"translation", "dimension"} : std::vector<std::string>{"damage", "obstacle"};

@@ -179,7 +179,7 @@ void QdMeta::next_request(std::vector<EvaluationJob>& jobs) {
 
 bool QdMeta::take_results() {
   if (phase_ == Phase::kSeeding) {
-    database_.insert_valid(seed_genotypes_, seed_evaluations_);
+    store(seed_genotypes_, seed_evaluations_);
     return false;  // the meta-generation follows in the same step
   }
   const auto lambda = params_.meta_population;
@@ -321,13 +321,25 @@ void QdMeta::score_meta_fitness() {
   });
 }
 
+void QdMeta::store(const RowMatrix& genotypes, const EvaluationBatch& evaluations) {
+  if (params_.database_inputs == DatabaseInputs::kBaseFeatures) {
+    database_.insert_valid(genotypes, evaluations);
+    return;
+  }
+  // The authors' set_b(): -1 + 2 b in single precision, for the database only.
+  EvaluationBatch shifted = evaluations;
+  Real* b = shifted.base_features.data();
+  for (Index i = 0; i < shifted.base_features.size(); ++i) b[i] = Real{-1} + Real{2} * b[i];
+  database_.insert_valid(genotypes, shifted);
+}
+
 void QdMeta::finish_meta_generation() {
   const auto lambda = params_.meta_population;
   std::int64_t bottom_spent = 0, meta_spent = 0;  // this meta-generation's evaluations
   // The database takes every new solution in a fixed order (map by map, oldest first).
   for (Index i = 0; i < lambda; ++i) {
     const auto m = static_cast<std::size_t>(i);
-    database_.insert_valid(offspring_[m], evaluations_[m]);
+    store(offspring_[m], evaluations_[m]);
     bottom_spent += offspring_[m].rows();
     meta_spent += meta_results_[m].evaluations;
     meta_fitness_[m] = meta_results_[m].value;

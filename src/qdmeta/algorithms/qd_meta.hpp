@@ -33,6 +33,13 @@
 
 namespace qdmeta {
 
+// What the database stores as a solution's base features: b itself, or (the authors' Rastrigin
+// code, docs/fidelity.md) 2b - 1, so that rebuilt maps read inputs in [-1,1] while fresh
+// offspring are still mapped from b in [0,1].
+enum class DatabaseInputs { kBaseFeatures, kAuthors2gMinus1 };
+inline constexpr EnumNames<DatabaseInputs, 2> kDatabaseInputsNames{
+    {{DatabaseInputs::kBaseFeatures, "base-features"}, {DatabaseInputs::kAuthors2gMinus1, "authors-2g-1"}}};
+
 struct QdMetaParams {
   Index meta_population = 10;          // lambda, feature-maps per meta-generation (1 is a (1,1)-ES)
   Index batch_size = 400;              // offspring per MAP-Elites generation
@@ -45,6 +52,7 @@ struct QdMetaParams {
   bool frozen = false;                 // ablation: sample from the initial distribution forever
   // meta_population = 1: a (1,1)-ES, or the authors' library's realisation (docs/fidelity.md)
   CmaSmallPopulation cma_small_population = CmaSmallPopulation::kOneOne;
+  DatabaseInputs database_inputs = DatabaseInputs::kBaseFeatures;
   bool count_meta_evaluations = false; // does the controller's "evaluations spent" include them
   void validate() const;
 };
@@ -100,6 +108,8 @@ class QdMeta final : public Algorithm {
   bool meta_objective_simulates() const;
   void score_meta_fitness();
   void finish_meta_generation();
+  // Inserts the valid rows into the database, their base features as params_.database_inputs says.
+  void store(const RowMatrix& genotypes, const EvaluationBatch& evaluations);
 
   QdMetaParams params_;
   Task task_;

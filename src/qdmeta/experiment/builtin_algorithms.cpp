@@ -94,12 +94,14 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
   p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
   p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 0.0, kNoUpper, Open::kLower);
+  // Read only where written (as cma_es.small_population below).
+  if (q.has("database_inputs")) p.database_inputs = q.choice("database_inputs", p.database_inputs, kDatabaseInputsNames);
   ConfigReader cma = b.root.table("cma_es");
   p.cma_sigma = cma.number("sigma", p.cma_sigma, 0.0, kNoUpper, Open::kLower);
   p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
   p.frozen = cma.boolean("frozen", p.frozen);
   // Read only where written, so that the resolved config (and the checkpoint fingerprint) of
-  // every run made before this key existed stays what it was.
+  // every run made before these keys existed stays what it was.
   if (cma.has("small_population"))
     p.cma_small_population = cma.choice("small_population", p.cma_small_population, kCmaSmallPopulationNames);
   p.count_meta_evaluations = b.settings.counts == BudgetCount::kAll;
