@@ -5,6 +5,7 @@
 #
 #   scripts/rastrigin-study.sh --study NAME [--replicates A-B] [--conditions A,B] [--evals N]
 #                              [--jobs J] [--work DIR] [--results DIR] [--report-only] [--config FILE]
+#                              [--centroids FILE]
 #
 # Studies (experiment files in configs/rastrigin/):
 #   paper      experiment.toml            the paper's four conditions at the authors' effective
@@ -15,6 +16,16 @@
 #   lambda-stated-sd  experiment-lambda-stated-sd.toml  the same at the stated SD 0.05
 #   stated-sd  experiment-stated-sd.toml  the paper's four conditions at its stated SD 0.05;
 #                                         20 replicates
+#   authors    experiment-authors.toml    the authors' variants (docs/fidelity.md): lambda = 1 as
+#                                         their CMA-ES ran it (SD 0.0025 and 0.05), CVT-MAP-Elites
+#                                         on their centroid file, QD-Meta with their 2g - 1 database
+#                                         inputs; 20 replicates
+#
+# --centroids FILE (or QDMETA_AUTHORS_CENTROIDS=FILE), study authors: the authors' centroid file
+# centroids_10000_20.dat, which the repository does not hold (docs/fidelity.md says where to get
+# it). It is copied to results/authors-centroids/centroids_10000_20.dat, where the experiment file
+# reads it; once there, later calls need not name it again. A file whose SHA-256 is not the
+# authors' is used with a warning (qdmeta itself refuses one of the wrong shape).
 #
 # Each run of the range (default: every replicate of the study) writes its summary (kilobytes:
 # the numbers and curves the report needs, tools/runs.py) the moment it finishes, with its test
@@ -42,11 +53,12 @@ set -euo pipefail
 caller=$PWD
 cd "$(dirname "$0")/.."
 BIN=${QDMETA:-build/qdmeta}
-usage() { sed -n '6,7p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '6,8p' "$0" | sed 's/^# *//' >&2; exit 2; }
 fail() { echo "rastrigin-study: $*" >&2; exit 2; }
 from_caller() { [[ -z $1 || $1 == /* ]] && echo "$1" || echo "$caller/$1"; }
 
 study='' replicates='' conditions='' evals=100000000 jobs=2 work='' results='' report_only=0 config=
+centroids=${QDMETA_AUTHORS_CENTROIDS:+$(from_caller "$QDMETA_AUTHORS_CENTROIDS")}
 while (( $# )); do
   case $1 in
     --study) study=${2:-}; shift 2 || usage ;;
@@ -58,6 +70,7 @@ while (( $# )); do
     --results) results=$(from_caller "${2:-}"); shift 2 || usage ;;
     --report-only) report_only=1; shift ;;
     --config) config=$(from_caller "${2:-}"); shift 2 || usage ;;
+    --centroids) centroids=$(from_caller "${2:-}"); shift 2 || usage ;;
     *) usage ;;
   esac
 done
@@ -66,7 +79,8 @@ case $study in
   lambda) config=${config:-configs/rastrigin/experiment-lambda.toml} ;;
   lambda-stated-sd) config=${config:-configs/rastrigin/experiment-lambda-stated-sd.toml} ;;
   stated-sd) config=${config:-configs/rastrigin/experiment-stated-sd.toml} ;;
-  *) echo "rastrigin-study: --study must be paper, lambda, lambda-stated-sd or stated-sd" >&2; usage ;;
+  authors) config=${config:-configs/rastrigin/experiment-authors.toml} ;;
+  *) echo "rastrigin-study: --study must be paper, lambda, lambda-stated-sd, stated-sd or authors" >&2; usage ;;
 esac
 [[ -f $config ]] || fail "$config: no such experiment file"
 [[ $evals =~ ^[1-9][0-9]*$ ]] || fail "--evals must be a positive integer"
@@ -88,6 +102,22 @@ replicates=${replicates:-1-$total}
 [[ $replicates =~ ^([1-9][0-9]*)(-([1-9][0-9]*))?$ ]] || fail "--replicates must be A-B or A (1 <= A <= B <= $total)"
 first=${BASH_REMATCH[1]} last=${BASH_REMATCH[3]:-${BASH_REMATCH[1]}}
 (( first <= last && last <= total )) || fail "--replicates $replicates is not within the study's 1-$total"
+
+# The authors' centroid file where experiment-authors.toml reads it (from the repository root).
+authors_centroids=results/authors-centroids/centroids_10000_20.dat
+authors_sha256=a1c0c9db8b34418d33d84cb0118345a4841e4b2fa4e57317fc7732e806c17889
+if [[ $study == authors ]] && (( ! report_only )); then
+  if [[ -n $centroids ]]; then
+    [[ -f $centroids ]] || fail "--centroids $centroids: no such file"
+    mkdir -p "$(dirname "$authors_centroids")"
+    cmp -s "$centroids" "$authors_centroids" 2>/dev/null || cp "$centroids" "$authors_centroids"
+  fi
+  [[ -f $authors_centroids ]] || fail "--study authors needs the authors' centroid file centroids_10000_20.dat:" \
+    "give --centroids FILE or QDMETA_AUTHORS_CENTROIDS=FILE (docs/fidelity.md, CVT-MAP-Elites, says where to get it)"
+  sum=$(sha256sum "$authors_centroids" | cut -d' ' -f1)
+  [[ $sum == "$authors_sha256" ]] \
+    || echo "rastrigin-study: warning: $authors_centroids is not the authors' file (SHA-256 $sum)" >&2
+fi
 
 if (( ! report_only )); then
   mkdir -p "$work"
