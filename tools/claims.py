@@ -25,7 +25,9 @@ and the comparative kinds:
   order    `groups` from best to worst: every condition of a group above every condition of the
            next, on every measure, each pair by mean and by a two-sided Mann-Whitney U test
            (p Holm-adjusted over all the claim's pairs) below ALPHA
-  top      `top` has the strictly highest mean among `conditions` on every measure
+  top      `top` has the strictly highest mean among `conditions` on every measure, and beats the
+           runner-up (the best of the other conditions) on each by the same test, p Holm-adjusted
+           over the claim's measures below ALPHA: a lead in means alone can be chance
 
 The verdict is about the budget the runs were checked at, one rule both ways: "reproduced" when
 the test holds, "not reproduced" when it fails. One exception, for a magnitude claim whose
@@ -42,8 +44,8 @@ verdict is "not testable at this budget" when every such mean
 
 more evaluations may then still bring it there. A mean that moved away, did not move by that
 much, moves too slowly or has no earlier value makes the claim "not reproduced". A claim that
-names a condition with no finished replicate is "not testable in this experiment"; an "order"
-claim whose replicates are too few for any p below ALPHA is "not testable with these
+names a condition with no finished replicate is "not testable in this experiment"; an "order" or
+"top" claim whose replicates are too few for any p below ALPHA is "not testable with these
 replicates".
 """
 import math
@@ -331,24 +333,35 @@ def check(claim, samples, budget, earlier=None):
         note, verdict = judge_magnitude(claim, failing, budget, earlier)
         return measured + (f" ({note.strip()})" if note else ""), verdict
 
-    if kind == "top":  # strictly highest: a tie is not a top rank
-        def strictly_top(m):
-            mean = float(np.mean(data[claim["top"], m]))
-            return all(mean > float(np.mean(data[c, m])) for c in names if c != claim["top"])
-        winners = [max(names, key=lambda c: float(np.mean(data[c, m]))) for m in measures]
-        measured += " (highest: " + ", ".join(winners) + ")"
-        return measured, REPRODUCED if all(strictly_top(m) for m in measures) else NOT_REPRODUCED
+    def mean(c, m):
+        return float(np.mean(data[c, m]))
+
+    def tested(pairs):
+        """Each (a, b, m) pair's Holm-adjusted p over all the pairs (a above b), the largest, and
+        the verdict: reproduced when every a is above its b by mean with every adjusted p below
+        ALPHA; too few replicates when no p could be."""
+        adjusted = significance.holm([significance.mann_whitney_u(data[a, m], data[b, m])[1] for a, b, m in pairs])
+        ordered = all(mean(a, m) > mean(b, m) for a, b, m in pairs)
+        if ordered and max(adjusted) < ALPHA:
+            return adjusted, REPRODUCED
+        if ordered and max(smallest_p(len(data[a, m]), len(data[b, m])) for a, b, m in pairs) >= ALPHA:
+            return adjusted, TOO_FEW
+        return adjusted, NOT_REPRODUCED
+
+    if kind == "top":  # strictly highest (a tie is not a top rank), and significantly above the runner-up
+        winners = [max(names, key=lambda c: mean(c, m)) for m in measures]
+        others = [c for c in names if c != claim["top"]]
+        if not others:
+            return measured + " (highest: " + ", ".join(winners) + ")", REPRODUCED
+        pairs = [(claim["top"], max(others, key=lambda c: mean(c, m)), m) for m in measures]
+        adjusted, verdict = tested(pairs)
+        against = ", ".join(f"{prefix(m)}{b} {p:.3g}" for (_, b, m), p in zip(pairs, adjusted))
+        measured += " (highest: " + ", ".join(winners) + f"; Holm-adjusted p against the best other condition: {against})"
+        return measured, verdict
 
     # order: every adjacent pair of groups, every member pair, every measure.
     groups = claim["groups"]
     pairs = [(a, b, m) for m in measures for upper, lower in zip(groups, groups[1:]) for a in upper for b in lower]
-    tests = [significance.mann_whitney_u(data[a, m], data[b, m]) for a, b, m in pairs]
-    adjusted = significance.holm([p for _, p in tests])
-    ordered = [float(np.mean(data[a, m])) > float(np.mean(data[b, m])) for a, b, m in pairs]
-    worst = max(adjusted)
-    measured += f" (largest Holm-adjusted p over {len(pairs)} pair{'s' if len(pairs) > 1 else ''}: {worst:.3g})"
-    if all(ordered) and worst < ALPHA:
-        return measured, REPRODUCED
-    if all(ordered) and max(smallest_p(len(data[a, m]), len(data[b, m])) for a, b, m in pairs) >= ALPHA:
-        return measured, TOO_FEW
-    return measured, NOT_REPRODUCED
+    adjusted, verdict = tested(pairs)
+    measured += f" (largest Holm-adjusted p over {len(pairs)} pair{'s' if len(pairs) > 1 else ''}: {max(adjusted):.3g})"
+    return measured, verdict
