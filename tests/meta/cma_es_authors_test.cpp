@@ -101,6 +101,36 @@ TEST(CmaEsAuthorsLambdaOne, ClampsOnlyTheEvaluatedSample) {
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(cma.state().mean(i), expected(i), 1e-12);
 }
 
+// pycma's recombination of the same 8 samples (tools/pycma_authors_reference.py, pycma 4.5.0,
+// seed 3; docs/cma_es.md): given them as the pending candidates, qdmeta's tell() of a positive
+// meta-fitness must give pycma's mean.
+TEST(CmaEsAuthorsLambdaOne, MeanMatchesPycmasRecombinationOfTheSameSamples) {
+  const double samples[8][4] = {
+      {0.9943142367151593, 0.31825765345961166, 0.14824994026943308, -0.8317812928255758},
+      {-0.03869410125719952, -0.07738170689197163, 0.058628224977323125, -0.21351209489504672},
+      {0.07809091551203588, -0.13861199781108247, -0.5569488001960512, 0.5423277772304306},
+      {0.540659021103765, 0.9547972167249025, 0.12501744651677515, -0.10234629514424035},
+      {-0.1726799738097652, -0.6732483233351161, 0.5911959968755045, -0.4505544604609013},
+      {-0.49252326351008646, -0.002826235031175156, 0.8430927546239462, 0.21836257212668825},
+      {-0.4118925699632341, -0.25650105629137676, 0.41263029874118706, 0.019740308724547115},
+      {-0.284418175159615, -0.01501679883996937, 0.47253744652243146, 1.08809244433507},
+  };
+  const double pycma_mean[4] = {0.31271874846906117, 0.11252521918463024, 0.3284027101603587, -0.08678143978311417};
+  CmaEsParams p = authors(4);
+  p.bounds = CmaBoundsHandling::kNone;
+  p.initial_mean = 0.1;
+  p.initial_sigma = 0.5;
+  CmaEs cma(p);
+  CmaEsState state = cma.state();
+  state.samples.resize(4, 8);
+  for (int k = 0; k < 8; ++k)
+    for (int i = 0; i < 4; ++i) state.samples(i, k) = samples[k][i];
+  state.awaiting_tell = true;
+  cma.set_state(state);
+  cma.tell(Eigen::VectorXd::Constant(1, 0.7), CmaObjective::kMaximise);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(cma.state().mean(i), pycma_mean[i], 1e-14);
+}
+
 TEST(CmaEsAuthorsLambdaOne, TellTakesTheEvaluatedFitnessOnly) {
   CmaEs cma(authors(222));
   Rng rng(1);
