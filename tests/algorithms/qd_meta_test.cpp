@@ -18,29 +18,19 @@
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+#include "small_qd_meta.hpp"
 
 namespace qdmeta {
 namespace {
 
 QdMeta small_qd_meta(std::uint64_t seed, bool frozen = false, int generations = 2, bool sarsa = false,
                      std::unique_ptr<MetaObjective> objective = nullptr) {
-  RastriginParams rp;
-  rp.dimensions = 6;
-  QdMetaParams p;
-  p.meta_population = 4;
-  p.batch_size = 50;
-  p.initial_population = 200;
-  p.database_capacity = 3000;
+  QdMetaParams p = small_qd_meta_params();
   p.frozen = frozen;
-  GridArchiveParams grid;
-  grid.bins = {20, 20};
-  RastriginMetaParams mp;
-  mp.sample_fraction = 0.5;
-  if (!objective) objective = std::make_unique<RastriginTranslationMeta>(mp);
-  return QdMeta(p, Task(RastriginTask(rp)), std::move(objective), grid, {},
-                sarsa ? std::unique_ptr<GenerationController>(std::make_unique<SarsaControl>(SarsaParams{}))
-                      : std::make_unique<StaticControl>(generations),
-                seed);
+  return small_qd_meta_of(p, seed,
+                          sarsa ? std::unique_ptr<GenerationController>(std::make_unique<SarsaControl>(SarsaParams{}))
+                                : std::make_unique<StaticControl>(generations),
+                          std::move(objective));
 }
 
 TEST(QdMeta, SameSeedSameBitsAtAnyThreadCount) {

@@ -8,29 +8,18 @@
 #include <utility>
 
 #include "qdmeta/algorithms/qd_meta.hpp"
-#include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
-#include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+#include "small_qd_meta.hpp"
 
 namespace qdmeta {
 namespace {
 
 QdMeta small_qd_meta(CmaSmallPopulation small, Index meta_population = 1,
                      DatabaseInputs inputs = DatabaseInputs::kBaseFeatures) {
-  RastriginParams rp;
-  rp.dimensions = 6;
-  QdMetaParams p;
+  QdMetaParams p = small_qd_meta_params();
   p.meta_population = meta_population;
   p.database_inputs = inputs;
-  p.batch_size = 50;
-  p.initial_population = 200;
-  p.database_capacity = 3000;
   p.cma_small_population = small;
-  GridArchiveParams grid;
-  grid.bins = {20, 20};
-  RastriginMetaParams mp;
-  mp.sample_fraction = 0.5;
-  return QdMeta(p, Task(RastriginTask(rp)), std::make_unique<RastriginTranslationMeta>(mp), grid, {},
-                std::make_unique<StaticControl>(2), 3);
+  return small_qd_meta_of(p, 3, std::make_unique<StaticControl>(2));
 }
 
 // One map per meta-generation (the bottom-level budget of a (1,1)-ES), while CMA-ES samples

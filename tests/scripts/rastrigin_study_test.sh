@@ -6,7 +6,12 @@
 # that does not match the kept summaries refused; one condition of a replicate alone
 # (--conditions). A study of two small conditions (QD-Meta and MAP-Elites, --config) stands in
 # for the paper's, whose CVT-MAP-Elites spends minutes on its centroids on a machine that has not
-# cached them.
+# cached them. Last, --study authors on the committed configs/rastrigin/experiment-authors.toml:
+# refused without the authors' centroid file (which the repository does not hold); run with a
+# generated file of the same shape (a warning says it is not the authors'), which the script puts
+# where the experiment file reads it; a file of the wrong shape refused by qdmeta naming the key.
+# That part runs the script in a copy of its folder layout, so that the copied centroid file lands
+# in the temporary folder, not in the checkout.
 # Usage: rastrigin_study_test.sh QDMETA_BINARY SOURCE_DIR
 set -euo pipefail
 bin=$1 src=$2
@@ -89,4 +94,38 @@ out=$(study --replicates 6 --conditions map-elites --work "$tmp/there/work" --re
 [[ -f $there/summaries/map-elites/seed-6.json && ! -e $there/summaries/qd-meta/seed-6.json ]] \
   || fail "--conditions map-elites kept: $(ls "$there"/summaries/*/seed-6.json 2>&1)"
 [[ ! -e $tmp/there/work/seed-6/qd-meta ]] || fail "--conditions map-elites made a QD-Meta run"
+
+# --study authors (see the top).
+unset QDMETA_AUTHORS_CENTROIDS
+repo=$tmp/repo
+mkdir -p "$repo/scripts" "$repo/configs"
+cp "$src/scripts/rastrigin-study.sh" "$repo/scripts/"
+cp -r "$src/configs/rastrigin" "$repo/configs/"
+study() { "$repo/scripts/rastrigin-study.sh" --study authors --evals 20000 --work "$tmp/authors/work" --results "$tmp/authors/results" "$@"; }
+placed=$repo/results/authors-centroids/centroids_10000_20.dat
+
+if out=$(study --replicates 1 2>&1); then fail "ran without the centroid file: $out"; fi
+[[ $out == *"--study authors needs the authors' centroid file centroids_10000_20.dat: give --centroids FILE"* ]] \
+  || fail "the refusal without a file: $out"
+
+# 10,000 x 20 numbers in [0.1, 0.9], the shape of the authors' file.
+awk 'BEGIN { srand(7); for (i = 0; i < 10000; i++) { for (j = 0; j < 20; j++) printf "%.6f ", 0.1 + 0.8 * rand(); print "" } }' \
+  > "$tmp/centroids.dat"
+out=$(study --replicates 1 --centroids "$tmp/centroids.dat" 2>&1) || fail "replicate 1: $out"
+[[ $out == *"warning: results/authors-centroids/centroids_10000_20.dat is not the authors' file"* ]] \
+  || fail "no warning for a file that is not the authors': $out"
+cmp -s "$tmp/centroids.dat" "$placed" || fail "the file was not put where the experiment file reads it"
+[[ $(find "$tmp/authors/results/summaries" -name 'seed-1.json' | wc -l) == 5 ]] || fail "not 5 summaries: $out"
+for claim in "lambda = 1 yields a meta-fitness of only 900,000" "CVT-MAP-Elites yields just below 3,000 solutions" \
+             "QD-Meta's average fitness is about -100"; do
+  grep -q "| $claim" "$tmp/authors/results/report.md" || fail "report.md has no claim '$claim'"
+done
+
+# Once placed, the file need not be named again; a file of the wrong shape is refused by qdmeta.
+head -10 "$tmp/centroids.dat" > "$tmp/short.dat"
+if out=$(QDMETA_AUTHORS_CENTROIDS=$tmp/short.dat study --replicates 2 --conditions cvt-map-elites-authors-centroids 2>&1); then
+  fail "a 10-line centroid file was accepted: $out"
+fi
+[[ $out == *"cvt.centroids_file = \"results/authors-centroids/centroids_10000_20.dat\": 10 centroids, expected 10000 (cvt.centroids)"* ]] \
+  || fail "the refusal of a short file: $out"
 echo "rastrigin study script: ok"
