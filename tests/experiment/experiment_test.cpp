@@ -69,13 +69,13 @@ TEST(Experiment, ShippedExperimentFilesLoad) {
   // The meta-population-size study (Fig S1) at the same SD.
   const ExperimentSpec lambda = load_experiment(dir / "experiment-lambda.toml", std::nullopt, std::nullopt);
   EXPECT_EQ(lambda.replicates, 20);
-  ASSERT_EQ(lambda.conditions.size(), 5u);
+  ASSERT_EQ(lambda.conditions.size(), 6u);  // lambda in {1, 2, 3, 5, 10, 20}
   EXPECT_EQ(lambda.claims.size(), 5u);
   for (const auto& c : lambda.conditions) EXPECT_EQ(sigma(c), 0.0025) << c.name;
-  EXPECT_EQ(lambda.conditions[3].effective_config()["qd_meta"]["meta_population"].value<std::int64_t>(), 10);
+  EXPECT_EQ(lambda.conditions[4].effective_config()["qd_meta"]["meta_population"].value<std::int64_t>(), 10);
   // The paper's four conditions at its stated SD.
   const ExperimentSpec stated = load_experiment(dir / "experiment-stated-sd.toml", std::nullopt, std::nullopt);
-  EXPECT_EQ(stated.replicates, 10);
+  EXPECT_EQ(stated.replicates, 20);
   ASSERT_EQ(stated.conditions.size(), 4u);
   EXPECT_EQ(stated.claims.size(), 10u);  // all but the frozen control's
   for (std::size_t i = 0; i < stated.conditions.size(); ++i) {
