@@ -37,7 +37,7 @@ def slug_of(name):
 # tables in src/qdmeta/experiment/run_tables.cpp and adaptation.cpp: counts), and archive.csv's
 # cells as qdmeta's C++ reader of archives checks them (read_elites_csv, src/qdmeta/io/csv.cpp),
 # the reader of `qdmeta adapt` and of the tests an experiment runs: the report refuses what they
-# refuse (bench/robustness/damaged_files.py --verdicts holds both readers to the same verdicts).
+# refuse (bench/robustness/report_vs_adapt.py holds both readers to the same verdicts).
 COUNT = ColumnRule(whole=True, low=0)
 POSITIVE = ColumnRule(whole=True, low=1)
 COLUMN_RULES = {

@@ -3,7 +3,7 @@
 `qdmeta report`, `resume` and `adapt`.
 
 Usage: bench/robustness/damaged_files.py --qdmeta BIN [--commands report,resume,adapt] [--quick]
-                                         [--work DIR] [--timeout S] [--tools DIR] [--verdicts]
+                                         [--work DIR] [--timeout S] [--tools DIR]
 
 Makes a small experiment with BIN (2 conditions x 1 replicate of 20,000 evaluations, the
 dimension test; planned first, so plan.tsv and condition.toml exist) and, for resume, a QD-Meta
@@ -16,14 +16,7 @@ machine), several lines, another exit status. Prints one line per defect, then
 `N cases, M defects`; exits 1 when there is a defect.
 
 --quick: a reduced matrix for the test suite (ctest robustness_damaged_files_report runs it for
-report).
-
---verdicts: instead, the inputs that both `qdmeta report` and `qdmeta adapt` read (a finished
-run's archive.csv, edited one way at a time: each cell rule of qdmeta's reader, a number
-syntax Python's float() takes and C++'s from_chars does not, a file cut or lost) go to both, and
-each must give the same verdict: both accept it (exit 0) or both refuse it in one line (exit 2);
-a difference is a defect. With --quick, a reduced set (ctest robustness_report_vs_adapt).
-Plain python3, no third-party package.
+report). Plain python3, no third-party package.
 """
 import argparse
 import os
@@ -211,86 +204,6 @@ def files_of(directory):
     return sorted(out)
 
 
-# (name, edit of archive.csv's text) for --verdicts: each cell rule at the first row's cells
-# (index, objective, measures_0, solution_0), each file rule. Every edit is refused by both
-# readers but those marked accepted (numbers in both syntaxes, CR LF line ends).
-def _cell(column, text):
-    def edit(archive):
-        lines = archive.split("\n")
-        cells = lines[1].split(",")
-        header = lines[0].split(",")
-        where = {"index": 0, "objective": 1, "measures": header.index("measures_0"),
-                 "solution": header.index("solution_0")}[column]
-        cells[where] = text
-        lines[1] = ",".join(cells)
-        return "\n".join(lines)
-    return edit
-
-
-VERDICT_CASES = [
-    ("index 2^63", _cell("index", "9223372036854775808")), ("index 2^63 - 1 (accepted)",
-                                                            _cell("index", "9223372036854775807")),
-    ("index -1", _cell("index", "-1")), ("index 1.5", _cell("index", "1.5")), ("index +1", _cell("index", "+1")),
-    ("objective +1", _cell("objective", "+1")), ("objective ' 1'", _cell("objective", " 1")),
-    ("objective 1_0", _cell("objective", "1_0")), ("objective Arabic-Indic 3", _cell("objective", "\u0663")),
-    ("objective full-width 3", _cell("objective", "\uff13")), ("objective nan", _cell("objective", "nan")),
-    ("objective -infinity", _cell("objective", "-infinity")), ("objective 1e39", _cell("objective", "1e39")),
-    ("objective 1e-50", _cell("objective", "1e-50")), ("objective 1e-40 (accepted)", _cell("objective", "1e-40")),
-    ("objective .5 (accepted)", _cell("objective", ".5")), ("objective 5. (accepted)", _cell("objective", "5.")),
-    ("objective 1e", _cell("objective", "1e")), ("objective 0x1", _cell("objective", "0x1")),
-    ("objective empty", _cell("objective", "")), ("measures_0 3.4e38 (accepted)", _cell("measures", "3.4e38")),
-    ("solution_0 1.5", _cell("solution", "1.5")), ("solution_0 -0 (accepted)", _cell("solution", "-0")),
-    ("solution_0 -1e-9", _cell("solution", "-1e-9")),
-    ("header only", lambda a: a.split("\n", 1)[0] + "\n"),
-    ("header index,objective swapped", lambda a: a.replace("index,objective", "objective,index", 1)),
-    ("header measures_0 repeated", lambda a: a.replace("measures_1", "measures_0", 1)),
-    ("a row too short", lambda a: a.replace("\n", ",\n", 2).replace(",\n", "\n", 1)),
-    ("an empty line", lambda a: a.replace("\n", "\n\n", 2).replace("\n\n", "\n", 1)),
-    ("last line without its line end", lambda a: a[:-1]),
-    ("CR LF line ends (accepted)", lambda a: a.replace("\n", "\r\n")),
-    ("deleted", None),
-]
-QUICK_VERDICTS = ["index 2^63", "index 2^63 - 1 (accepted)", "objective Arabic-Indic 3", "objective 1e39",
-                  "solution_0 1.5", "header only", "last line without its line end", "deleted"]
-VERDICT_RUN = "me/seed-1"
-
-
-def verdict(status, output):
-    """'accepted', 'refused' (one line, exit 2), or the defect (classify)."""
-    wrong = classify(status, output)
-    return wrong or ("accepted" if status == 0 else "refused")
-
-
-def verdicts(binary, base, scratch, cases, timeout, env):
-    """(cases, defects) of --verdicts: report and adapt on each edited archive, the same verdict."""
-    defects = 0
-    for name, edit in cases:
-        shutil.rmtree(scratch, ignore_errors=True)
-        shutil.copytree(base, scratch, symlinks=True)
-        archive = os.path.join(scratch, VERDICT_RUN, "archive.csv")
-        if edit is None:
-            os.unlink(archive)
-        else:
-            with open(archive, encoding="utf-8", newline="") as f:
-                text = f.read()
-            with open(archive, "w", encoding="utf-8", newline="") as f:
-                f.write(edit(text))
-        seen = []
-        for command in ("report", "adapt"):  # the report first: adapt rewrites adapt-*.csv
-            status, output = run(command_line(binary, command, scratch, os.path.join(scratch, VERDICT_RUN)), timeout,
-                                 env)
-            seen.append((verdict(status, output), output.strip().splitlines()[-1:] or [""]))
-        (report_said, report_line), (adapt_said, adapt_line) = seen
-        expected = "accepted" if name.endswith("(accepted)") else "refused"
-        if report_said != adapt_said or report_said != expected:
-            defects += 1
-            print(f"DEFECT archive.csv {name}: report {report_said}, adapt {adapt_said} (expected {expected}): "
-                  f"report: {report_line[0][:160]} | adapt: {adapt_line[0][:160]}", flush=True)
-    shutil.rmtree(scratch, ignore_errors=True)
-    print(f"{len(cases)} cases, {defects} defects")
-    return 1 if defects else 0
-
-
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--qdmeta", required=True, help="the qdmeta binary")
@@ -299,7 +212,6 @@ def main(argv):
     parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
     parser.add_argument("--timeout", type=float, default=30, help="seconds per command")
     parser.add_argument("--tools", help="QDMETA_TOOLS_DIR for the report (default: the binary's own)")
-    parser.add_argument("--verdicts", action="store_true", help="report and adapt on the same edited archives")
     args = parser.parse_args(argv[1:])
     commands = args.commands.split(",")
     if not commands or any(c not in ("report", "resume", "adapt") for c in commands):
@@ -311,11 +223,8 @@ def main(argv):
     work = args.work or tempfile.mkdtemp(prefix="qdmeta-damaged-")
     os.makedirs(work, exist_ok=True)
     try:
-        interrupt = not args.verdicts and not args.quick and ("resume" in commands or "adapt" in commands)
+        interrupt = not args.quick and ("resume" in commands or "adapt" in commands)
         base, interrupted = make_experiment(binary, os.path.join(work, f"m{os.getpid()}"), env, interrupt)
-        if args.verdicts:
-            cases = [c for c in VERDICT_CASES if not args.quick or c[0] in QUICK_VERDICTS]
-            return verdicts(binary, base, os.path.join(os.path.dirname(base), "case"), cases, args.timeout, env)
         sources = [(base, False)] + ([(interrupted, True)] if interrupted else [])
         cases = defects = exit_zero = 0
         scratch = os.path.join(os.path.dirname(base), "case")
