@@ -4,7 +4,6 @@ both, and each must give the same verdict (docs/architecture.md, "One set of che
 files").
 
 Usage: bench/robustness/report_vs_adapt.py --qdmeta BIN [--quick] [--work DIR] [--timeout S]
-                                           [--tools DIR]
 
 Makes damaged_files.py's small experiment with BIN, then edits its MAP-Elites run's
 archive.csv one way at a time (each cell rule of qdmeta's reader, a number syntax Python's
@@ -13,9 +12,11 @@ deleted) and runs `qdmeta report` on the experiment and `qdmeta adapt` on the ru
 accept the edit (exit 0) or both refuse it in one line (exit 2), as the case's name says; a
 difference, or anything damaged_files.py calls a defect, is a defect, printed one per line,
 then `N cases, M defects`; exits 1 when there is a defect. --quick: a reduced set (ctest
-robustness_report_vs_adapt). Plain python3, no third-party package.
+robustness_report_vs_adapt). $QDMETA_TOOLS_DIR, when set, picks the report script. Plain
+python3, no third-party package.
 """
 import argparse
+import contextlib
 import os
 import shutil
 import sys
@@ -110,21 +111,13 @@ def main(argv):
     parser.add_argument("--quick", action="store_true", help="a reduced set (the test suite's)")
     parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
     parser.add_argument("--timeout", type=float, default=60, help="seconds per command")
-    parser.add_argument("--tools", help="QDMETA_TOOLS_DIR for the report (default: the binary's own)")
     args = parser.parse_args(argv[1:])
+    cases = [c for c in VERDICT_CASES if not args.quick or c[0] in QUICK_VERDICTS]
+    scratch = contextlib.nullcontext(args.work) if args.work else tempfile.TemporaryDirectory(prefix="qdmeta-verdicts-")
     binary = os.path.abspath(args.qdmeta)
-    env = dict(os.environ)
-    if args.tools:
-        env["QDMETA_TOOLS_DIR"] = os.path.abspath(args.tools)
-    work = args.work or tempfile.mkdtemp(prefix="qdmeta-verdicts-")
-    os.makedirs(work, exist_ok=True)
-    try:
-        base, _ = make_experiment(binary, os.path.join(work, f"m{os.getpid()}"), env, False)
-        cases = [c for c in VERDICT_CASES if not args.quick or c[0] in QUICK_VERDICTS]
-        return verdicts(binary, base, os.path.join(os.path.dirname(base), "case"), cases, args.timeout, env)
-    finally:
-        if not args.work:
-            shutil.rmtree(work, ignore_errors=True)
+    with scratch as work:
+        base, _ = make_experiment(binary, os.path.join(work, f"m{os.getpid()}"), os.environ, False)
+        return verdicts(binary, base, os.path.join(os.path.dirname(base), "case"), cases, args.timeout, os.environ)
 
 
 if __name__ == "__main__":
