@@ -17,6 +17,9 @@ logged row at or before each grid point; the last point is each run's end), sinc
 meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
 Mann-Whitney U test (Holm-adjusted per table) with the A12 effect size (tools/significance.py).
+A file lost from a finished run, and runs of one condition with different config fingerprints,
+are errors; a finished run that lacks what a table reads is left out of it and named in
+report.md and on stderr (left_out).
 Needs only Debian's python3-matplotlib and numpy.
 """
 import csv
