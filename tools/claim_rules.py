@@ -29,7 +29,7 @@ META_COLUMNS = ["meta_generation", "evals", "evals_bottom", "evals_meta", "meta_
                 "meta_fitness_sd", "generations", "states"] + [
     f"population_{s}_{m}" for s in POPULATION_STATS for m in ("mean", "se")]
 # summary.json's keys that hold text, not a number a claim could measure.
-SUMMARY_TEXT_KEYS = ["algorithm", "task", "stop_reason", "message", "budget_counts"]
+SUMMARY_TEXT_KEYS = ["algorithm", "task", "stop_reason", "message", "budget_counts", "config_fingerprint"]
 GENERALISATION = "generalisation"
 
 _KEY_NAME = re.compile(r"[a-z0-9_]+")

@@ -7,7 +7,7 @@ import os
 import re
 
 import claim_rules
-from run_files import InputError, read_json_object, read_table, read_toml
+from run_files import ColumnRule, InputError, read_json_object, read_table, read_toml
 
 METRICS_COLUMNS = ["evals", "num_elites", "obj_mean", "obj_max", "qd_score"]
 META_COLUMNS = ["meta_generation", "evals", "meta_fitness_best", "meta_fitness_mean", "generations", "states"]
@@ -33,14 +33,65 @@ def slug_of(name):
     return s.rstrip("-")
 
 
+# The rules of each run file's columns: the whole numbers qdmeta writes (the integer cells of the
+# tables in src/qdmeta/experiment/run_tables.cpp and adaptation.cpp: counts), and archive.csv's
+# cells as qdmeta's C++ reader of archives checks them (read_elites_csv, src/qdmeta/io/csv.cpp),
+# the reader of `qdmeta adapt` and of the tests an experiment runs: the report refuses what they
+# refuse (bench/robustness/report_vs_adapt.py holds both readers to the same verdicts).
+COUNT = ColumnRule(whole=True, low=0)
+POSITIVE = ColumnRule(whole=True, low=1)
+COLUMN_RULES = {
+    "metrics.csv": {"evals": COUNT, "evals_bottom": COUNT, "evals_meta": COUNT, "generation": COUNT,
+                    "num_elites": COUNT},
+    "meta.csv": {"meta_generation": POSITIVE, "evals": COUNT, "evals_bottom": COUNT, "evals_meta": COUNT,
+                 "generations": POSITIVE, "states": COUNT},
+    "adapt-*.csv": {"evaluations": POSITIVE},
+    "generalisation.csv": {"environments": POSITIVE, "solutions": POSITIVE},
+}
+ARCHIVE_GROUPS = ["measures_", "solution_", "base_"]  # after index and objective, in this order
+ARCHIVE_RULES = {"index": ColumnRule(whole=True, low=0, low_rule="is negative: a cell index must be >= 0"),
+                 "measures_": ColumnRule(single=True), "solution_": ColumnRule(single=True, unit=True),
+                 "base_": ColumnRule(single=True, unit=True)}
+ARCHIVE_VALUE = ColumnRule(single=True)  # objective
+
+
+def _rules(file):
+    return COLUMN_RULES[file].get
+
+
+def archive_rule(name):
+    """An archive.csv column's rule (ARCHIVE_RULES by the column's name or its group's prefix)."""
+    group = next((g for g in ARCHIVE_GROUPS if name.startswith(g)), name)
+    return ARCHIVE_RULES.get(group, ARCHIVE_VALUE)
+
+
+def archive_header(header):
+    """Why archive.csv's header is not one qdmeta writes (None when it is): index, objective, then
+    measures_*, solution_* and base_* in that order (as the C++ reader requires)."""
+    if header[:2] != ["index", "objective"]:
+        return "not an archive file (header must start with index,objective)"
+    group = 0
+    for c, name in enumerate(header[2:], start=3):
+        while group < len(ARCHIVE_GROUPS) and not name.startswith(ARCHIVE_GROUPS[group]):
+            group += 1
+        if group == len(ARCHIVE_GROUPS):
+            return f"column {c} ('{name}') is not measures_*, solution_* or base_* in that order"
+    return None
+
+
+def test_file(test):
+    """The file of a run that holds a test's results."""
+    return "generalisation.csv" if test == claim_rules.GENERALISATION else f"adapt-{test}.csv"
+
+
 def read_metrics(path):
     """metrics.csv ({} without one): evals must not decrease (replicates are aligned on it)."""
-    return read_table(path, METRICS_COLUMNS, increasing=["evals"]) or {}
+    return read_table(path, METRICS_COLUMNS, increasing=["evals"], rules=_rules("metrics.csv")) or {}
 
 
 def read_meta(path):
     """meta.csv ({} without one, as for algorithms without a meta-population)."""
-    meta = read_table(path, META_COLUMNS, increasing=["evals"]) or {}
+    meta = read_table(path, META_COLUMNS, increasing=["evals"], rules=_rules("meta.csv")) or {}
     present = [c for c in POPULATION_MEANS if c in meta]
     if present and len(present) != len(POPULATION_MEANS):
         missing = next(c for c in POPULATION_MEANS if c not in meta)
@@ -50,17 +101,21 @@ def read_meta(path):
 
 def read_adaptation(path):
     """An adapt-<test>.csv: the best-so-far curve."""
-    return read_table(path, ["best_mean"]) or {}
+    return read_table(path, ["best_mean"], rules=_rules("adapt-*.csv")) or {}
 
 
 def read_archive(path):
-    """archive.csv ({} without one): numbers only, an objective column."""
-    return read_table(path, ["objective"]) or {}
+    """archive.csv ({} without one), checked as qdmeta's C++ reader checks it (ARCHIVE_RULES); an
+    archive of no elite is refused, as `qdmeta adapt` refuses it."""
+    archive = read_table(path, rules=archive_rule, check_header=archive_header)
+    if archive == {}:
+        raise InputError(f"{path}: the archive holds no elite (only its header): a finished run's archive has one")
+    return archive or {}
 
 
 def read_generalisation(path):
     """generalisation.csv as {group: mean} ({} without one)."""
-    table = read_table(path, ["group", "mean"], text_columns=["group"]) or {}
+    table = read_table(path, ["group", "mean"], text_columns=["group"], rules=_rules("generalisation.csv")) or {}
     return {g: float(m) for g, m in zip(table.get("group", []), table.get("mean", []))}
 
 

@@ -62,12 +62,14 @@ class OutputDir:
             finally:
                 os.close(fd)
             os.replace(temp, name, src_dir_fd=self.fd, dst_dir_fd=self.fd)
-        except OSError as e:
+        except BaseException as e:  # an OSError, or a Ctrl-C: no temporary file is left behind
             try:
                 os.unlink(temp, dir_fd=self.fd)
             except OSError:
                 pass
-            raise InputError(f"{path}: cannot write: {e.strerror}") from None
+            if isinstance(e, OSError):
+                raise InputError(f"{path}: cannot write: {e.strerror}") from None
+            raise
         return path
 
     def close(self):

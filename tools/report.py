@@ -17,6 +17,9 @@ logged row at or before each grid point; the last point is each run's end), sinc
 meta-generation boundaries fall at different evaluation counts. Values are
 mean +- standard error over replicates; every pair of conditions is compared by a two-sided
 Mann-Whitney U test (Holm-adjusted per table) with the A12 effect size (tools/significance.py).
+A file lost from a finished run, and runs of one condition with different config fingerprints,
+are errors; a finished run that lacks what a table reads is left out of it and named in
+report.md and on stderr (left_out).
 Needs only Debian's python3-matplotlib and numpy.
 """
 import csv
@@ -26,9 +29,12 @@ import math
 import os
 import sys
 
-import matplotlib
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import script_exit  # noqa: E402  (tools/script_exit.py: one line and exit 2 or 130, never a traceback)
+
+if __name__ == "__main__":
+    script_exit.before_main("report.py")
+import matplotlib  # noqa: E402
 import archive_plots  # noqa: E402  (tools/archive_plots.py: the archive pictures qdmeta.visualize draws too)
 import claims  # noqa: E402  (tools/claims.py)
 import experiment_files  # noqa: E402  (tools/experiment_files.py: every input, read and checked)
@@ -80,7 +86,8 @@ def fmt(mean, se, digits=4):
 def load(directory):
     """The experiment in force and its conditions' finished and unfinished runs, each from its
     run directory or, without a finished one, its summary; every file the report reads is
-    checked here (InputError), the archives it draws included."""
+    checked here (InputError), every archive included, and a condition's runs must share one
+    config (same_config)."""
     spec = experiment_files.read_experiment(os.path.join(directory, "experiment.toml"))
     conditions = []
     for c in spec["condition"]:
@@ -90,15 +97,41 @@ def load(directory):
             summary = experiment_files.read_summary(os.path.join(path, "summary.json"))
             kept = run_data.summary_path(directory, c["slug"], r)
             if summary is not None and summary.get("stop_reason") == "budget":
-                runs.append(run_data.RunDirectory(path, summary))
+                runs.append(run_data.RunDirectory(path, summary, spec["tests"]))
             elif os.path.lexists(kept):
                 runs.append(run_data.RunSummary(kept))
             else:
                 unfinished.append(path)
-        if runs:
-            runs[0].picture()  # the one figure_archives draws
+        same_config(c["name"], runs)
         conditions.append({"name": c["name"], "slug": c["slug"], "runs": runs, "unfinished": unfinished})
     return spec, conditions
+
+
+def same_config(condition, runs):
+    """Refuses to pool runs made from different configs (an experiment interrupted, its config
+    changed, then continued): their config fingerprints differ. A run made before runs kept a
+    fingerprint has none, and pools with any."""
+    first = next((r for r in runs if r.fingerprint), None)
+    other = next((r for r in runs if r.fingerprint and r.fingerprint != first.fingerprint), None)
+    if other:
+        raise InputError(f"condition '{condition}': runs {first.path} and {other.path} were made from different "
+                         f"configs (config_fingerprint {first.fingerprint} and {other.fingerprint}): a condition "
+                         "pools the runs of one config; run the other again, or remove it")
+
+
+def left_out(conditions, tests):
+    """(condition, run, file, why) of each finished replicate a table or figure leaves out, for lack of
+    the part of it that table reads: its metrics, its meta-generations (QD-Meta), a test's curve
+    or generalisation table (the experiment's tests). The report names each one."""
+    out = []
+    for c in conditions:
+        qd_meta = any(r.meta or r.config().get("algorithm") == "qd-meta" for r in c["runs"])
+        for r in c["runs"]:
+            parts = [("metrics.csv", bool(r.metrics))] + ([("meta.csv", bool(r.meta))] if qd_meta else [])
+            parts += [(experiment_files.test_file(t), bool(r.generalisation() if t == GENERALISATION else
+                                                           r.adapt.get(t))) for t in tests]
+            out += [(c, r, *r.lacks(part)) for part, present in parts if not present]
+    return out
 
 
 QD_PANELS = [("num_elites", "archive size"), ("obj_mean", "average fitness"), ("obj_max", "global fitness"),
@@ -676,7 +709,7 @@ def write_data(data_dir, conditions, tests, grid):
 
 def main(argv):
     """The report, or one line on stderr and exit status 2 when an input is damaged or an output
-    cannot be written (qdmeta report relays that line as its own error)."""
+    cannot be written (qdmeta report relays that line as its own), 130 on Ctrl-C (script_exit)."""
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
@@ -689,13 +722,8 @@ def main(argv):
             return 2
         out = options.pop(at + 1)
         options.pop(at)
-    try:
-        return report(argv[1], "--quiet" in options, "--supplementary" in options, out)
-    except InputError as e:
-        # One line whatever the message holds (a directory name may hold a newline).
-        line = str(e).replace("\r", "\\r").replace("\n", "\\n")
-        print(f"report.py: error: {line}", file=sys.stderr)
-        return 2
+    return script_exit.run("report.py", lambda: report(argv[1], "--quiet" in options, "--supplementary" in options,
+                                                       out))
 
 
 def report(directory, quiet, supplementary, out_directory=None):
@@ -742,6 +770,14 @@ def report(directory, quiet, supplementary, out_directory=None):
         md.append(f"\n{len(unfinished)} of {len(unfinished) + sum(len(c['runs']) for c in conditions)} runs are not "
                   "finished and are left out: " + ", ".join(os.path.relpath(p, directory) for p in unfinished[:10])
                   + (" ..." if len(unfinished) > 10 else ""))
+    dropped = left_out(conditions, spec.get("tests", []))
+    if dropped:
+        md.append(f"\n{len(dropped)} times a finished run lacks what a table or figure reads, and that table or figure "
+                  "leaves its replicate out (n counts the others):\n")
+        md += [f"- {c['name']}, seed {r.seed}: {os.path.relpath(file, directory)}: {why}" for c, r, file, why in dropped]
+    for c, r, file, why in dropped:  # on stderr too, --quiet or not: the tables' n has changed
+        print(f"report.py: warning: {c['name']} seed {r.seed} is left out where it lacks data: {file}: {why}",
+              file=sys.stderr)
     md += ["", "## Final archives", "", "The archive each run ends with (QD-Meta: the best map of its last meta-generation).",
            "", summary_table(conditions), ""]
     population = population_table(conditions)

@@ -77,12 +77,59 @@ def read_bytes(path, limit):
         os.close(fd)
 
 
-def _is_float(text):
-    try:
-        float(text)
-        return True
-    except ValueError:
-        return False
+# The number syntax of qdmeta's C++ reader of run files (std::from_chars, src/qdmeta/io/csv.cpp):
+# ASCII digits, a '-' but no '+', no spaces or '_'. Python's float() takes more ('+1', ' 1',
+# '1_0', Arabic-Indic digits), so a cell is matched against this syntax first. inf and nan parse
+# there too, and are refused as not finite.
+_DECIMAL = r"-?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+_WHOLE = r"-?[0-9]+"
+_NUMBERS = {False: re.compile(f"{_DECIMAL}(?:,{_DECIMAL})*"), True: re.compile(f"{_WHOLE}(?:,{_WHOLE})*")}
+_NOT_FINITE = re.compile(r"-?(?:inf(?:inity)?|nan(?:\([0-9A-Za-z_]*\))?)", re.IGNORECASE)
+INT64_MAX = 2 ** 63 - 1
+
+
+class ColumnRule:
+    """What a numeric column's cells must be beyond a finite number in qdmeta's syntax: whole (a
+    64-bit integer, written without a point), at least `low`, within [0, 1] (`unit`), or a 32-bit
+    float (`single`: what the C++ reader stores; past its range the reader refuses the value)."""
+
+    def __init__(self, whole=False, low=None, unit=False, single=False, low_rule=None):
+        self.whole, self.low, self.unit, self.single = whole, low, unit, single
+        self.low_rule = low_rule or f"is below {low}"
+
+
+ANY_NUMBER = ColumnRule()
+
+
+def _is_number(text):
+    return re.fullmatch(_DECIMAL, text) is not None
+
+
+def _first_bad(cells, rule):
+    """The column as floats, and the (row, message) of its first bad cell (None when all are good)."""
+    if not _NUMBERS[rule.whole].fullmatch(",".join(cells)):
+        for k, cell in enumerate(cells):
+            if rule.whole and re.fullmatch(_WHOLE, cell) is None and _is_number(cell):
+                return None, (k, "is not a whole number: qdmeta writes this column as one")
+            if not _is_number(cell):
+                return None, (k, "is not finite: every value must be" if _NOT_FINITE.fullmatch(cell)
+                              else "is not a number")
+    values = np.array(cells, dtype=float)
+    checks = []
+    if rule.whole:
+        checks.append((np.array([len(c) > 18 and abs(int(c)) > INT64_MAX for c in cells], dtype=bool),
+                       "is out of range of a 64-bit integer"))
+    if rule.single:
+        with np.errstate(over="ignore"):
+            single = values.astype(np.float32)
+        checks.append((np.isinf(single) | ((single == 0) & (values != 0)), "is out of range of a 32-bit float"))
+    if rule.low is not None:
+        checks.append((values < rule.low, rule.low_rule))
+    if rule.unit:
+        checks.append((~((values >= 0) & (values <= 1)), "is outside [0, 1], where every gene and base feature must "
+                                                          "lie"))
+    firsts = [(int(np.flatnonzero(bad)[0]), why) for bad, why in checks if bad.any()]
+    return values, min(firsts, key=lambda f: f[0]) if firsts else None
 
 
 def _line_column(text, offset):
@@ -151,11 +198,13 @@ def _lines(path, text):
     return [line[:-1] if line.endswith("\r") else line for line in lines[:-1]]
 
 
-def read_table(path, required=(), text_columns=(), increasing=()):
+def read_table(path, required=(), text_columns=(), increasing=(), rules=None, check_header=None):
     """A CSV file as {column: values} (numbers as float arrays, `text_columns` as lists of strings);
     None when there is no file, {} when it has only its header. Every column in `required` must be
-    in the header; every other value must be a finite number; the columns in `increasing` must not
-    decrease from row to row."""
+    in the header (and `check_header`, given the header, may refuse it with a rule); every other
+    value must be a finite number in qdmeta's syntax, and follow its column's rule in `rules`
+    (a function of the column's name returning a ColumnRule, or None for ANY_NUMBER); the columns
+    in `increasing` must not decrease from row to row."""
     text = read_text(path, TABLE_LIMIT)
     if text is None:
         return None
@@ -168,31 +217,28 @@ def read_table(path, required=(), text_columns=(), increasing=()):
     missing = [c for c in required if c not in header]
     if missing:
         raise InputError(f"{_at(path, 1)}: no column '{missing[0]}' (the report needs {', '.join(required)})")
+    refused = check_header(header) if check_header else None
+    if refused:
+        raise InputError(f"{_at(path, 1)}: {refused}")
     if len(lines) < 2:
         return {}
     rows = [line.split(",") for line in lines[1:]]
     for number, cells in enumerate(rows, start=2):
         if len(cells) != len(header):
             raise InputError(f"{_at(path, number)}: {len(cells)} fields, the header has {len(header)}")
-    columns, bad = {}, []  # bad: (line, column) of each numeric column's first bad value
+    columns, bad = {}, []  # bad: (line, column, rule) of each numeric column's first bad value
     for i, name in enumerate(header):
         cells = [r[i] for r in rows]
         if name in text_columns:
             columns[name] = cells
             continue
-        try:
-            columns[name] = np.array(cells, dtype=float)
-            wrong = np.flatnonzero(~np.isfinite(columns[name]))
-            first = int(wrong[0]) if wrong.size else None
-        except ValueError:
-            first = next(k for k, c in enumerate(cells) if not _is_float(c))
+        columns[name], first = _first_bad(cells, (rules and rules(name)) or ANY_NUMBER)
         if first is not None:
-            bad.append((first + 2, i + 1))
+            bad.append((first[0] + 2, i + 1, first[1]))
     if bad:
-        number, column = min(bad)
-        cell = rows[number - 2][column - 1]
-        rule = "is not finite: every value must be" if _is_float(cell) else "is not a number"
-        raise InputError(f"{_at(path, number, column)}: {header[column - 1]} '{cell[:40]}' {rule}")
+        number, column, rule = min(bad)
+        raise InputError(f"{_at(path, number, column)}: {header[column - 1]} '{rows[number - 2][column - 1][:40]}' "
+                         f"{rule}")
     for name in increasing:
         drops = np.flatnonzero(np.diff(columns[name]) < 0)
         if drops.size:

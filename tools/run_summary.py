@@ -12,6 +12,10 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import script_exit  # noqa: E402  (tools/script_exit.py: one line and exit 2 or 130, never a traceback)
+
+if __name__ == "__main__":
+    script_exit.before_main("run_summary.py")
 import experiment_files  # noqa: E402  (tools/experiment_files.py)
 import runs  # noqa: E402  (tools/runs.py)
 from output_files import OutputDir  # noqa: E402  (tools/output_files.py)
@@ -41,13 +45,7 @@ def main(argv):
     if len(argv) != 3:
         print(__doc__, file=sys.stderr)
         return 2
-    try:
-        write_summary(argv[1], argv[2])
-    except InputError as e:
-        line = str(e).replace("\r", "\\r").replace("\n", "\\n")
-        print(f"run_summary.py: error: {line}", file=sys.stderr)
-        return 2
-    return 0
+    return script_exit.run("run_summary.py", lambda: write_summary(argv[1], argv[2]) and 0)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ the report from the run directories byte for byte (tests/tools/test_run_summarie
 import json
 import math
 import os
+import re
 
 import numpy as np
 
@@ -192,13 +193,43 @@ def config_keys(config):
     return kept
 
 
+FINGERPRINT = "config_fingerprint"
+_HEX = re.compile(r"[0-9a-f]+")
+
+
+def fingerprint_of(where, sources):
+    """The run's config fingerprint (lowercase hex; what `qdmeta run` derives from its resolved
+    config), from the first of `sources` (its parsed files) that has key config_fingerprint at
+    the top or in one of its tables; None for a run made before runs kept one."""
+    for source in sources:
+        tables = [source] + [v for v in source.values() if isinstance(v, dict)]
+        for table in tables:
+            if FINGERPRINT in table:
+                value = table[FINGERPRINT]
+                if not isinstance(value, str) or not _HEX.fullmatch(value):
+                    raise InputError(f"{where}: {FINGERPRINT} must be a string of lowercase hexadecimal digits")
+                return value
+    return None
+
+
 class RunDirectory:
     """A finished run's directory, every file read and checked when the run is loaded (a
-    damaged file stops the report before it writes anything); the archive when first asked for."""
+    damaged or lost file stops the report before it writes anything), its archive included."""
 
-    def __init__(self, path, summary):
+    def __init__(self, path, summary, tests=None):
+        """`tests`: the experiment's tests, whose files (adapt-<test>.csv, generalisation.csv) a
+        finished run has (None: the tests whose files are there)."""
         self.path = path
         self.summary = summary
+        self._config = experiment_files.read_config(os.path.join(path, "config.toml"))
+        required = ["config.toml", "metrics.csv", "archive.csv"]
+        if self._config.get("algorithm") == "qd-meta":
+            required.append("meta.csv")
+        required += [experiment_files.test_file(t) for t in tests or []]
+        for name in required:
+            if not os.path.lexists(os.path.join(path, name)):
+                raise InputError(f"{os.path.join(path, name)}: no such file, but the run has finished (its "
+                                 "summary.json says stop_reason \"budget\"): a finished run's file was lost")
         self.metrics = experiment_files.read_metrics(os.path.join(path, "metrics.csv"))
         self.meta = experiment_files.read_meta(os.path.join(path, "meta.csv"))
         self.adapt = {}
@@ -206,10 +237,16 @@ class RunDirectory:
             if name.startswith("adapt-") and name.endswith(".csv"):
                 test = name[len("adapt-"):-len(".csv")]
                 self.adapt[test] = experiment_files.read_adaptation(os.path.join(path, name))
-        self._config = experiment_files.read_config(os.path.join(path, "config.toml"))
         self._generalisation = experiment_files.read_generalisation(os.path.join(path, "generalisation.csv"))
-        self._picture = None
+        # Every archive is read (and checked as `qdmeta adapt` checks it), though one is drawn.
+        self._picture = archive_picture(experiment_files.read_archive(os.path.join(path, "archive.csv")))
         self._series = None
+        self.fingerprint = fingerprint_of(path, [summary, self._config])
+
+    def lacks(self, part):
+        """Why the run has nothing for one part of the report, named by its file (metrics.csv,
+        meta.csv, adapt-<test>.csv, generalisation.csv), as (the file, why)."""
+        return os.path.join(self.path, part), "only its header, no row"
 
     @property
     def seed(self):
@@ -224,10 +261,7 @@ class RunDirectory:
         return self._generalisation
 
     def picture(self):
-        if self._picture is None:
-            archive = experiment_files.read_archive(os.path.join(self.path, "archive.csv"))
-            self._picture = [archive_picture(archive)]
-        return self._picture[0]
+        return self._picture
 
     @property
     def meta_generations(self):
@@ -260,7 +294,8 @@ def summary_of(run):
                 "generations_vary": run.generations_vary, "stride": stride,
                 "series": {name: run.meta_series(name, stride).tolist()
                            for name in META_SERIES + [f"{t}_trailing" for t in TRAILING]}}
-    return {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, "summary": run.summary,
+    kept = {FINGERPRINT: run.fingerprint} if run.fingerprint else {}  # none for a run made before them
+    return {"format": SUMMARY_FORMAT, "version": SUMMARY_VERSION, **kept, "summary": run.summary,
             "config": config_keys(run.config()), "metrics": metrics, "meta": meta,
             "adapt": {t: a.get("best_mean", np.zeros(0)).tolist() for t, a in sorted(run.adapt.items())},
             "generalisation": run.generalisation(), "picture": run.picture()}
@@ -322,6 +357,14 @@ class RunSummary:
         self.adapt = {t: ({"best_mean": np.array(v, dtype=float)} if v else {}) for t, v in data["adapt"].items()}
         self._generalisation = {g: float(v) for g, v in data["generalisation"].items()}
         self._picture = data["picture"]
+        self.fingerprint = fingerprint_of(path, [data, data["summary"]])
+
+    def lacks(self, part):
+        """Why the run has nothing for one part of the report, named by its run file, as (the
+        summary, why) (RunDirectory.lacks)."""
+        why = {"metrics.csv": "its metrics are null", "meta.csv": "its meta is null",
+               "generalisation.csv": "its generalisation is empty"}
+        return self.path, why.get(part) or f"its adapt holds no curve of test '{part[len('adapt-'):-len('.csv')]}'"
 
     @property
     def seed(self):
@@ -395,7 +438,7 @@ class _Checker:
     def summary(self, data):
         keys = ["format", "version", "summary", "config", "metrics", "meta", "adapt", "generalisation", "picture"]
         for key in data:
-            if key not in keys:
+            if key not in keys + [FINGERPRINT]:  # config_fingerprint: not in a summary made before runs kept one
                 self.fail(f"unknown key '{key}' (a summary has {', '.join(keys)})")
         self.table(data, "the summary", keys)
         if data["format"] != SUMMARY_FORMAT or data["version"] != SUMMARY_VERSION:

@@ -52,6 +52,10 @@ _arguments.shorten_argument_errors(GridArchive, "index_of")
 _arguments.shorten_argument_errors(CvtArchive, "index_of")
 _arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "retrieve", "step", "run")
 _arguments.shorten_argument_errors(Task, "__init__", "evaluate")
+run = _arguments.check_paths(run, "run", out_dir=1)
+resume = _arguments.check_paths(resume, "resume", out_dir=0)
+cvt_centroids = _arguments.check_paths(cvt_centroids, "cvt_centroids", cache_dir=4)
+Algorithm.run = _arguments.check_paths(Algorithm.run, "Algorithm.run", out_dir=2)  # self, budget, out_dir
 
 __all__ = [
     "Algorithm",

@@ -1,8 +1,11 @@
 """One-line errors for calls with arguments a method does not take. pybind11's own error lists
 the repr of every argument, which for a batch of arrays runs to kilobytes (a pyribs user's
 add(solution=..., objective=...) or tell(objective=..., measures=...)); this one names the
-method, the parameters it takes and the arguments it was given, by name only."""
+method, the parameters it takes and the arguments it was given, by name only. A path argument
+that no path can be (a NUL in it, or text with no file-name encoding) is refused first, in one
+line naming the argument, where pybind11 would list every overload."""
 import functools
+import os
 import re
 
 _INCOMPATIBLE = re.compile(r"^\w+\(\): incompatible (?:function|constructor) arguments")
@@ -58,3 +61,32 @@ def shorten_argument_errors(cls, *names):
     """Replaces cls.<name>, for each name, by a wrapper whose argument errors are one line."""
     for name in names:
         setattr(cls, name, _shortened(cls, name, getattr(cls, name)))
+
+
+def _path_problem(value):
+    """Why `value` cannot be a path (None when it can, or is no path at all: pybind11 names its type)."""
+    try:
+        path = os.fspath(value)
+    except TypeError:
+        return None
+    if ("\0" if isinstance(path, str) else b"\0") in path:
+        return "holds a NUL character, which no path can hold"
+    try:
+        os.fsencode(path)
+    except UnicodeEncodeError as e:
+        return f"holds {path[e.start]!a}, which has no file-name encoding here"
+    return None
+
+
+def check_paths(function, shown, **positions):
+    """`function` with its path arguments (name=position among the positional ones) checked first:
+    one that no path can be is a ValueError naming it."""
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        for name, at in positions.items():
+            value = kwargs[name] if name in kwargs else args[at] if at < len(args) else None
+            problem = None if value is None else _path_problem(value)
+            if problem:
+                raise ValueError(f"{shown}(): {name} {problem}")
+        return function(*args, **kwargs)
+    return call

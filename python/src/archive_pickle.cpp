@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "numpy_arrays.hpp"
+#include "pickled_state.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
 
@@ -16,39 +17,54 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 1;  // of the state tuples below
+constexpr int kFormat = 2;  // of the state tuples below; 2: with their checksum
 
 const char* class_name(const GridArchive*) { return "GridArchive"; }
 const char* class_name(const CvtArchive*) { return "CvtArchive"; }
 const char* class_name(const UnstructuredArchive*) { return "UnstructuredArchive"; }
 
 template <class Archive>
+const std::string& who() {
+  static const std::string name =
+      fmt::format("unpickling a qdmeta.{}", class_name(static_cast<const Archive*>(nullptr)));
+  return name;
+}
+
+// (format, parameters, seed, sample calls, the archive's checkpoint bytes, their checksum).
+template <class Archive>
 py::tuple state(const ArchiveHandle<Archive>& h, py::tuple parameters) {
   BinaryWriter out;
   h.archive.save(out);
-  return py::make_tuple(kFormat, std::move(parameters), h.seed, h.sample_calls, py::bytes(out.bytes()));
+  const py::int_ format(kFormat), seed(h.seed), calls(h.sample_calls);
+  const py::bytes bytes(out.bytes());
+  const py::int_ checksum(state_checksum({format, parameters, seed, calls, bytes}));
+  return py::make_tuple(format, parameters, seed, calls, bytes, checksum);
 }
 
 // The parameters of a state made by state(), after its format and length are checked.
 template <class Archive>
 py::tuple parameters_of(const py::tuple& s, std::size_t count) {
-  const std::string who = fmt::format("unpickling a qdmeta.{}", class_name(static_cast<const Archive*>(nullptr)));
-  if (s.size() != 5 || !py::isinstance<py::int_>(s[0]) || !py::isinstance<py::tuple>(s[1]) ||
-      !py::isinstance<py::bytes>(s[4]))
-    throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
-  if (s[0].cast<int>() != kFormat)
-    throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who, s[0].cast<int>(), kFormat));
+  if (s.size() < 1 || !py::isinstance<py::int_>(s[0]))
+    throw InputError(fmt::format("{}: the state is not one qdmeta made", who<Archive>()));
+  if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)))
+    throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who<Archive>(),
+                                 py::str(s[0]).cast<std::string>(), kFormat));
+  if (s.size() != 6 || !py::isinstance<py::tuple>(s[1]) || !py::isinstance<py::int_>(s[2]) ||
+      !py::isinstance<py::int_>(s[3]) || !py::isinstance<py::bytes>(s[4]))
+    throw InputError(fmt::format("{}: the state is not one qdmeta made", who<Archive>()));
   const py::tuple p = s[1];
-  if (p.size() != count) throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+  if (p.size() != count) throw InputError(fmt::format("{}: the state is not one qdmeta made", who<Archive>()));
   return p;
 }
 
+// The archive loaded (its load refuses a non-finite objective or measure), then its checksum.
 template <class Archive>
 ArchiveHandle<Archive> restored(Archive archive, const py::tuple& s) {
   const std::string bytes = s[4].cast<std::string>();
   BinaryReader in(bytes, fmt::format("the pickled {}", class_name(static_cast<const Archive*>(nullptr))));
   archive.load(in);
   in.finish();
+  check_state_checksum(s[5], state_checksum({s[0], s[1], s[2], s[3], s[4]}), who<Archive>());
   return ArchiveHandle<Archive>(std::move(archive), s[2].cast<std::uint64_t>(), s[3].cast<std::uint64_t>());
 }
 

@@ -16,6 +16,7 @@
 #include "bindings.hpp"
 #include "elite_arrays.hpp"
 #include "numpy_arrays.hpp"
+#include "pickled_state.hpp"
 #include "python_build.hpp"
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
@@ -127,7 +128,8 @@ class PyAlgorithm {
   const BuiltRun& built() const { return built_; }
 
   // Pickling: (format, resolved config, Python task or None, meta-objective or None, the
-  // algorithm's checkpoint bytes, variation or None). A built-in task is in the config already.
+  // algorithm's checkpoint bytes, variation or None, the checksum of the format, config and
+  // bytes: pickled_state.hpp). A built-in task is in the config already.
   py::tuple state() const {
     if (algorithm().step_in_progress())
       throw Error(fmt::format("{}: cannot pickle in the middle of a step (a request is pending or more are due); "
@@ -137,32 +139,38 @@ class PyAlgorithm {
     algorithm().save(out);
     const py::object task = task_ && is_python_task(*task_) ? py::cast(*task_) : py::none();
     const py::object objective = objective_ ? py::cast(objective_) : py::none();
-    return py::make_tuple(kStateFormat, dict_from_table(built_.resolved), task, objective, py::bytes(out.bytes()),
-                          variation_);
+    const py::int_ format(kStateFormat);
+    const py::dict config = dict_from_table(built_.resolved);
+    const py::bytes bytes(out.bytes());
+    return py::make_tuple(format, config, task, objective, bytes, variation_, state_checksum({format, config, bytes}));
   }
 
   static std::unique_ptr<PyAlgorithm> from_state(const py::tuple& s) {
-    if ((s.size() != 5 && s.size() != 6) || !py::isinstance<py::int_>(s[0]) || !py::isinstance<py::dict>(s[1]) ||
-        !py::isinstance<py::bytes>(s[4]))
-      throw InputError("unpickling a qdmeta.Algorithm: the state is not one qdmeta made");
-    if (s[0].cast<int>() != kStateFormat)
-      throw InputError(fmt::format("unpickling a qdmeta.Algorithm: state format {}, but this qdmeta reads format {}",
-                                   s[0].cast<int>(), kStateFormat));
+    constexpr std::string_view who = "unpickling a qdmeta.Algorithm";
+    if (s.size() < 1 || !py::isinstance<py::int_>(s[0]))
+      throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+    if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kStateFormat)))
+      throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who,
+                                   py::str(s[0]).cast<std::string>(), kStateFormat));
+    if (s.size() != 7 || !py::isinstance<py::dict>(s[1]) || !py::isinstance<py::bytes>(s[4]))
+      throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
     auto a = std::make_unique<PyAlgorithm>(s[1].cast<py::dict>(), s[2].cast<std::optional<Task>>(),
-                                           s[3].cast<std::shared_ptr<PythonMetaObjective>>(),
-                                           s.size() == 6 ? py::object(s[5]) : py::object(py::none()));
+                                           s[3].cast<std::shared_ptr<PythonMetaObjective>>(), py::object(s[5]));
     const std::string bytes = s[4].cast<std::string>();
     BinaryReader in(bytes, "the pickled qdmeta.Algorithm");
     {
       const py::gil_scoped_release release;
-      a->algorithm().load(in);
+      a->algorithm().load(in);  // refuses a non-finite objective or measure
     }
     in.finish();
+    // The values first, so a state built by hand with a bad value is named for it.
+    check_run_elites(a->algorithm().elites(), who);
+    check_state_checksum(s[6], state_checksum({s[0], s[1], s[4]}), who);
     return a;
   }
 
  private:
-  static constexpr int kStateFormat = 1;
+  static constexpr int kStateFormat = 2;  // 2: with its checksum
 
   void tell_blocks(const std::vector<py::tuple>& blocks) {
     if (jobs_.empty() || !algorithm().step_in_progress())

@@ -11,6 +11,7 @@
 #include "python_build.hpp"
 #include "python_meta_objective.hpp"
 #include "python_task.hpp"
+#include "python_text.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/config.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
@@ -82,9 +83,10 @@ Task(function, genotype_size, base_feature_size, name="python", qd_offset=0.0) w
 function f(genotypes: float32 array (n, genotype_size)) -> (fitness (n,), base_features
 (n, base_feature_size)[, valid (n,)]). Task.builtin({"name": "rastrigin", ...}) makes a
 built-in task from its [task] table (docs/config.md).)doc")
-      .def(py::init([](py::object function, Index genotype_size, Index base_feature_size, std::string name,
+      .def(py::init([](py::object function, Index genotype_size, Index base_feature_size, py::handle name,
                        double qd_offset) {
-             return Task(PythonTask(std::move(function), genotype_size, base_feature_size, std::move(name), qd_offset));
+             return Task(PythonTask(std::move(function), genotype_size, base_feature_size,
+                                    checked_text(name, "Task(): name"), qd_offset));
            }),
            py::arg("function"), py::arg("genotype_size"), py::arg("base_feature_size"), py::arg("name") = "python",
            py::arg("qd_offset") = 0.0)
@@ -113,8 +115,11 @@ archive stored for them, one row per elite: "solution", "objective", "measures" 
 output) and "base_features", as Archive.data() names them, so that it need not evaluate an elite
 again to know its fitness. Given to qdmeta.run() or qdmeta.Algorithm() it becomes the
 [meta_fitness] kind `name` of the run's task.)doc")
-      .def(py::init<py::object, std::string, bool>(), py::arg("function"), py::arg("name") = "python",
-           py::kw_only(), py::arg("archive") = false)
+      .def(py::init([](py::object function, py::handle name, bool archive) {
+             std::string text = checked_text(name, "MetaObjective(): name");
+             return std::make_shared<PythonMetaObjective>(std::move(function), std::move(text), archive);
+           }),
+           py::arg("function"), py::arg("name") = "python", py::kw_only(), py::arg("archive") = false)
       .def_property_readonly("name", &PythonMetaObjective::name)
       .def_property_readonly("archive", &PythonMetaObjective::reads_archive)
       .def(py::pickle(

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "python_text.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace py = pybind11;
@@ -34,7 +35,8 @@ class Converter {
       if (!py::isinstance<py::str>(k))
         throw py::type_error(
             fmt::format("config: key {} under '{}' is not a string", py::repr(k).cast<std::string>(), path));
-      const std::string name = k.cast<std::string>();
+      const std::string name =
+          checked_text(k, fmt::format("config: key {} under {}", py::repr(k).cast<std::string>(), named(path)));
       convert(v, joined(path, name), [&](auto&& node) { t.insert_or_assign(name, std::forward<decltype(node)>(node)); });
     }
     return t;
@@ -89,7 +91,7 @@ class Converter {
     } else if (py::isinstance<py::float_>(value)) {
       put(toml::value<double>(value.cast<double>()));
     } else if (py::isinstance<py::str>(value)) {
-      put(toml::value<std::string>(value.cast<std::string>()));
+      put(toml::value<std::string>(checked_text(value, fmt::format("config: {}", named(path)))));
     } else if (py::isinstance<py::dict>(value)) {
       put(table_of(py::reinterpret_borrow<py::dict>(value), path));
     } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {

@@ -9,8 +9,9 @@
 namespace qdmeta::python {
 
 // TypeError naming the key path for a value TOML cannot hold (None, an object, a non-str key);
-// InputError for an int outside TOML's 64 bits, a dict or list that contains itself, or one
-// nested more than 64 levels deep.
+// InputError for an int outside TOML's 64 bits, a str (key or value) with a lone surrogate or
+// a NUL (python_text.hpp), a dict or list that contains itself, or one nested more than 64
+// levels deep.
 toml::table table_from_dict(const pybind11::dict& config);
 pybind11::dict dict_from_table(const toml::table& table);
 

@@ -231,6 +231,20 @@ TEST_F(CsvTest, ReadErrorsNameFileAndLine) {
   EXPECT_NE(msg.find(":2: column 4 (solution_0): '' is not a number"), std::string::npos) << msg;
 }
 
+// What the writer never writes, refused as the report refuses it (tools/run_files.py): a last
+// line without its end (a file cut short, its last cell 0.1 of 0.125), an empty line, a column
+// name twice.
+TEST_F(CsvTest, ReadRefusesALastLineCutShortAnEmptyLineAndARepeatedName) {
+  std::string msg = read_error(write("cut.csv", "index,objective,measures_0,solution_0\n0,1,0.5,0.125\n1,2,0.5,0.1"));
+  EXPECT_NE(msg.find("cut.csv\":3: the last line has no line end: the file was cut short"), std::string::npos) << msg;
+  msg = read_error(write("blank.csv", "index,objective,measures_0,solution_0\n0,1,0.5,0.5\n\n1,2,0.5,0.5\n"));
+  EXPECT_NE(msg.find("blank.csv\":3: an empty line: the file is damaged"), std::string::npos) << msg;
+  msg = read_error(write("twice.csv", "index,objective,measures_0,measures_0\n0,1,0.5,0.5\n"));
+  EXPECT_NE(msg.find("twice.csv\":1: column 4 'measures_0' repeats an earlier column's name"), std::string::npos)
+      << msg;
+  EXPECT_EQ(read_elites_csv(write("crlf.csv", "index,objective,measures_0\r\n0,1,0.5\r\n")).size(), 1);
+}
+
 TEST_F(CsvTest, AppenderWritesRowsAndChecksWidth) {
   const fs::path p = dir_ / "metrics.csv";
   {

@@ -116,3 +116,35 @@ def test_arguments_a_method_does_not_take_are_one_line_without_the_arrays():
         qdmeta.Algorithm(ME, task=qdmeta.Task(typo, genotype_size=4, base_feature_size=2)).step()
     # The wrapped methods keep their names and documentation.
     assert qdmeta.GridArchive.add.__name__ == "add" and "statuses" in qdmeta.GridArchive.add.__doc__
+
+
+# Text and paths the C++ side cannot take: one line naming the key or argument and the reason,
+# never pybind11's "Unable to cast" or its list of overloads, never a message cut at a NUL.
+@pytest.mark.parametrize("text, reason", [("ra\ud800strigin", r"holds a lone surrogate \(a code point in "
+                                                             r"U\+D800\.\.U\+DFFF\), which is not text: give valid "
+                                                             r"Unicode$"),
+                                          ("ras\0trigin", r"holds a NUL character \(at byte 3\), which qdmeta's text "
+                                                          r"cannot hold$")])
+def test_a_config_string_the_cpp_side_cannot_take_names_its_key(text, reason):
+    with pytest.raises(qdmeta.InputError, match=r"^config: 'task\.name' " + reason):
+        qdmeta.Algorithm(dict(ME, task={"name": text}))
+    with pytest.raises(qdmeta.InputError, match=r"^config: key '" + ("ra\\\\ud800strigin" if "\ud800" in text else
+                                                                     "ras\\\\x00trigin") + "' under 'task' " + reason):
+        qdmeta.Algorithm(dict(ME, task={"name": "rastrigin", text: 1}))
+    with pytest.raises(qdmeta.InputError, match=r"^Task\(\): name " + reason):
+        qdmeta.Task(features_of, genotype_size=4, base_feature_size=2, name=text)
+    with pytest.raises(qdmeta.InputError, match=r"^MetaObjective\(\): name " + reason):
+        qdmeta.MetaObjective(features_of, name=text)
+
+
+@pytest.mark.parametrize("call", ["run", "resume", "Algorithm.run"])
+def test_a_path_with_a_nul_names_the_argument_in_one_line(tmp_path, call):
+    out = str(tmp_path / "ru\0n")
+    with pytest.raises(ValueError) as refused:
+        if call == "run":
+            qdmeta.run(dict(ME, task={"name": "rastrigin"}), out)
+        elif call == "resume":
+            qdmeta.resume(out_dir=out)
+        else:
+            qdmeta.Algorithm(dict(ME, task={"name": "rastrigin"})).run(out_dir=out)
+    assert str(refused.value) == f"{call}(): out_dir holds a NUL character, which no path can hold"

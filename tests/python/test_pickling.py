@@ -105,7 +105,7 @@ def test_a_pickled_grid_keeps_its_parameters():
 def test_a_state_that_qdmeta_did_not_make_is_refused():
     grid = qdmeta.GridArchive(solution_dim=2, dims=[3])
     state = grid.__getstate__()
-    damaged = (state[0], state[1], state[2], state[3], state[4][:-3])
+    damaged = (state[0], state[1], state[2], state[3], state[4][:-3], state[5])
     fresh = qdmeta.GridArchive.__new__(qdmeta.GridArchive)  # as pickle makes it
     with pytest.raises(qdmeta.InputError, match="the pickled GridArchive: truncated"):
         fresh.__setstate__(damaged)
@@ -243,3 +243,85 @@ def test_an_unpickled_algorithm_runs_to_a_budget_as_the_original():
     original.run(budget=1500, threads=1)
     twin.run(budget=1500, threads=1)
     assert_same_algorithm(twin, original)
+
+
+# A pickle has no checksum of its own: each qdmeta state carries one (the checkpoint's) and is
+# value-checked on load, so a flipped bit is refused, never loaded as other data.
+def flipped(data, bit):
+    damaged = bytearray(data)
+    damaged[bit // 8] ^= 1 << (bit % 8)
+    return bytes(damaged)
+
+
+def loaded_or_refused(data, kind):
+    """The object pickle.loads makes of `data`, or None when it refuses it (any exception: a
+    pickle opcode broken, a qdmeta state refused) or makes no `kind` (a flipped opcode may make
+    pickle load a str: no qdmeta state was read)."""
+    try:
+        loaded = pickle.loads(data)
+    except Exception:  # noqa: BLE001 (every refusal is fine here; loading other data is not)
+        return None
+    return loaded if type(loaded) is kind else None
+
+
+@pytest.mark.parametrize("make", [lambda: filled_archives()[0], lambda: filled_archives()[1],
+                                  lambda: filled_archives()[2]], ids=["grid", "cvt", "unstructured"])
+def test_an_archive_pickle_with_a_bit_flipped_is_refused_or_the_same(make):
+    original = make()
+    data = pickle.dumps(original)
+    same = 0
+    for bit in range(5, 8 * len(data), 8 * len(data) // 160):  # 160 flips spread over every byte range
+        twin = loaded_or_refused(flipped(data, bit), type(original))
+        if twin is not None:
+            assert_same_elites(twin, original)
+            assert (twin.seed, twin.solution_dim, twin.measure_dim) == (original.seed, original.solution_dim,
+                                                                        original.measure_dim)
+            same += 1
+    assert same < 10  # a flip in pickle's own framing may leave the data as it was; no more
+
+
+def test_an_algorithm_pickle_with_a_bit_flipped_is_refused_or_the_same():
+    original = qdmeta.Algorithm(ME, task=sphere_task())
+    for _ in range(3):
+        original.step(threads=1)
+    data = pickle.dumps(original)
+    for bit in range(3, 8 * len(data), 8 * len(data) // 160):
+        twin = loaded_or_refused(flipped(data, bit), qdmeta.Algorithm)
+        if twin is not None:
+            assert_same_algorithm(twin, original)
+
+
+def with_bytes(state, old, new):
+    """The algorithm state with one value of its checkpoint bytes replaced (found by its bytes)."""
+    raw = state[4]
+    assert old in raw
+    return state[:4] + (raw.replace(old, new, 1),) + state[5:]
+
+
+@pytest.mark.parametrize("what, rule", [("objective", "non-finite objective or measure"),
+                                        ("gene", "gene or base feature is outside \\[0, 1\\]")])
+def test_an_algorithm_state_with_a_nan_value_is_refused_on_load(what, rule):
+    algo = qdmeta.Algorithm(ME, task=sphere_task())
+    algo.step(threads=1)
+    data = algo.data()
+    value = data["objective"][0] if what == "objective" else data["solution"][0, 0]
+    state = algo.__getstate__()
+    damaged = with_bytes(state, np.float32(value).tobytes(), np.float32(np.nan).tobytes())
+    fresh = qdmeta.Algorithm.__new__(qdmeta.Algorithm)
+    with pytest.raises(qdmeta.InputError, match=rule):
+        fresh.__setstate__(damaged)
+
+
+def test_an_algorithm_state_whose_bytes_changed_is_refused_by_its_checksum():
+    algo = qdmeta.Algorithm(ME, task=sphere_task())
+    algo.step(threads=1)
+    state = algo.__getstate__()
+    value = algo.data()["objective"][0]
+    damaged = with_bytes(state, np.float32(value).tobytes(), np.float32(value + 1).tobytes())
+    fresh = qdmeta.Algorithm.__new__(qdmeta.Algorithm)
+    with pytest.raises(qdmeta.InputError, match="unpickling a qdmeta.Algorithm: the state is damaged \\(checksum "
+                                                "mismatch\\)"):
+        fresh.__setstate__(damaged)
+    config = dict(state[1], seed=state[1]["seed"] + 1)  # the config too
+    with pytest.raises(qdmeta.InputError, match="checksum mismatch"):
+        qdmeta.Algorithm.__new__(qdmeta.Algorithm).__setstate__(state[:1] + (config,) + state[2:])

@@ -172,3 +172,79 @@ def test_a_linked_output_folder_is_refused_and_left_alone(tmp_path, capsys):
     assert status == 2 and len(err) == 1
     assert err[0].startswith(f"report.py: error: {experiment / 'figures'}: not a folder the report may write into")
     assert list(elsewhere.iterdir()) == []
+
+
+# The cells qdmeta's C++ reader refuses (std::from_chars's syntax, archive.csv's rules in
+# src/qdmeta/io/csv.cpp), and the counts qdmeta writes as whole numbers: the report refuses them
+# too, each with the line, the column and the rule.
+META_HEADER = ("meta_generation,evals,evals_bottom,evals_meta,meta_fitness_best,meta_fitness_mean,meta_fitness_sd,"
+               "generations,states\n")
+
+
+@pytest.mark.parametrize("name, before, after, column, rule", [
+    ("archive.csv", "\n3,-3.5,", "\n9223372036854775808,-3.5,", 1, "is out of range of a 64-bit integer"),
+    ("archive.csv", "\n3,-3.5,", "\n-3,-3.5,", 1, "is negative: a cell index must be >= 0"),
+    ("archive.csv", "\n3,-3.5,", "\n3,+3.5,", 2, "is not a number"),
+    ("archive.csv", "\n3,-3.5,", "\n3, 3.5,", 2, "is not a number"),
+    ("archive.csv", "\n3,-3.5,", "\n3,3_5,", 2, "is not a number"),
+    ("archive.csv", "\n3,-3.5,", "\n3,infinity,", 2, "is not finite: every value must be"),
+    ("archive.csv", "\n3,-3.5,", "\n3,-1e39,", 2, "is out of range of a 32-bit float"),
+    ("archive.csv", "\n3,-3.5,", "\n3,-1e-50,", 2, "is out of range of a 32-bit float"),
+    ("archive.csv", "\n3,-3.5,0.3,0.5,0.25,", "\n3,-3.5,0.3,0.5,1.25,", 5,
+     "is outside [0, 1], where every gene and base feature must lie"),
+    ("adapt-dimension.csv", "\n3,-7,", "\n3,-\u0667,", 2, "is not a number"),  # an Arabic-Indic 7
+    ("adapt-dimension.csv", "\n3,-7,", "\n0,-7,", 1, "is below 1"),
+    ("metrics.csv", "\n200,200,0,2,20,", "\n200,200,0,2,20.5,", 5, "is not a whole number: qdmeta writes this "
+                                                                    "column as one"),
+    ("meta.csv", "\n2,200,", "\n-1,200,", 1, "is below 1"),
+])
+def test_a_cell_qdmeta_refuses_the_report_refuses(tmp_path, capsys, name, before, after, column, rule):
+    run = make_experiment(tmp_path)
+    (run / "meta.csv").write_text(META_HEADER + "".join(f"{k},{100 * k},{100 * k},0,1.5,1.25,0.1,5,1\n"
+                                                        for k in (1, 2, 3)))
+    assert report_of(tmp_path, capsys) == (0, [])
+    text = (run / name).read_text()
+    assert before in text
+    (run / name).write_text(text.replace(before, after, 1))
+    line = text[: text.index(before)].count("\n") + 2
+    cell = after.strip("\n").split(",")[column - 1]
+    header = text.splitlines()[0].split(",")[column - 1]
+    assert report_of(tmp_path, capsys) == (2, [f"report.py: error: {run / name}:{line}:{column}: {header} '{cell}' "
+                                               f"{rule}"])
+
+
+@pytest.mark.parametrize("header, rule", [
+    ("objective,index,measures_0,measures_1,solution_0,solution_1", "not an archive file (header must start with "
+                                                                    "index,objective)"),
+    ("index,objective,solution_0,solution_1,measures_0,measures_1", "column 5 ('measures_0') is not measures_*, "
+                                                                    "solution_* or base_* in that order"),
+])
+def test_an_archive_header_qdmeta_refuses_the_report_refuses(tmp_path, capsys, header, rule):
+    run = make_experiment(tmp_path)
+    lines = (run / "archive.csv").read_text().split("\n", 1)
+    (run / "archive.csv").write_text(header + "\n" + lines[1])
+    assert report_of(tmp_path, capsys) == (2, [f"report.py: error: {run / 'archive.csv'}:1: {rule}"])
+
+
+def test_an_archive_of_no_elite_is_refused_as_adapt_refuses_it(tmp_path, capsys):
+    run = make_experiment(tmp_path)
+    (run / "archive.csv").write_text((run / "archive.csv").read_text().split("\n", 1)[0] + "\n")
+    assert report_of(tmp_path, capsys) == (2, [f"report.py: error: {run / 'archive.csv'}: the archive holds no elite "
+                                               "(only its header): a finished run's archive has one"])
+
+
+@pytest.mark.parametrize("name", ["archive.csv", "metrics.csv", "config.toml", "adapt-dimension.csv"])
+def test_a_lost_file_of_a_finished_run_is_an_error(tmp_path, capsys, name):
+    run = make_experiment(tmp_path)
+    (run / name).unlink()
+    assert report_of(tmp_path, capsys) == (2, [f"report.py: error: {run / name}: no such file, but the run has "
+                                               "finished (its summary.json says stop_reason \"budget\"): a finished "
+                                               "run's file was lost"])
+
+
+def test_a_qd_meta_run_without_meta_csv_is_an_error(tmp_path, capsys):
+    run = make_experiment(tmp_path)
+    (run / "config.toml").write_text((run / "config.toml").read_text().replace("map-elites", "qd-meta"))
+    status, err = report_of(tmp_path, capsys)
+    assert (status, err) == (2, [f"report.py: error: {run / 'meta.csv'}: no such file, but the run has finished (its "
+                                 "summary.json says stop_reason \"budget\"): a finished run's file was lost"])

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "qdmeta/core/copy_row.hpp"
 
@@ -91,6 +92,10 @@ SavedElites EliteStore::read_elites(BinaryReader& in, bool with_base, std::strin
   if (static_cast<Index>(s.objectives.size()) != n || s.solutions.rows() != n || s.measures.rows() != n || !base_fits ||
       s.solutions.cols() != shape_.solution_size || s.measures.cols() != shape_.measure_size)
     in.fail(fmt::format("{} contents disagree in size", label == "archive" ? "archive" : fmt::format("{} archive", label)));
+  // As add() requires of every elite: a saved state whose bytes were changed must not load a NaN.
+  for (Index i = 0; i < n; ++i)
+    if (!std::isfinite(s.objectives[static_cast<std::size_t>(i)]) || !s.measures.row(i).allFinite())
+      in.fail(fmt::format("{} elite {} has a non-finite objective or measure: the saved state is damaged", label, i));
   return s;
 }
 

@@ -243,6 +243,12 @@ void UnstructuredArchive::load(BinaryReader& in) {
                     base_features.size() == n * static_cast<std::size_t>(base);
   for (const auto& c : coordinates) consistent = consistent && c.size() == n;
   if (!consistent) in.fail("unstructured archive contents disagree in size");
+  // As add() requires of every elite: a saved state whose bytes were changed must not load a NaN.
+  const auto finite = [](const std::vector<Real>& v) {
+    return std::all_of(v.begin(), v.end(), [](Real x) { return std::isfinite(x); });
+  };
+  if (!finite(objectives) || !std::all_of(coordinates.begin(), coordinates.end(), finite))
+    in.fail("unstructured archive: an elite has a non-finite objective or descriptor: the saved state is damaged");
   clear();
   std::vector<Real> descriptor(static_cast<std::size_t>(dims));
   for (std::size_t i = 0; i < n; ++i) {

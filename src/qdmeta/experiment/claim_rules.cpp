@@ -36,7 +36,8 @@ const Names kSources = {"paper", "ours"};
 const Names kFamilies = {"final", "population", "meta", "test", "generalisation"};
 const Names kPopulationStats = {"num_elites", "obj_mean", "obj_max", "qd_score"};
 // summary.json's keys that hold text, not a number a claim could measure.
-const Names kSummaryTextKeys = {"algorithm", "task", "stop_reason", "message", "budget_counts"};
+const Names kSummaryTextKeys = {"algorithm", "task", "stop_reason", "message", "budget_counts",
+                                "config_fingerprint"};
 constexpr std::string_view kGeneralisation = "generalisation";
 
 bool contains(const Names& names, std::string_view name) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/std.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -103,12 +104,22 @@ Real parse_value(const std::string& text, const CellPlace& at, CellRule rule) {
 }  // namespace
 
 EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules) {
-  std::istringstream in(read_regular_file(path, kMaxTableFileBytes));
+  const std::string text = read_regular_file(path, kMaxTableFileBytes);
+  // The writer ends every line: a last line without its end is a file cut short, whose last
+  // cell may still parse (0.1 of 0.123).
+  if (!text.empty() && text.back() != '\n')
+    throw InputError(fmt::format("{}:{}: the last line has no line end: the file was cut short", path,
+                                 std::count(text.begin(), text.end(), '\n') + 1));
+  std::istringstream in(text);
   std::string line;
   if (!read_line(in, line)) throw InputError(fmt::format("{} is empty", path));
   const auto header = split(line);
   if (header.size() < 2 || header[0] != "index" || header[1] != "objective")
     throw InputError(fmt::format("{}: not an archive file (header must start with index,objective)", path));
+  for (std::size_t c = 1; c < header.size(); ++c)
+    if (std::find(header.begin(), header.begin() + static_cast<std::ptrdiff_t>(c), header[c]) !=
+        header.begin() + static_cast<std::ptrdiff_t>(c))
+      throw InputError(fmt::format("{}:1: column {} '{}' repeats an earlier column's name", path, c + 1, header[c]));
   // The header's order is the writer's: index, objective, measures_*, solution_*, base_*.
   Index counts[3] = {0, 0, 0};  // measures, solutions, base features
   static constexpr std::string_view kGroups[3] = {"measures_", "solution_", "base_"};
@@ -123,11 +134,12 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules)
   const Index nm = counts[0], ns = counts[1], nb = counts[2];
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> line_numbers;
-  for (std::size_t number = 2; read_line(in, line); ++number)
-    if (!line.empty()) {
-      rows.push_back(split(line));
-      line_numbers.push_back(number);
-    }
+  for (std::size_t number = 2; read_line(in, line); ++number) {
+    // The writer writes no empty line: one is damage (split() would make it a row of one cell).
+    if (line.empty()) throw InputError(fmt::format("{}:{}: an empty line: the file is damaged", path, number));
+    rows.push_back(split(line));
+    line_numbers.push_back(number);
+  }
   EliteTable t;
   const auto count = static_cast<Index>(rows.size());
   t.measures.resize(count, nm);

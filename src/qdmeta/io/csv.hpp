@@ -19,7 +19,9 @@ void write_elites_csv(const std::filesystem::path& path, const EliteTable& elite
 enum class EliteValues { kFinite, kRunArchive };
 
 // Parsed back (for tests, adapt and reports): the same table. LF or CRLF line endings. Any bad
-// value is an InputError naming file, line, column and rule.
+// value, an empty line, a repeated column name or a last line without its end (a file cut
+// short) is an InputError naming file, line, column and rule. tools/run_files.py holds the
+// report to the same rules (docs/architecture.md, "One set of checks for run files").
 EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules = EliteValues::kFinite);
 
 // One CSV line: the cells joined by commas, then a newline.
