@@ -171,6 +171,10 @@ TEST(RobustnessRerun, APlanRowOfAnotherConfigIsRefusedAndTheRunsItsTasksMakeAgre
   EXPECT_NE(o.output.find("plan.tsv: row 1 (me seed 1) was planned with another config"), std::string::npos) << o.output;
   EXPECT_NE(o.output.find("mutation.sigma differs"), std::string::npos) << o.output;
   EXPECT_EQ(slurp(e.dir / "out" / "plan.tsv"), plan);
+  // Run by the experiment itself, the plan would still give its tasks the old config.
+  const Outcome unplanned = e.run("--restart-changed");
+  EXPECT_EQ(unplanned.status, 2) << unplanned.output;
+  EXPECT_NE(unplanned.output.find("plan.tsv: row 1"), std::string::npos) << unplanned.output;
   ASSERT_EQ(e.run("--plan --restart-changed").status, 0);
   EXPECT_NE(slurp(e.dir / "out" / "plan.tsv"), plan);
 }
@@ -226,6 +230,19 @@ TEST(RobustnessRerun, AKeptSummaryOfAnotherConfigIsRefusedAndALegacyOneCheckedAs
   ASSERT_EQ(run("--seeds 1 --restart-changed").status, 0);
   EXPECT_NE(slurp(kept), legacy);
   EXPECT_EQ(recorded(e.seed(1), "sigma"), "0.29999999999999999");
+}
+
+// The summaries committed before fingerprints (docs/results/) are kept by the legacy rule.
+TEST(RobustnessRerun, TheCommittedSummariesWithoutAFingerprintAreStillKept) {
+  const fs::path source = fs::path(QDMETA_SOURCE_DIR) / "docs/results/rastrigin/100m/stated-sd/summaries";
+  const fs::path kept = fresh_dir("committed-summaries"), out = fresh_dir("committed-plan");
+  fs::copy(source, kept, fs::copy_options::recursive);
+  const Outcome o = qdmeta_cli("experiment --plan --evals 100000000 --replicates 10 --config " +
+                               quote((fs::path(QDMETA_SOURCE_DIR) / "configs/rastrigin/experiment-stated-sd.toml").string()) +
+                               " --summaries " + quote(kept.string()) + " --out " + quote(out.string()));
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("0 runs planned"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("(40 more are done"), std::string::npos) << o.output;
 }
 
 // --- Ctrl-C in the report phase: exit 130 and one line, never the script's traceback.

@@ -218,10 +218,10 @@ void keep_spec(const ExperimentSpec& spec, const std::vector<ResolvedCondition>&
 
 // Everything an earlier call left, checked against the conditions in force before anything changes.
 ChangedRuns check_earlier_calls(const ExperimentSpec& spec, const std::vector<ResolvedCondition>& conditions,
-                                const fs::path& out, const RerunScope& scope) {
+                                const fs::path& out, const RerunScope& scope, bool planning) {
   ChangedRuns changed;
   check_run_directories(spec, conditions, out, scope, changed);
-  check_plan_rows(spec, conditions, out, scope);
+  check_plan_rows(spec, conditions, out, scope, planning);
   return changed;
 }
 
@@ -244,7 +244,7 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
   const RerunScope scope = scope_of(spec, out, options);
   const std::vector<ResolvedCondition> conditions = resolve_conditions(spec);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
-  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope);
+  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope, /*planning=*/true);
   if (options.summaries) keep_spec(spec, conditions, *options.summaries, scope, changed);
   for (const auto& [i, r] : changed.runs) {  // its task then starts it anew (qdmeta run)
     const fs::path dir = replicate_dir(out, spec.conditions[i], r);
@@ -295,7 +295,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
   const std::vector<ResolvedCondition> conditions = resolve_conditions(spec);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out
   // Refuse before touching anything what earlier calls made under another config (or budget).
-  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope);
+  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope, /*planning=*/false);
   if (options.summaries) keep_spec(spec, conditions, *options.summaries, scope, changed);
   write_spec(spec, out);
   const auto start = std::chrono::steady_clock::now();

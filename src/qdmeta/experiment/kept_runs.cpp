@@ -188,9 +188,9 @@ void check_kept_summaries(const ExperimentSpec& spec, const std::vector<Resolved
 }
 
 void check_plan_rows(const ExperimentSpec& spec, const std::vector<ResolvedCondition>& conditions,
-                     const fs::path& out, const RerunScope& scope) {
+                     const fs::path& out, const RerunScope& scope, bool replanning) {
   const fs::path plan = out / "plan.tsv";
-  if (!path_taken(plan) || scope.restart_changed) return;  // restarting: the plan is written anew
+  if (!path_taken(plan) || (replanning && scope.restart_changed)) return;
   std::istringstream lines(read_regular_file(plan, kMaxTextFileBytes));
   std::string line;
   std::getline(lines, line);

@@ -61,8 +61,10 @@ void check_kept_summaries(const ExperimentSpec& spec, const std::vector<Resolved
 
 // OUT/plan.tsv of an earlier --plan: each row's fingerprint (its last column; a plan written
 // before fingerprints has none and is not checked) must be its condition's; the keys that differ
-// are read from the condition.toml that plan wrote.
+// are read from the condition.toml that plan wrote. Not checked when `replanning` with
+// --restart-changed (the plan is written anew); a call that runs the experiment itself must not
+// leave its batch tasks a plan of another config, so there --restart-changed does not excuse it.
 void check_plan_rows(const ExperimentSpec& spec, const std::vector<ResolvedCondition>& conditions,
-                     const std::filesystem::path& out, const RerunScope& scope);
+                     const std::filesystem::path& out, const RerunScope& scope, bool replanning);
 
 }  // namespace qdmeta
