@@ -25,8 +25,9 @@ import shutil
 import signal
 import subprocess
 import sys
-import tempfile
 import time
+
+import matrix
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MEMORY_LIMIT = 4 << 30
@@ -220,9 +221,7 @@ def main(argv):
     env = dict(os.environ)
     if args.tools:
         env["QDMETA_TOOLS_DIR"] = os.path.abspath(args.tools)
-    work = args.work or tempfile.mkdtemp(prefix="qdmeta-damaged-")
-    os.makedirs(work, exist_ok=True)
-    try:
+    with matrix.work_folder(args.work, "qdmeta-damaged-") as work:
         interrupt = not args.quick and ("resume" in commands or "adapt" in commands)
         base, interrupted = make_experiment(binary, os.path.join(work, f"m{os.getpid()}"), env, interrupt)
         sources = [(base, False)] + ([(interrupted, True)] if interrupted else [])
@@ -250,11 +249,7 @@ def main(argv):
                             print(f"DEFECT {command} {where} {how}: {wrong}: {last[:200]}", flush=True)
         shutil.rmtree(scratch, ignore_errors=True)
         print(f"fine: {exit_zero} exit 0, {cases - defects - exit_zero} one-line errors")
-        print(f"{cases} cases, {defects} defects")
-        return 1 if defects else 0
-    finally:
-        if not args.work:
-            shutil.rmtree(work, ignore_errors=True)
+        return matrix.verdict(cases, defects)
 
 
 if __name__ == "__main__":

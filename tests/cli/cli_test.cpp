@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -394,13 +395,13 @@ TEST(Cli, APlannedRunStartedOnItsOwnIsTheExperimentsRun) {
   std::istringstream lines(slurp(planned / "plan.tsv"));
   std::string line;
   std::getline(lines, line);
-  EXPECT_EQ(line, "index\tcondition\tseed\tconfig\tdir");
+  EXPECT_EQ(line, "index\tcondition\tseed\tconfig\tdir\tconfig_fingerprint");
   std::vector<std::vector<std::string>> rows;
   while (std::getline(lines, line)) {
     std::vector<std::string> f;
     std::stringstream fields(line);
     for (std::string x; std::getline(fields, x, '\t');) f.push_back(x);
-    ASSERT_EQ(f.size(), 5u) << line;
+    ASSERT_EQ(f.size(), 6u) << line;
     rows.push_back(f);
   }
   ASSERT_EQ(rows.size(), 4u);
@@ -481,7 +482,7 @@ TEST(Cli, AReportFromKeptSummariesEqualsTheReportFromTheRuns) {
                              "summaries are in " + kept.string() + ")"),
             std::string::npos)
       << plan.output;
-  EXPECT_EQ(slurp(planned / "plan.tsv"), "index\tcondition\tseed\tconfig\tdir\n");
+  EXPECT_EQ(slurp(planned / "plan.tsv"), "index\tcondition\tseed\tconfig\tdir\tconfig_fingerprint\n");
   // A lost summary of a finished run is written again, the same bytes.
   const std::string summary = slurp(kept / "map-elites/seed-2.json");
   fs::remove(kept / "map-elites/seed-2.json");
@@ -533,9 +534,12 @@ TEST(Cli, ConditionsRunsOnlyTheNamedConditionsAndTheRestFollowLater) {
   const Outcome plan = qdmeta_cli("experiment --config " + config + " --evals 20000 --plan --conditions qd-meta-sarsa "
                                   "--summaries " + kept.string() + " --out " + planned.string());
   ASSERT_EQ(plan.status, 0) << plan.output;
-  EXPECT_EQ(slurp(planned / "plan.tsv"), "index\tcondition\tseed\tconfig\tdir\n1\tqd-meta-sarsa\t1\t" +
-                                             (planned / "qd-meta-sarsa/condition.toml").string() + "\t" +
-                                             (planned / "qd-meta-sarsa/seed-1").string() + "\n");
+  const std::string plan_text = slurp(planned / "plan.tsv");
+  EXPECT_TRUE(plan_text.starts_with("index\tcondition\tseed\tconfig\tdir\tconfig_fingerprint\n1\tqd-meta-sarsa\t1\t" +
+                                    (planned / "qd-meta-sarsa/condition.toml").string() + "\t" +
+                                    (planned / "qd-meta-sarsa/seed-1").string() + "\t"))
+      << plan_text;
+  EXPECT_EQ(std::count(plan_text.begin(), plan_text.end(), '\n'), 2) << plan_text;
   // A name the experiment does not have: one line that lists its conditions, nothing written.
   const fs::path untouched = fresh_dir("conditions_unknown") / "out";
   const Outcome unknown = qdmeta_cli("experiment --config " + config + " --evals 20000 --out " + untouched.string() +

@@ -9,52 +9,15 @@
 #include <string>
 #include <vector>
 
-#include "cli_helpers.hpp"
+#include "robustness_helpers.hpp"
 
 namespace qdmeta {
 namespace {
 
 namespace fs = std::filesystem;
 
-using cli_test::Outcome;
-using cli_test::shell;
+using namespace robustness;  // NOLINT(google-build-using-namespace): the shared helpers of these tests
 using cli_test::slurp;
-
-fs::path scratch() { return cli_test::process_scratch("robustness_test"); }
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = scratch() / name;
-  fs::remove_all(dir);
-  return dir;
-}
-
-fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path path = scratch() / name;
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
-}
-
-// One word for sh, whatever it holds: single quotes, each ' written as '\''.
-std::string quote(const std::string& word) {
-  std::string out = "'";
-  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-// QDMETA_TEST_BINARY runs the same tests against another build (e.g. an older one, to see them fail).
-const std::string kBinary = quote(std::getenv("QDMETA_TEST_BINARY") ? std::getenv("QDMETA_TEST_BINARY") : QDMETA_BINARY);
-
-Outcome qdmeta_cli(const std::string& args) { return shell(kBinary + " " + args); }
-
-int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
-
-std::string map_elites_config() { return quote(std::string(QDMETA_SOURCE_DIR) + "/configs/rastrigin/map-elites.toml"); }
-
-// A QD-Meta run of a few seconds with only the first checkpoint (after the first step): the
-// periodic one never comes.
-fs::path first_checkpoint_only_config() {
-  return write_file("first-checkpoint.toml", cli_test::small_qd_meta_config("600_000", "1e9"));
-}
 
 using cli_test::expect_same_run;
 
@@ -368,17 +331,6 @@ TEST(Robustness, KMeansOnACacheMissIsAnnounced) {
 }
 
 // --- 8. What stands in a run directory in place of a file: not a regular file, a planted link.
-
-// A QD-Meta run interrupted at its first checkpoint: config.toml, metrics.csv, meta.csv,
-// checkpoint.bin and summary.json ("interrupted") are all there.
-fs::path interrupted_run(const std::string& name) {
-  const fs::path dir = fresh_dir(name);
-  const Outcome o = signalled_at_checkpoint(kBinary + " run --config " + quote(first_checkpoint_only_config().string()) +
-                                                " --out " + quote(dir.string()) + " --quiet --threads 1",
-                                            1, "INT");
-  EXPECT_EQ(o.status, 130) << o.output;
-  return dir;
-}
 
 // Replaces `file` by a FIFO, a link to /dev/zero or a directory.
 void replace_by(const fs::path& file, const std::string& kind) {

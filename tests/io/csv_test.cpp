@@ -49,9 +49,9 @@ class CsvTest : public ::testing::Test {
     s << in.rdbuf();
     return s.str();
   }
-  std::string read_error(const fs::path& p) {
+  std::string read_error(const fs::path& p, EliteValues rules = EliteValues::kFinite) {
     try {
-      read_elites_csv(p);
+      read_elites_csv(p, rules);
     } catch (const InputError& e) {
       return e.what();
     }
@@ -243,6 +243,16 @@ TEST_F(CsvTest, ReadRefusesALastLineCutShortAnEmptyLineAndARepeatedName) {
   EXPECT_NE(msg.find("twice.csv\":1: column 4 'measures_0' repeats an earlier column's name"), std::string::npos)
       << msg;
   EXPECT_EQ(read_elites_csv(write("crlf.csv", "index,objective,measures_0\r\n0,1,0.5\r\n")).size(), 1);
+}
+
+TEST_F(CsvTest, ARunsArchiveHoldsEachCellOnce) {
+  const fs::path twice = write("twice.csv", "index,objective,measures_0,solution_0\n0,1,0.5,0.5\n3,2,0.5,0.5\n"
+                                            "3,2,0.5,0.5\n");
+  const std::string msg = read_error(twice, EliteValues::kRunArchive);
+  EXPECT_NE(msg.find(":4: column 1 (index): cell 3 repeats line 3: a run's archive holds one elite per cell"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(read_elites_csv(twice).size(), 3);  // a table of any other origin may repeat a cell
 }
 
 TEST_F(CsvTest, AppenderWritesRowsAndChecksWidth) {

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <climits>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/regular_file.hpp"
+#include "qdmeta/io/run_lock.hpp"
 
 namespace qdmeta {
 namespace {
@@ -177,6 +179,53 @@ TEST_F(RegularFileTest, ANewFileGetsTheUsualPermissions) {
   ::umask(old);
   EXPECT_EQ(fs::status(dir_ / "summary.json").permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read);
+}
+
+// --- What a killed writer leaves: its temporaries, removed by the next holder of the run lock.
+
+TEST(Temporaries, OnlyTheNamesAWriterGivesAreTemporaries) {
+  EXPECT_TRUE(is_temporary_name("archive.csv.tmp-1234-0"));
+  EXPECT_TRUE(is_temporary_name("checkpoint.bin.tmp-99999-17"));
+  EXPECT_FALSE(is_temporary_name("archive.csv"));
+  EXPECT_FALSE(is_temporary_name("notes.tmp-mine"));
+  EXPECT_FALSE(is_temporary_name("a.tmp-12-"));
+  EXPECT_FALSE(is_temporary_name("a.tmp--3"));
+  EXPECT_FALSE(is_temporary_name(".tmp-1-2"));
+}
+
+TEST(Temporaries, AnExclusiveRunLockRemovesThemASharedOneDoesNot) {
+  const fs::path dir = fs::temp_directory_path() / ("qdmeta_temporaries_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "sub");
+  for (const char* name : {"archive.csv.tmp-1-2", "sub/metrics.csv.tmp-1-3", "notes.tmp-mine", "archive.csv"})
+    std::ofstream(dir / name) << "x";
+  { const RunLock shared(dir, RunLock::Mode::kShared); }
+  EXPECT_TRUE(fs::exists(dir / "archive.csv.tmp-1-2"));  // a shared holder may sit beside a writer's
+  { const RunLock exclusive(dir, RunLock::Mode::kExclusive); }
+  EXPECT_FALSE(fs::exists(dir / "archive.csv.tmp-1-2"));
+  EXPECT_TRUE(fs::exists(dir / "sub/metrics.csv.tmp-1-3"));  // another directory's
+  EXPECT_TRUE(fs::exists(dir / "notes.tmp-mine"));
+  EXPECT_TRUE(fs::exists(dir / "archive.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Temporaries, ADirectoryTooLongForARunsFilesIsRefusedBeforeItIsMade) {
+  fs::path dir = fs::temp_directory_path() / ("qdmeta_long_" + std::to_string(getpid()));
+  const fs::path top = dir;
+  while (dir.native().size() < PATH_MAX - kRunFileNameRoom) dir /= std::string(100, 'd');
+  EXPECT_THROW(RunLock(dir, RunLock::Mode::kExclusive, RunLock::Missing::kCreate), InputError);
+  EXPECT_FALSE(fs::exists(top));
+}
+
+TEST_F(RegularFileTest, AContinuedFileMustNotBeALink) {
+  const fs::path real = write("real.csv", "a,b\n1,2\n");
+  fs::create_symlink(real, dir_ / "link.csv");
+  EXPECT_THROW(refuse_symbolic_link(dir_ / "link.csv"), InputError);
+  EXPECT_NO_THROW(refuse_symbolic_link(real));
+  EXPECT_NO_THROW(refuse_symbolic_link(dir_ / "missing.csv"));
+  const std::string text = "a,b\n1,2\n";
+  EXPECT_THROW(CsvAppender::check_continuable(dir_ / "link.csv", {"a", "b"}, text.size(), fnv1a64(text)), InputError);
+  EXPECT_NO_THROW(CsvAppender::check_continuable(real, {"a", "b"}, text.size(), fnv1a64(text)));
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "qdmeta/cli/distribution_factory.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/notice.hpp"
+#include "qdmeta/core/one_line.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
@@ -99,21 +100,33 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
   RunResult r;
   try {
     r = run_to_budget(*built.algorithm, *evaluator, built.settings, out, make_progress(quiet), &g_stop, resume);
+  } catch (const InputError&) {
+    throw;
+  } catch (const StepInterrupted&) {
+    throw;
   } catch (const EvaluationAborted& e) {
     // Printed here, not by main: this path must stay one line and finish before mpirun's SIGKILL.
     const std::string who = d.silent_ranks();
     if (tty && !quiet) fmt::print("\n");
     std::fflush(stdout);
-    fmt::print(stderr, "qdmeta: error: {}{}: continue it with: qdmeta resume --out {}\n", who, e.what(), out.string());
+    fmt::print(stderr, "qdmeta: error: {}\n",
+               one_line(fmt::format("{}{}: continue it with: qdmeta resume --out {}", who, e.what(), out.string())));
     d.release_survivors();
     return who.empty() ? kExitInterrupted : kExitRankFailed;
+  } catch (const Error& e) {
+    // A write that failed (the file size limit, a full disk): the last checkpoint still stands.
+    if (tty && !quiet) fmt::print("\n");
+    if (!fs::exists(out / kCheckpointFile)) throw;
+    throw Error(fmt::format("{}: continue the run from its last checkpoint with: qdmeta resume --out {}", e.what(),
+                            out.string()));
   }
   if (r.reason == StopReason::kInterrupted) {
     if (const std::string who = d.silent_ranks(); !who.empty()) {
       if (tty && !quiet) fmt::print("\n");
       std::fflush(stdout);
-      fmt::print(stderr, "qdmeta: error: {}the run stopped after {} evaluations with a checkpoint: continue it with: "
-                         "qdmeta resume --out {}\n", who, r.evals, out.string());
+      fmt::print(stderr, "qdmeta: error: {}\n",
+                 one_line(fmt::format("{}the run stopped after {} evaluations with a checkpoint: continue it with: "
+                                      "qdmeta resume --out {}", who, r.evals, out.string())));
       d.release_survivors();
       return kExitRankFailed;
     }
@@ -223,6 +236,7 @@ struct ExperimentArgs {
   bool quiet = false;
   bool no_report = false;
   bool plan = false;
+  bool restart_changed = false;
 };
 
 fs::path g_tools_dir;  // run_cli_with_tools's argument
@@ -264,6 +278,13 @@ ToolScript tool_script(const std::string& name, const std::string& label) {
   return {script, label};
 }
 
+// A tools/ script ended while this program was being interrupted (Ctrl-C reaches the script too):
+// the command ends as interrupted, not with the script's failure.
+class ToolInterrupted : public Error {
+ public:
+  ToolInterrupted() : Error("interrupted") {}
+};
+
 // Runs a tools/ script with Debian's Python ($QDMETA_PYTHON overrides the interpreter) from an
 // argument vector, never a shell: a path may hold any character. Its one-line error is ours.
 void run_tool(const ToolScript& script, const std::vector<std::string>& args, const std::string& subject) {
@@ -272,6 +293,7 @@ void run_tool(const ToolScript& script, const std::vector<std::string>& args, co
   argv.insert(argv.end(), args.begin(), args.end());
   std::fflush(stdout);  // our lines first, then the script's
   const ProgramOutcome r = run_program_capturing_stderr(argv, 64 * 1024);
+  if (g_stop.load()) throw ToolInterrupted();  // its KeyboardInterrupt traceback is not news
   // The user sees one line for a damaged input: the script's, as ours.
   if (const std::optional<std::string> message = script_error(r, script.path)) throw InputError(*message);
   std::fputs(r.error_output.c_str(), stderr);  // warnings, or a traceback worth reading whole
@@ -299,9 +321,10 @@ int command_experiment(const ExperimentArgs& a) {
   if (a.seeds) options.replicates = parse_replicate_range(*a.seeds);
   if (a.conditions) options.conditions = parse_condition_list(*a.conditions);
   selected_conditions(spec, options.conditions);  // an unknown name is refused before anything is written
+  options.restart_changed = a.restart_changed;
   if (a.plan) {
-    if (a.summaries) keep_experiment_spec(spec, *a.summaries, options.replicates);
-    const PlannedRuns runs = write_experiment_plan(spec, a.out, options.replicates, a.summaries, options.conditions);
+    if (a.summaries) options.summaries = *a.summaries;
+    const PlannedRuns runs = write_experiment_plan(spec, a.out, options);
     if (!a.quiet)
       fmt::print("{} runs planned in {}{}: run line K with `qdmeta run --config CONFIG --seed SEED --out DIR` (or "
                  "scripts/slurm-experiment.sh), then this command without --plan runs the tests and the report\n",
@@ -351,7 +374,17 @@ int command_experiment(const ExperimentArgs& a) {
     else fmt::print("{}\n", line);
     std::fflush(stdout);
   };
-  const ExperimentResult r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
+  // Ctrl-C anywhere (a run, a test phase, the summary or report script) ends the command the same way.
+  const auto interrupted = [&a] {
+    if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
+    return kExitInterrupted;
+  };
+  ExperimentResult r;
+  try {
+    r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
+  } catch (const ToolInterrupted&) {
+    return interrupted();
+  }
   if (!a.quiet) {
     if (tty) fmt::print("\n");
     fmt::print("{} runs finished now, {} resumed, {} already finished; {} test phases\n", r.runs_done, r.runs_resumed,
@@ -360,12 +393,13 @@ int command_experiment(const ExperimentArgs& a) {
       fmt::print("{} summaries written, {} runs skipped for the summary already in {}\n", r.summaries_written,
                  r.runs_kept, *a.summaries);
   }
-  if (r.interrupted) {
-    if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
-    return kExitInterrupted;
-  }
+  if (r.interrupted || g_stop.load()) return interrupted();
   if (a.no_report) return 0;
-  command_report(a.out, std::nullopt, a.quiet);
+  try {
+    command_report(a.out, std::nullopt, a.quiet);
+  } catch (const ToolInterrupted&) {
+    return interrupted();
+  }
   if (!a.quiet) fmt::print("report: {}\n", (fs::path(a.out) / "report.md").string());
   return 0;
 }
@@ -374,6 +408,9 @@ int command_experiment(const ExperimentArgs& a) {
 
 int run_cli_with_tools(int argc, char** argv, const fs::path& tools, DistributionFactory make_distribution) {
   g_tools_dir = tools;
+  // Past the file size limit (ulimit -f) a write then fails with EFBIG, which is reported in one
+  // line with the directory left resumable, instead of SIGXFSZ killing the process mid-write.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (!has_notice_sink()) set_notice_sink(print_notice_to_stderr);  // a program's own sink stays
   ensure_core_plugins();  // as build_run() would, so that --help lists them in any program
   // Under mpirun every rank starts here; ranks > 0 serve rank 0 and never parse the command line.
@@ -459,6 +496,10 @@ int parse_and_run(int argc, char** argv) {
   experiment_cmd->add_option("--threads", experiment.threads, "Worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   experiment_cmd->add_flag("--quiet", experiment.quiet, "Print nothing but errors");
   experiment_cmd->add_flag("--no-report", experiment.no_report, "Skip the report at the end");
+  experiment_cmd->add_flag("--restart-changed", experiment.restart_changed,
+                           "Start over the runs (run directories, kept summaries) that an earlier call made with "
+                           "another config than their condition has now (its file edited, its set or the budget "
+                           "changed); without it they are refused, naming the keys that differ");
   experiment_cmd->add_flag("--plan", experiment.plan,
                            "Run nothing: write every condition's config and DIR/plan.tsv (one line per run) for a "
                            "batch system");
@@ -501,7 +542,7 @@ int parse_and_run(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    fmt::print(stderr, "qdmeta: {}\n", e.what());
+    fmt::print(stderr, "qdmeta: {}\n", one_line(e.what()));
     return kExitBadInput;
   }
 
@@ -521,7 +562,7 @@ int parse_and_run(int argc, char** argv) {
                        "hidden, samples, ...)\n");
     return kExitBadInput;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "qdmeta: error: {}\n", e.what());
+    fmt::print(stderr, "qdmeta: error: {}\n", one_line(e.what()));  // whatever a value quoted in it holds
     return kExitBadInput;
   }
   return kExitBadInput;

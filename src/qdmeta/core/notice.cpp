@@ -1,5 +1,7 @@
 #include "qdmeta/core/notice.hpp"
 
+#include "qdmeta/core/one_line.hpp"
+
 #include <cstdio>
 #include <memory>
 #include <mutex>
@@ -41,7 +43,8 @@ void notice(NoticeKind kind, const std::string& text) {
 }
 
 void print_notice_to_stderr(NoticeKind kind, const std::string& text) {
-  std::fprintf(stderr, "qdmeta: %s%s\n", kind == NoticeKind::kWarning ? "warning: " : "", text.c_str());
+  std::fprintf(stderr, "qdmeta: %s%s\n", kind == NoticeKind::kWarning ? "warning: " : "",
+               one_line(text).c_str());
   std::fflush(stderr);
 }
 

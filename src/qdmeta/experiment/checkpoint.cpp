@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <fmt/std.h>
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
@@ -14,7 +16,47 @@ namespace qdmeta {
 
 namespace {
 constexpr std::string_view kMagic{"QDMETA-CHECKPOINT\n", 18};
+
+bool is_version(std::string_view v) {
+  return !v.empty() && v.size() <= kMaxVersionBytes && std::all_of(v.begin(), v.end(), [](char c) {
+    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '.' || c == '+' || c == '-';
+  });
 }
+
+// The version rule of checkpoint.hpp.
+void check_version(std::string_view version, const std::string& source) {
+  if (!is_version(version))
+    throw InputError(fmt::format("{} is damaged: its program version is not a version ({} bytes)", source, version.size()));
+  if (version == kVersion ||
+      std::find(kCheckpointResumesFrom.begin(), kCheckpointResumesFrom.end(), version) != kCheckpointResumesFrom.end())
+    return;
+  throw InputError(fmt::format("{} was written by qdmeta {}, whose runs this qdmeta ({}) is not known to continue to the "
+                               "same bits: finish it with qdmeta {}, or start it over",
+                               source, version, kVersion, version));
+}
+
+// A restored archive holds what a run writes, nothing adapt would refuse in its archive.csv.
+void check_elite_values(const Algorithm& algorithm, const std::string& source) {
+  const EliteTable t = algorithm.elites();
+  const auto refuse = [&](Index row, const char* what, Real value, const char* rule) {
+    throw InputError(fmt::format("{} is damaged: elite {} (cell {}) has {} {}, where {}", source, row,
+                                 t.index[static_cast<std::size_t>(row)], what, value, rule));
+  };
+  const auto unit = [](Real v) { return v >= 0 && v <= 1; };
+  for (Index i = 0; i < t.size(); ++i) {
+    if (!std::isfinite(t.objective[static_cast<std::size_t>(i)]))
+      refuse(i, "objective", t.objective[static_cast<std::size_t>(i)], "every value must be finite");
+    for (Index j = 0; j < t.measures.cols(); ++j)
+      if (!std::isfinite(t.measures(i, j))) refuse(i, "a measure", t.measures(i, j), "every value must be finite");
+    for (Index j = 0; j < t.solutions.cols(); ++j)
+      if (!unit(t.solutions(i, j))) refuse(i, "a gene", t.solutions(i, j), "every gene must lie in [0, 1]");
+    for (Index j = 0; j < t.base_features.cols(); ++j)
+      if (!unit(t.base_features(i, j)))
+        refuse(i, "a base feature", t.base_features(i, j), "every base feature must lie in [0, 1]");
+  }
+}
+
+}  // namespace
 
 std::uint64_t config_fingerprint(const toml::table& resolved) {
   toml::table copy = resolved;
@@ -93,7 +135,7 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   if (fnv1a64(body) != stored) throw InputError(fmt::format("{} is damaged: checksum mismatch", source));
 
   BinaryReader r(body.substr(kMagic.size() + sizeof(std::uint32_t)), source);
-  const std::string version = r.string("program version");
+  check_version(r.string("program version"), source);
   const std::string name = r.string("algorithm name");
   if (name != algorithm.name())
     throw InputError(fmt::format("{} was written by algorithm '{}', but config.toml now builds '{}'", source, name,
@@ -104,7 +146,6 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   if (size != r.remaining())
     throw InputError(fmt::format("{} is damaged: {} payload bytes, the header says {}", source, r.remaining(), size));
   const std::string_view payload = body.substr(body.size() - size);
-  (void)version;
 
   BinaryReader p(payload, source);
   p.expect_tag("run");
@@ -120,6 +161,7 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   algorithm.load(p);
   p.expect_tag("end");
   p.finish();
+  check_elite_values(algorithm, source);
   return c;
 }
 

@@ -4,9 +4,11 @@
 // Reading checks the magic, the format version, a checksum of the whole file and the config
 // fingerprint, so a corrupt or mismatched file stops with a clear InputError, never a silent
 // restart.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include <toml++/toml.h>
 
@@ -18,6 +20,18 @@ namespace qdmeta {
 // QD-Meta's last meta-generation record carries its meta-population statistics.
 inline constexpr std::uint32_t kCheckpointFormat = 4;  // 4: the logs' hashes
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+
+// Which checkpoints resume. A checkpoint records the format of its bytes and the program version
+// that wrote it; the format says whether this program can read it, the version whether what it
+// read continues to the same bits (another version may draw, round or order differently). So a
+// checkpoint resumes when its format is kCheckpointFormat and its version is this program's or
+// one listed here: versions whose checkpoints this one is known to continue bit-identically (the
+// goldens, tests/cli/golden_test.cpp, and a checkpoint of that version resumed by this one give
+// the bits of an uninterrupted run). A version bump that changes no result adds the old version
+// here; one that changes results leaves it out, and its checkpoints are refused, naming both
+// versions. The version is at most kMaxVersionBytes of [0-9A-Za-z.+-]; anything else is damage.
+inline constexpr std::array<std::string_view, 0> kCheckpointResumesFrom{};
+inline constexpr std::size_t kMaxVersionBytes = 64;
 
 // The run driver's own state between two generations.
 struct RunCursor {
@@ -50,7 +64,10 @@ void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprin
                       const Algorithm& algorithm);
 void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, const RunSnapshot& snapshot);
 
-// Restores `algorithm` (freshly built from the same config) and returns the cursor.
+// Restores `algorithm` (freshly built from the same config) and returns the cursor. Refuses
+// (InputError) a checkpoint of another format or of a version it does not resume (above), and
+// one whose archive holds a value no run writes (an objective or feature that is not finite, a
+// gene or base feature outside [0, 1], as `qdmeta adapt` refuses in archive.csv).
 RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, Algorithm& algorithm);
 
 }  // namespace qdmeta

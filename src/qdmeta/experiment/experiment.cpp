@@ -14,6 +14,8 @@
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/claim_rules.hpp"
+#include "qdmeta/experiment/config_fingerprint.hpp"
+#include "qdmeta/experiment/kept_runs.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
@@ -206,98 +208,49 @@ ReplicateRange checked_range(const ExperimentSpec& spec, std::optional<Replicate
   return r;
 }
 
-std::string evaluations_text(std::optional<std::int64_t> evaluations) {
-  return evaluations ? fmt::format("evaluations = {}", *evaluations) : "each condition's own budget";
-}
-
-std::vector<std::string> strings_of(const toml::node_view<const toml::node>& array) {
-  std::vector<std::string> out;
-  if (const auto* a = array.as_array())
-    for (const auto& v : *a) out.push_back(v.value_or<std::string>(""));
-  return out;
-}
-
-// Summaries kept in `dir` by an earlier call must come from the same experiment: the same
-// evaluations and tests, and for each condition still in it the same config and set (its
-// experiment.toml), and each kept summary of `range` the budget its condition has now.
-void check_kept_summaries(const ExperimentSpec& spec, const fs::path& dir, ReplicateRange range,
-                          const std::vector<std::int64_t>& budgets) {
-  const fs::path file = dir / "experiment.toml";
-  const std::string advice = "use another --summaries folder, or the experiment that made them";
-  if (path_taken(file)) {
-    const toml::table kept = load_toml(file);
-    const std::optional<std::int64_t> evaluations = kept["evaluations"].value<std::int64_t>();
-    if (evaluations != spec.evaluations)
-      throw InputError(fmt::format("{}: its summaries were made with {}, this experiment has {}: {}", file.string(),
-                                   evaluations_text(evaluations), evaluations_text(spec.evaluations), advice));
-    if (strings_of(kept["tests"]) != spec.tests)
-      throw InputError(fmt::format("{}: its summaries were made with other tests than this experiment's: {}",
-                                   file.string(), advice));
-    if (const auto* conditions = kept["condition"].as_array()) {
-      for (const auto& node : *conditions) {
-        const auto* k = node.as_table();
-        if (!k) continue;
-        const std::string slug = (*k)["slug"].value_or<std::string>("");
-        for (const auto& c : spec.conditions) {
-          if (c.slug != slug) continue;
-          const toml::table kept_set = (*k)["set"].as_table() ? *(*k)["set"].as_table() : toml::table{};
-          if ((*k)["config"].value_or<std::string>("") != c.config_name || kept_set != c.set.value_or(toml::table{}))
-            throw InputError(fmt::format("{}: condition '{}' was run with config {} and another set than this "
-                                         "experiment's (config {}): {}",
-                                         file.string(), c.name, (*k)["config"].value_or<std::string>("?"),
-                                         c.config_name, advice));
-        }
-      }
-    }
-  }
-  for (int r = range.first; r <= range.last; ++r) {
-    for (std::size_t i = 0; i < spec.conditions.size(); ++i) {
-      const fs::path summary = summary_file(dir, spec.conditions[i], r);
-      if (!path_taken(summary)) continue;
-      std::int64_t budget = -1;
-      try {
-        budget = nlohmann::json::parse(read_regular_file(summary, kMaxTextFileBytes))
-                     .at("summary")
-                     .at("budget")
-                     .get<std::int64_t>();
-      } catch (const nlohmann::json::exception& e) {
-        throw InputError(fmt::format("{} is unreadable: {}", summary.string(), e.what()));
-      }
-      if (budget != budgets[i])
-        throw InputError(fmt::format("{} was made with a budget of {} evaluations but this experiment asks for {}: {}",
-                                     summary.string(), budget, budgets[i], advice));
-    }
-  }
-}
-
-void keep_spec(const ExperimentSpec& spec, const fs::path& summaries, ReplicateRange range,
-               const std::vector<std::int64_t>& budgets) {
-  check_kept_summaries(spec, summaries, range, budgets);
+// The kept summaries checked (kept_runs.hpp), then SUMMARIES/experiment.toml written.
+void keep_spec(const ExperimentSpec& spec, const std::vector<ResolvedCondition>& conditions,
+               const fs::path& summaries, const RerunScope& scope, ChangedRuns& changed) {
+  check_kept_summaries(spec, conditions, summaries, scope, changed);
   fs::create_directories(summaries);
   write_spec(spec, summaries, ConfigPaths::kAsWritten);
 }
 
-std::vector<std::int64_t> condition_budgets(const ExperimentSpec& spec) {
-  std::vector<std::int64_t> budgets;
-  for (const auto& c : spec.conditions)
-    budgets.push_back(
-        build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}, BuildScope::kTasksOnly).settings.budget);
-  return budgets;
+// Everything an earlier call left, checked against the conditions in force before anything changes.
+ChangedRuns check_earlier_calls(const ExperimentSpec& spec, const std::vector<ResolvedCondition>& conditions,
+                                const fs::path& out, const RerunScope& scope, bool planning) {
+  ChangedRuns changed;
+  check_run_directories(spec, conditions, out, scope, changed);
+  check_plan_rows(spec, conditions, out, scope, planning);
+  return changed;
+}
+
+// The runs of this call; refused before OUT is made when their files' paths would be too long.
+RerunScope scope_of(const ExperimentSpec& spec, const fs::path& out, const ExperimentOptions& options) {
+  RerunScope scope{checked_range(spec, options.replicates), selected_conditions(spec, options.conditions),
+                   options.restart_changed};
+  for (const ExperimentCondition* c : scope.selected)
+    require_room_for_run_files(replicate_dir(out, *c, scope.range.last));  // the longest seed number
+  return scope;
+}
+
+std::size_t index_of(const ExperimentSpec& spec, const ExperimentCondition& c) {
+  return static_cast<std::size_t>(&c - spec.conditions.data());
 }
 
 }  // namespace
 
-void keep_experiment_spec(const ExperimentSpec& spec, const fs::path& summaries,
-                          std::optional<ReplicateRange> replicates) {
-  keep_spec(spec, summaries, checked_range(spec, replicates), condition_budgets(spec));
-}
-
-PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& out,
-                                  std::optional<ReplicateRange> replicates, const std::optional<fs::path>& summaries,
-                                  const std::vector<std::string>& conditions) {
-  const ReplicateRange range = checked_range(spec, replicates);
-  const std::vector<const ExperimentCondition*> selected = selected_conditions(spec, conditions);
+PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& out, const ExperimentOptions& options) {
+  const RerunScope scope = scope_of(spec, out, options);
+  const std::vector<ResolvedCondition> conditions = resolve_conditions(spec);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
+  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope, /*planning=*/true);
+  if (options.summaries) keep_spec(spec, conditions, *options.summaries, scope, changed);
+  for (const auto& [i, r] : changed.runs) {  // its task then starts it anew (qdmeta run)
+    const fs::path dir = replicate_dir(out, spec.conditions[i], r);
+    const RunLock lock(dir, RunLock::Mode::kExclusive);
+    clear_run_directory(dir);
+  }
   write_spec(spec, out);
   for (const auto& c : spec.conditions) {
     toml::table config = c.effective_config();
@@ -316,17 +269,18 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
     write_file_atomic(out / c.slug / "condition.toml", text.str());
   }
   std::ostringstream plan;
-  plan << "index\tcondition\tseed\tconfig\tdir\n";
+  plan << "index\tcondition\tseed\tconfig\tdir\t" << kConfigFingerprintKey << "\n";
   PlannedRuns runs;
-  for (int r = range.first; r <= range.last; ++r)  // replicate-major, as run_experiment
-    for (const ExperimentCondition* condition : selected) {
+  for (int r = scope.range.first; r <= scope.range.last; ++r)  // replicate-major, as run_experiment
+    for (const ExperimentCondition* condition : scope.selected) {
       const ExperimentCondition& c = *condition;
-      if (summaries && fs::is_regular_file(summary_file(*summaries, c, r))) {
+      const std::size_t i = index_of(spec, c);
+      if (options.summaries && fs::is_regular_file(summary_file(*options.summaries, c, r)) && !changed.summary(i, r)) {
         ++runs.summarised;
         continue;
       }
       plan << ++runs.planned << '\t' << c.slug << '\t' << r << '\t' << (out / c.slug / "condition.toml").string()
-           << '\t' << replicate_dir(out, c, r).string() << '\n';
+           << '\t' << replicate_dir(out, c, r).string() << '\t' << conditions[i].fingerprint << '\n';
     }
   write_file_atomic(out / "plan.tsv", plan.str());
   return runs;
@@ -335,39 +289,33 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
 ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out, int threads,
                                 const ExperimentCallback& progress, const std::atomic<bool>* stop,
                                 const ExperimentOptions& options) {
-  const ReplicateRange range = checked_range(spec, options.replicates);
-  const std::vector<const ExperimentCondition*> selected = selected_conditions(spec, options.conditions);
+  const RerunScope scope = scope_of(spec, out, options);
+  const ReplicateRange range = scope.range;
   if (options.summaries && !options.summarise) throw Error("run_experiment: summaries asked for without a summariser");
+  const std::vector<ResolvedCondition> conditions = resolve_conditions(spec);
   const RunLock experiment_lock(out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);  // one experiment per --out
-  // Refuse before touching anything when finished runs here, or kept summaries, had another budget.
-  const std::vector<std::int64_t> budgets = condition_budgets(spec);
-  for (std::size_t i = 0; i < spec.conditions.size(); ++i) {
-    const ExperimentCondition& c = spec.conditions[i];
-    const std::int64_t budget = budgets[i];
-    for (int r = range.first; r <= range.last; ++r) {
-      const RunState state(replicate_dir(out, c, r));
-      if (state.finished() && state.budget() != budget)
-        throw InputError(fmt::format("{} finished with a budget of {} evaluations but this experiment asks for {}: "
-                                     "use another --out or the same --evals",
-                                     state.dir().string(), state.budget(), budget));
-    }
-  }
-  if (options.summaries) keep_spec(spec, *options.summaries, range, budgets);
+  // Refuse before touching anything what earlier calls made under another config (or budget).
+  ChangedRuns changed = check_earlier_calls(spec, conditions, out, scope, /*planning=*/false);
+  if (options.summaries) keep_spec(spec, conditions, *options.summaries, scope, changed);
   write_spec(spec, out);
   const auto start = std::chrono::steady_clock::now();
   const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   auto evaluator = make_evaluator(threads);
   ExperimentResult result;
-  const int runs = static_cast<int>(selected.size()) * (range.last - range.first + 1);
+  // Asked to stop: checked before each phase (a run checks it between its steps itself).
+  const auto stopping = [&] { return stop != nullptr && stop->load() && (result.interrupted = true); };
+  const int runs = static_cast<int>(scope.selected.size()) * (range.last - range.first + 1);
   int run = 0;
   for (int r = range.first; r <= range.last; ++r) {  // replicate-major: a partial experiment has every condition
-    for (const ExperimentCondition* condition : selected) {
+    for (const ExperimentCondition* condition : scope.selected) {
       const ExperimentCondition& c = *condition;
+      const std::size_t i = index_of(spec, c);
       ++run;
+      if (stopping()) return result;
       ExperimentProgress p{run, runs, c.name, r, "run", 0.0, wall()};
       const std::optional<fs::path> summary =
           options.summaries ? std::optional(summary_file(*options.summaries, c, r)) : std::nullopt;
-      if (summary && path_taken(*summary)) {  // kept: its directory may be on another machine
+      if (summary && path_taken(*summary) && !changed.summary(i, r)) {  // kept: its directory may be on another machine
         p.phase = "kept";
         p.run_fraction = 1.0;
         if (progress) progress(p);
@@ -383,7 +331,8 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
       };
       const RunState state(dir);  // read under the lock, once
       std::optional<EliteTable> archive;  // what this call's run wrote to archive.csv, for its tests
-      if (state.finished()) {
+      const bool restart = changed.run(i, r);  // made under another config: started over
+      if (state.finished() && !restart) {
         remove_stray_checkpoint(state);
         p.phase = "skip";
         p.run_fraction = 1.0;
@@ -391,7 +340,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         ++result.runs_skipped;
       } else {
         RunResult rr;
-        if (state.has_checkpoint()) {
+        if (state.has_checkpoint() && !restart) {
           p.phase = "resume";
           ResumableRun resumable = open_for_resume(state);
           rr = run_to_budget(*resumable.built.algorithm, *evaluator, resumable.built.settings, dir, report, stop,
@@ -412,11 +361,14 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         ++result.runs_done;
       }
       std::optional<RunState> ended;  // the state after this call's run, read once if a test needs it
-      const auto finished = [&]() -> const RunState& { return state.finished() ? state : ended ? *ended : ended.emplace(dir); };
+      const auto finished = [&]() -> const RunState& {
+        return state.finished() && !restart ? state : ended ? *ended : ended.emplace(dir);
+      };
       for (const auto& test : spec.tests) {
         const bool generalisation = test == "generalisation";  // a table, not a curve
         if (fs::exists(dir / (generalisation ? std::string("generalisation.csv") : fmt::format("adapt-{}.csv", test))))
           continue;
+        if (stopping()) return result;
         p.phase = "test " + test;
         p.wall_seconds = wall();
         if (progress) progress(p);
@@ -426,6 +378,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         ++result.tests_done;
       }
       if (summary) {
+        if (stopping()) return result;
         p.phase = "summary";
         p.wall_seconds = wall();
         if (progress) progress(p);

@@ -67,23 +67,6 @@ std::vector<std::string> parse_condition_list(std::string_view text);
 std::vector<const ExperimentCondition*> selected_conditions(const ExperimentSpec& spec,
                                                             const std::vector<std::string>& slugs);
 
-// For a batch system (scripts/slurm-experiment.sh): writes DIR/experiment.toml, every condition's
-// config in force (DIR/<slug>/condition.toml: its `set` merged in and the experiment's budget
-// written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
-// them: index (1-based), condition slug, seed, config, run directory. `qdmeta run --config
-// CONFIG --seed SEED --out DIR` then gives the bits run_experiment() would, which later skips the
-// finished run. Only the runs of `replicates` and of `conditions` (slugs) when given; with
-// `summaries`, a run whose summary is kept there is done and left out (check them first:
-// keep_experiment_spec).
-struct PlannedRuns {
-  int planned = 0;     // lines of plan.tsv
-  int summarised = 0;  // left out: their summaries are kept
-};
-PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
-                                  std::optional<ReplicateRange> replicates = std::nullopt,
-                                  const std::optional<std::filesystem::path>& summaries = std::nullopt,
-                                  const std::vector<std::string>& conditions = {});
-
 // Writes the summary of the finished run in `run_dir` into `summary_file` (the CLI: by
 // tools/run_summary.py; README.md, "Experiments and the report").
 using RunSummariser = std::function<void(const std::filesystem::path& run_dir, const std::filesystem::path& summary_file)>;
@@ -97,15 +80,30 @@ struct ExperimentOptions {
   // phases are done, beside SUMMARIES/experiment.toml; a run whose summary is there is skipped
   // without its directory. Summaries made for another budget, config or tests are refused.
   std::optional<std::filesystem::path> summaries;
-  RunSummariser summarise;  // required with summaries
+  RunSummariser summarise;  // required with summaries (not by write_experiment_plan)
+  // What an earlier call made under another config than its condition has now (a run directory,
+  // a kept summary, a plan.tsv row: kept_runs.hpp) is refused, naming the keys that differ; with
+  // this, the changed runs of this call's replicates and conditions are started over instead
+  // (--restart-changed).
+  bool restart_changed = false;
 };
 
-// Checks the summaries kept in `summaries` against `spec` (InputError when another budget,
-// config or tests made them, see ExperimentOptions) and writes SUMMARIES/experiment.toml, the
-// spec in force with its configs as the experiment file names them. run_experiment does this
-// when given summaries; `qdmeta experiment --plan --summaries` does only this.
-void keep_experiment_spec(const ExperimentSpec& spec, const std::filesystem::path& summaries,
-                          std::optional<ReplicateRange> replicates = std::nullopt);
+// For a batch system (scripts/slurm-experiment.sh): writes DIR/experiment.toml, every condition's
+// config in force (DIR/<slug>/condition.toml: its `set` merged in and the experiment's budget
+// written into [budget]) and DIR/plan.tsv, one line per run in the order run_experiment() runs
+// them: index (1-based), condition slug, seed, config, run directory, config_fingerprint (the
+// condition's: config_fingerprint.hpp). `qdmeta run --config CONFIG --seed SEED --out DIR` then
+// gives the bits run_experiment() would, which later skips the finished run. Only the runs of
+// options.replicates and options.conditions; with options.summaries, those are checked and
+// SUMMARIES/experiment.toml written as run_experiment() does, and a run whose summary is kept
+// there is done and left out. What earlier calls left is checked as by run_experiment(); with
+// options.restart_changed, a changed run's directory is emptied for its task to start it anew.
+struct PlannedRuns {
+  int planned = 0;     // lines of plan.tsv
+  int summarised = 0;  // left out: their summaries are kept
+};
+PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const std::filesystem::path& out,
+                                  const ExperimentOptions& options = {});
 
 // The summary of replicate `replicate` of condition `c` under `summaries`.
 std::filesystem::path summary_file(const std::filesystem::path& summaries, const ExperimentCondition& c, int replicate);
@@ -129,8 +127,9 @@ struct ExperimentResult {
 };
 
 // Runs the replicates and conditions of `options` (all by default), writes OUT/experiment.toml (the spec in
-// force, read by the report) first. A spec whose evaluations differ from the finished runs
-// already in OUT, or a range past spec.replicates, is refused.
+// force, read by the report) first. A range past spec.replicates is refused, and so is (before
+// anything is written) what earlier calls left made under another config than the condition in
+// force (a finished run of another budget among them), unless options.restart_changed.
 ExperimentResult run_experiment(const ExperimentSpec& spec, const std::filesystem::path& out, int threads,
                                 const ExperimentCallback& progress, const std::atomic<bool>* stop,
                                 const ExperimentOptions& options = {});

@@ -8,6 +8,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/version.hpp"
+#include "qdmeta/experiment/config_fingerprint.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
@@ -27,6 +28,13 @@ const std::vector<std::string>& run_files() {
   return files;
 }
 
+void clear_run_directory(const fs::path& dir) {
+  for (const auto& f : run_files()) fs::remove(dir / f);
+  for (const auto& entry : fs::directory_iterator(dir))  // the old run's test-phase curves
+    if (const auto name = entry.path().filename().string(); name.starts_with("adapt-") || name == "generalisation.csv")
+      fs::remove(entry.path());
+}
+
 void start_run_directory(const fs::path& out, const BuiltRun& built, const std::string& config_file, int threads,
                          bool overwrite) {
   bool holds_run = false;  // a dangling link counts: it is not followed but replaced
@@ -35,12 +43,7 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
     throw InputError(fmt::format("{} already holds a run: pass --overwrite to replace it, or continue it with "
                                  "qdmeta resume --out {}",
                                  out.string(), out.string()));
-  if (holds_run) {
-    for (const auto& f : run_files()) fs::remove(out / f);
-    for (const auto& entry : fs::directory_iterator(out))  // the old run's test-phase curves
-      if (const auto name = entry.path().filename().string(); name.starts_with("adapt-") || name == "generalisation.csv")
-        fs::remove(entry.path());
-  }
+  if (holds_run) clear_run_directory(out);
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) throw InputError(fmt::format("cannot create {}: {}", out.string(), ec.message()));
@@ -50,6 +53,7 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
   provenance.insert("qdmeta_version", std::string(kVersion));
   provenance.insert("config_file", config_file);
   provenance.insert("threads", threads);
+  provenance.insert(kConfigFingerprintKey, resolved_config_fingerprint(built.resolved));  // for the summariser
   written.insert_or_assign("provenance", std::move(provenance));
   std::ostringstream text;
   text << "# Resolved configuration of this run: every key in force, defaults included.\n" << written << "\n";
@@ -86,14 +90,28 @@ bool remove_stray_checkpoint(const RunState& state) {
 
 namespace {
 
-// The config of the finished run in `state`; InputError when there is none or it has not finished.
-const toml::table& finished_run_config(const RunState& state) {
+// The config of the finished run in `state` and its seed; InputError when there is none, it has
+// not finished, or config.toml is not a run's resolved config: one emptied or garbled would
+// otherwise test the archive under defaults it never ran with (and seed 1).
+struct FinishedRun {
+  const toml::table& config;
+  std::uint64_t seed;
+};
+
+FinishedRun finished_run(const RunState& state) {
   const fs::path& dir = state.dir();
   if (!state.has_run()) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
   if (!state.finished())
     throw InputError(fmt::format("the run in {} has not finished: finish it (qdmeta resume --out {}) before testing it",
                                  dir.string(), dir.string()));
-  return state.config();
+  const toml::table& config = state.config();
+  const std::string path = state.config_path().string();
+  if (!config["seed"].is_integer() || !config["algorithm"].is_string() || !config["provenance"].is_table())
+    throw InputError(fmt::format("{} is not the resolved config of a run (it lacks seed, algorithm or [provenance]): "
+                                 "it was emptied or damaged, so the run cannot be tested",
+                                 path));
+  const BuiltRun checked = build_run(config, path, {}, BuildScope::kTasksOnly);  // every key, as a run reads it
+  return {config, checked.settings.seed};
 }
 
 }  // namespace
@@ -103,8 +121,9 @@ GeneralisationReport generalise_run(const RunState& state, std::optional<std::ui
   if (solutions && *solutions < 1)
     throw InputError(fmt::format("generalisation: solutions = {} must be at least 1", *solutions));
   const fs::path& dir = state.dir();
-  const toml::table& config = finished_run_config(state);
-  const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const FinishedRun run = finished_run(state);
+  const toml::table& config = run.config;
+  const std::uint64_t s = seed.value_or(run.seed);
   const auto groups = build_generalisation_groups(config, state.config_path().string(), s);
   std::optional<EliteTable> read;
   const EliteTable& elites = archive ? *archive : read.emplace(read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive));
@@ -131,9 +150,10 @@ AdaptationReport adapt_run(const RunState& state, std::string_view test, std::op
                            std::optional<std::uint64_t> seed, Evaluator& evaluator, const EliteTable* archive) {
   const fs::path& dir = state.dir();
   const fs::path config_path = state.config_path();
-  const toml::table& config = finished_run_config(state);
+  const FinishedRun run = finished_run(state);
+  const toml::table& config = run.config;
   // Same default seed as the run: every condition of a replicate then meets the same tests.
-  const std::uint64_t s = seed ? *seed : static_cast<std::uint64_t>(config["seed"].value_or<std::int64_t>(1));
+  const std::uint64_t s = seed.value_or(run.seed);
   const auto tests = build_adaptation_tests(config, config_path.string(), test, s);
   std::optional<EliteTable> read;
   const EliteTable& elites = archive ? *archive : read.emplace(read_elites_csv(dir / "archive.csv", EliteValues::kRunArchive));

@@ -16,9 +16,13 @@ namespace qdmeta {
 // Files whose presence means a directory holds a run.
 const std::vector<std::string>& run_files();
 
+// Removes the run in `dir`: its files and its test phases' (the caller holds its lock).
+void clear_run_directory(const std::filesystem::path& dir);
+
 // Makes `out` ready for a new run: refuses (InputError) a directory that holds one unless
 // `overwrite`, in which case the old run's files go. Then writes config.toml: the resolved
-// config plus a [provenance] table (program version, config file, threads).
+// config plus a [provenance] table (program version, config file, threads, config_fingerprint:
+// experiment/config_fingerprint.hpp).
 void start_run_directory(const std::filesystem::path& out, const BuiltRun& built, const std::string& config_file,
                          int threads, bool overwrite);
 

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <sstream>
 #include <type_traits>
+#include <unordered_map>
 #include <utility>
 
 #include "qdmeta/core/binary_io.hpp"
@@ -142,6 +143,7 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules)
   }
   EliteTable t;
   const auto count = static_cast<Index>(rows.size());
+  std::unordered_map<std::int64_t, std::size_t> first_line;  // of each cell (a run's archive: one elite per cell)
   t.measures.resize(count, nm);
   t.solutions.resize(count, ns);
   t.base_features.resize(count, nb);
@@ -153,6 +155,12 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules)
     const auto at = [&](std::size_t c) { return CellPlace{path, number, c + 1, header[c]}; };
     const auto index = parse_number<std::int64_t>(cells[0], at(0));
     if (index < 0) throw InputError(fmt::format("{}: {} is negative: a cell index must be >= 0", at(0).where(), index));
+    if (rules == EliteValues::kRunArchive) {
+      const auto [seen, fresh] = first_line.try_emplace(index, number);
+      if (!fresh)
+        throw InputError(fmt::format("{}: cell {} repeats line {}: a run's archive holds one elite per cell",
+                                     at(0).where(), index, seen->second));
+    }
     t.index.push_back(index);
     t.objective.push_back(parse_value(cells[1], at(1), CellRule::kFinite));
     const auto i = static_cast<Index>(r);
@@ -182,6 +190,7 @@ CsvAppender::CsvAppender(const std::filesystem::path& path, const std::vector<st
 
 void CsvAppender::check_continuable(const std::filesystem::path& path, const std::vector<std::string>& header,
                                     std::uint64_t keep_bytes, std::uint64_t keep_hash) {
+  refuse_symbolic_link(path);  // read through, it would pass here and be refused only when opened to append
   const std::string bytes = read_regular_file(path, kMaxTableFileBytes);
   if (bytes.size() < keep_bytes)
     throw InputError(fmt::format("{} holds {} bytes but the checkpoint expects at least {}: it was changed or lost",

@@ -14,8 +14,8 @@ namespace qdmeta {
 void write_elites_csv(const std::filesystem::path& path, const EliteTable& elites);
 
 // What reading an archive file accepts: every value finite (any table written by
-// write_elites_csv), or also every gene and base feature in [0, 1], as a run's archive holds
-// them (what the test phase evaluates, so it must not trust a hand-edited file).
+// write_elites_csv), or also every gene and base feature in [0, 1] and each cell index once, as a
+// run's archive holds them (what the test phase evaluates, so it must not trust a hand-edited file).
 enum class EliteValues { kFinite, kRunArchive };
 
 // Parsed back (for tests, adapt and reports): the same table. LF or CRLF line endings. Any bad
@@ -41,7 +41,7 @@ class CsvAppender {
   CsvAppender(CsvAppender&& other) noexcept;
   CsvAppender& operator=(CsvAppender&&) = delete;
   ~CsvAppender();
-  // What the continuing constructor checks, changing nothing: the file is a regular file that
+  // What the continuing constructor checks, changing nothing: the file is a regular file (not a link) that
   // holds at least `keep_bytes` bytes, starts with `header`, and its first `keep_bytes` bytes
   // hash to `keep_hash` (rows changed since the checkpoint are found). InputError otherwise.
   static void check_continuable(const std::filesystem::path& path, const std::vector<std::string>& header,

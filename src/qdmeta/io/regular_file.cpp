@@ -104,10 +104,21 @@ int create_file_replacing(const std::filesystem::path& path) {
   return fd;
 }
 
+namespace {
+[[noreturn]] void throw_symbolic_link(const std::filesystem::path& path) {
+  throw InputError(fmt::format("{} is a symbolic link: qdmeta writes only its own files", path));
+}
+}  // namespace
+
+void refuse_symbolic_link(const std::filesystem::path& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) throw_symbolic_link(path);
+}
+
 int open_file_for_append(const std::filesystem::path& path) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
-    if (errno == ELOOP) throw InputError(fmt::format("{} is a symbolic link: qdmeta writes only its own files", path));
+    if (errno == ELOOP) throw_symbolic_link(path);
     throw Error(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
   }
   FdGuard guard{fd};
@@ -130,10 +141,34 @@ int create_temporary_beside(const std::filesystem::path& path, std::filesystem::
   throw Error(fmt::format("cannot write {}: {}", tmp_path, std::strerror(errno)));
 }
 
+bool is_temporary_name(std::string_view filename) {
+  const auto digits = [](std::string_view s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  const std::size_t tmp = filename.rfind(".tmp-");
+  if (tmp == std::string_view::npos || tmp == 0) return false;
+  const std::string_view rest = filename.substr(tmp + 5);
+  const std::size_t dash = rest.find('-');
+  return dash != std::string_view::npos && digits(rest.substr(0, dash)) && digits(rest.substr(dash + 1));
+}
+
+int remove_dead_temporaries(const std::filesystem::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::filesystem::path& p = it->path();
+    if (is_temporary_name(p.filename().string()) && it->is_regular_file(ec) && std::filesystem::remove(p, ec)) ++removed;
+  }
+  return removed;
+}
+
 void write_all(int fd, std::string_view bytes, const std::filesystem::path& path) {
   while (!bytes.empty()) {
     const ssize_t n = ::write(fd, bytes.data(), bytes.size());
     if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && errno == EFBIG)
+      throw Error(fmt::format("writing {} failed: {}: the file size limit (ulimit -f) was reached", path,
+                              std::strerror(EFBIG)));
     if (n <= 0) throw Error(fmt::format("writing {} failed: {}", path, std::strerror(n < 0 ? errno : EIO)));
     bytes.remove_prefix(static_cast<std::size_t>(n));
   }

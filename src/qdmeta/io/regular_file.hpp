@@ -35,6 +35,9 @@ bool path_taken(const std::filesystem::path& path);
 // descriptor; Error when it cannot be made.
 int create_file_replacing(const std::filesystem::path& path);
 
+// InputError when `path` is a symbolic link: a file qdmeta continues (appends to) must be its own.
+void refuse_symbolic_link(const std::filesystem::path& path);
+
 // An existing regular file at `path`, open for appending, refused (InputError) when it is a link
 // or not a regular file.
 int open_file_for_append(const std::filesystem::path& path);
@@ -43,7 +46,21 @@ int open_file_for_append(const std::filesystem::path& path);
 // created exclusively. Sets `tmp_path` and returns the file descriptor.
 int create_temporary_beside(const std::filesystem::path& path, std::filesystem::path& tmp_path);
 
-// Writes all of `bytes` to `fd`; Error naming `path` when the write fails.
+// Whether `filename` has the form create_temporary_beside gives ("<name>.tmp-<pid>-<n>").
+bool is_temporary_name(std::string_view filename);
+
+// Removes the temporaries of dead writers from `dir` (not its subfolders). Only for a caller that
+// holds the directory's exclusive run lock (io/run_lock.hpp): then no live writer has one there,
+// and whatever temporary stands there was left by a process killed (kill -9, SIGXFSZ) between
+// creating and renaming it. Returns how many were removed.
+int remove_dead_temporaries(const std::filesystem::path& dir);
+
+// The room a run directory's path must leave below PATH_MAX for the longest name written in it
+// (a test phase's temporary, "adapt-<test>.csv.tmp-<pid>-<n>").
+inline constexpr std::size_t kRunFileNameRoom = 128;
+
+// Writes all of `bytes` to `fd`; Error naming `path` when the write fails (EFBIG names the file
+// size limit: the process ignores SIGXFSZ so that the write fails instead of killing it).
 void write_all(int fd, std::string_view bytes, const std::filesystem::path& path);
 
 }  // namespace qdmeta

@@ -6,15 +6,26 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <cstring>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/io/regular_file.hpp"
 
 namespace qdmeta {
+
+void require_room_for_run_files(const std::filesystem::path& dir) {
+  const std::size_t length = dir.native().size();
+  if (length + 1 + kRunFileNameRoom >= PATH_MAX)
+    throw InputError(fmt::format("{} is too long a path for a run ({} bytes): the files written in it would pass the "
+                                 "system's limit of {} bytes; use a shorter one",
+                                 dir.string(), length, PATH_MAX));
+}
 
 RunLock::RunLock(const std::filesystem::path& dir, Mode mode, Missing missing) {
   std::error_code ec;
   if (missing == Missing::kCreate) {
+    require_room_for_run_files(dir);
     std::filesystem::create_directories(dir, ec);
     if (ec) throw InputError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
   } else if (!std::filesystem::is_directory(dir, ec)) {
@@ -37,6 +48,7 @@ RunLock::RunLock(const std::filesystem::path& dir, Mode mode, Missing missing) {
                                    dir.string()));
     throw InputError(fmt::format("cannot lock {}: {}", dir.string(), std::strerror(error)));
   }
+  if (mode == Mode::kExclusive) remove_dead_temporaries(dir);  // the lock says their writer is gone
 }
 
 RunLock::~RunLock() {

@@ -11,12 +11,18 @@
 
 namespace qdmeta {
 
+// InputError when a run's files in `dir` would have paths past PATH_MAX (checked before `dir`
+// is made, so that a refused run leaves no empty directory behind).
+void require_room_for_run_files(const std::filesystem::path& dir);
+
 class RunLock {
  public:
   enum class Mode { kExclusive, kShared };
   enum class Missing { kCreate, kRefuse };
   // Takes the lock without waiting, first creating `dir` when missing if asked to. InputError (a
-  // one-line message naming the directory) when another process holds it or `dir` is missing.
+  // one-line message naming the directory) when another process holds it, `dir` is missing, or
+  // (before creating it) its path leaves no room below PATH_MAX for the files a run writes. An
+  // exclusive lock removes the temporaries a killed writer left in `dir` (regular_file.hpp).
   RunLock(const std::filesystem::path& dir, Mode mode, Missing missing = Missing::kRefuse);
   ~RunLock();
   RunLock(RunLock&& other) noexcept;
