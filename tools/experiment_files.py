@@ -51,7 +51,8 @@ COLUMN_RULES = {
 ARCHIVE_GROUPS = ["measures_", "solution_", "base_"]  # after index and objective, in this order
 ARCHIVE_RULES = {"index": ColumnRule(whole=True, low=0, low_rule="is negative: a cell index must be >= 0"),
                  "measures_": ColumnRule(single=True), "solution_": ColumnRule(single=True, unit=True),
-                 "base_": ColumnRule(single=True, unit=True)}
+                 # stored base features: [-1, 1], as QD-Meta's 2g - 1 database inputs store them
+                 "base_": ColumnRule(single=True, signed_unit=True)}
 ARCHIVE_VALUE = ColumnRule(single=True)  # objective
 
 

@@ -90,11 +90,12 @@ INT64_MAX = 2 ** 63 - 1
 
 class ColumnRule:
     """What a numeric column's cells must be beyond a finite number in qdmeta's syntax: whole (a
-    64-bit integer, written without a point), at least `low`, within [0, 1] (`unit`), or a 32-bit
-    float (`single`: what the C++ reader stores; past its range the reader refuses the value)."""
+    64-bit integer, written without a point), at least `low`, within [0, 1] (`unit`) or [-1, 1]
+    (`signed_unit`), or a 32-bit float (`single`: what the C++ reader stores; past its range the reader refuses the value)."""
 
-    def __init__(self, whole=False, low=None, unit=False, single=False, low_rule=None):
+    def __init__(self, whole=False, low=None, unit=False, single=False, low_rule=None, signed_unit=False):
         self.whole, self.low, self.unit, self.single = whole, low, unit, single
+        self.signed_unit = signed_unit
         self.low_rule = low_rule or f"is below {low}"
 
 
@@ -126,8 +127,10 @@ def _first_bad(cells, rule):
     if rule.low is not None:
         checks.append((values < rule.low, rule.low_rule))
     if rule.unit:
-        checks.append((~((values >= 0) & (values <= 1)), "is outside [0, 1], where every gene and base feature must "
-                                                          "lie"))
+        checks.append((~((values >= 0) & (values <= 1)), "is outside [0, 1], where every gene must lie"))
+    if rule.signed_unit:
+        checks.append((~((values >= -1) & (values <= 1)), "is outside [-1, 1], where every stored base feature "
+                                                           "must lie"))
     firsts = [(int(np.flatnonzero(bad)[0]), why) for bad, why in checks if bad.any()]
     return values, min(firsts, key=lambda f: f[0]) if firsts else None
 

@@ -74,9 +74,11 @@ void check_state_checksum(py::handle stored, std::uint64_t expected, std::string
 }
 
 void check_run_elites(const EliteTable& elites, std::string_view who) {
-  const auto in_unit = [](const RowMatrix& m) { return ((m.array() >= 0) && (m.array() <= 1)).all(); };
-  if (!in_unit(elites.solutions) || !in_unit(elites.base_features))
-    throw InputError(fmt::format("{}: an elite's gene or base feature is outside [0, 1] (or NaN): the state is damaged",
+  // Genes in [0, 1]; stored base features in [-1, 1] (QD-Meta's 2g - 1 database inputs store 2g - 1).
+  const auto within = [](const RowMatrix& m, Real low) { return ((m.array() >= low) && (m.array() <= 1)).all(); };
+  if (!within(elites.solutions, 0) || !within(elites.base_features, -1))
+    throw InputError(fmt::format("{}: an elite's gene is outside [0, 1] or base feature outside [-1, 1] (or NaN): the "
+                                 "state is damaged",
                                  who));
 }
 

@@ -319,5 +319,22 @@ TEST_F(CsvTest, AtomicFileErrors) {
   EXPECT_TRUE(fs::is_empty(dir_));
 }
 
+// A run's stored base features lie in [-1, 1]: QD-Meta with qd_meta.database_inputs =
+// "authors-2g-1" stores 2g - 1 (genes stay in [0, 1]).
+TEST_F(CsvTest, ARunsArchiveTakesStoredBaseFeaturesInMinusOneToOne) {
+  const std::string header = "index,objective,measures_0,solution_0,base_0\n";
+  const EliteTable t = read_elites_csv(write("signed.csv", header + "0,1,0.5,0.5,-0.5\n1,1,0.5,0.5,-1\n"),
+                                       EliteValues::kRunArchive);
+  EXPECT_EQ(t.base_features(0, 0), Real(-0.5));
+  std::string msg = read_error(write("below.csv", header + "0,1,0.5,0.5,-1.5\n"), EliteValues::kRunArchive);
+  EXPECT_NE(msg.find(":2: column 5 (base_0): -1.5 is outside [-1, 1], where every stored base feature must lie"),
+            std::string::npos)
+      << msg;
+  msg = read_error(write("gene.csv", header + "0,1,0.5,-0.5,0.5\n"), EliteValues::kRunArchive);
+  EXPECT_NE(msg.find(":2: column 4 (solution_0): -0.5 is outside [0, 1], where every gene must lie"),
+            std::string::npos)
+      << msg;
+}
+
 }  // namespace
 }  // namespace qdmeta

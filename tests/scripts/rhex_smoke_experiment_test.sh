@@ -39,4 +39,12 @@ for f in qd-statistics adaptation-damage adaptation-obstacle meta-fitness-runnin
 done
 [[ $(wc -l < "$tmp/x/data/generalisation.csv") == 17 ]] || fail "data/generalisation.csv: 4 conditions x 4 groups expected"
 grep -q "QD-Meta generalises better than both baselines" "$report" || fail "the claims table is missing"
+# The Damage condition's replicates draw their training damages from their seeds
+# (meta_fitness.damage_types): one condition, one config fingerprint, so the same command runs
+# again (every run kept) instead of calling seed 2 another config.
+grep -q "damage_types = \[" "$tmp/x/qd-meta-damage-feature-sets/seed-1/config.toml" || fail "no drawn damage_types"
+[[ $(grep -h config_fingerprint "$tmp"/x/qd-meta-damage-feature-sets/seed-*/config.toml | sort -u | wc -l) == 1 ]] \
+  || fail "the Damage condition's replicates carry different config fingerprints"
+"$bin" experiment --config "$src/configs/rhex/experiment-smoke.toml" --out "$tmp/x" --threads 2 --quiet --no-report \
+  || fail "the same experiment, run again, was refused"
 echo "rhex smoke experiment: ok"

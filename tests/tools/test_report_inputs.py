@@ -191,7 +191,7 @@ META_HEADER = ("meta_generation,evals,evals_bottom,evals_meta,meta_fitness_best,
     ("archive.csv", "\n3,-3.5,", "\n3,-1e39,", 2, "is out of range of a 32-bit float"),
     ("archive.csv", "\n3,-3.5,", "\n3,-1e-50,", 2, "is out of range of a 32-bit float"),
     ("archive.csv", "\n3,-3.5,0.3,0.5,0.25,", "\n3,-3.5,0.3,0.5,1.25,", 5,
-     "is outside [0, 1], where every gene and base feature must lie"),
+     "is outside [0, 1], where every gene must lie"),
     ("adapt-dimension.csv", "\n3,-7,", "\n3,-\u0667,", 2, "is not a number"),  # an Arabic-Indic 7
     ("adapt-dimension.csv", "\n3,-7,", "\n0,-7,", 1, "is below 1"),
     ("metrics.csv", "\n200,200,0,2,20,", "\n200,200,0,2,20.5,", 5, "is not a whole number: qdmeta writes this "
@@ -248,3 +248,16 @@ def test_a_qd_meta_run_without_meta_csv_is_an_error(tmp_path, capsys):
     status, err = report_of(tmp_path, capsys)
     assert (status, err) == (2, [f"report.py: error: {run / 'meta.csv'}: no such file, but the run has finished (its "
                                  "summary.json says stop_reason \"budget\"): a finished run's file was lost"])
+
+
+def test_stored_base_features_are_read_in_minus_one_to_one_as_the_cxx_reader_reads_them():
+    """QD-Meta with qd_meta.database_inputs = "authors-2g-1" stores 2g - 1 as base features: an
+    archive's base_* columns lie in [-1, 1] (tests/io/csv_test.cpp holds the C++ side)."""
+    import experiment_files
+    import run_files
+    rule = experiment_files.ARCHIVE_RULES["base_"]
+    assert run_files._first_bad(["-0.5", "-1", "1"], rule)[1] is None
+    assert run_files._first_bad(["0.5", "-1.5"], rule)[1] == (1, "is outside [-1, 1], where every stored base "
+                                                                  "feature must lie")
+    assert run_files._first_bad(["-0.5"], experiment_files.ARCHIVE_RULES["solution_"])[1] == (
+        0, "is outside [0, 1], where every gene must lie")

@@ -43,6 +43,7 @@ void check_elite_values(const Algorithm& algorithm, const std::string& source) {
                                  t.index[static_cast<std::size_t>(row)], what, value, rule));
   };
   const auto unit = [](Real v) { return v >= 0 && v <= 1; };
+  const auto signed_unit = [](Real v) { return v >= -1 && v <= 1; };  // 2g - 1 (qd_meta.database_inputs)
   for (Index i = 0; i < t.size(); ++i) {
     if (!std::isfinite(t.objective[static_cast<std::size_t>(i)]))
       refuse(i, "objective", t.objective[static_cast<std::size_t>(i)], "every value must be finite");
@@ -51,8 +52,8 @@ void check_elite_values(const Algorithm& algorithm, const std::string& source) {
     for (Index j = 0; j < t.solutions.cols(); ++j)
       if (!unit(t.solutions(i, j))) refuse(i, "a gene", t.solutions(i, j), "every gene must lie in [0, 1]");
     for (Index j = 0; j < t.base_features.cols(); ++j)
-      if (!unit(t.base_features(i, j)))
-        refuse(i, "a base feature", t.base_features(i, j), "every base feature must lie in [0, 1]");
+      if (!signed_unit(t.base_features(i, j)))
+        refuse(i, "a base feature", t.base_features(i, j), "every stored base feature must lie in [-1, 1]");
   }
 }
 

@@ -67,7 +67,7 @@ void write_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprin
 // Restores `algorithm` (freshly built from the same config) and returns the cursor. Refuses
 // (InputError) a checkpoint of another format or of a version it does not resume (above), and
 // one whose archive holds a value no run writes (an objective or feature that is not finite, a
-// gene or base feature outside [0, 1], as `qdmeta adapt` refuses in archive.csv).
+// gene outside [0, 1], a stored base feature outside [-1, 1], as `qdmeta adapt` refuses in archive.csv).
 RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t fingerprint, Algorithm& algorithm);
 
 }  // namespace qdmeta

@@ -350,7 +350,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
         } else {
           BuiltRun fresh = build_run(c.effective_config(), c.config.string(),
                                      {static_cast<std::uint64_t>(r), spec.evaluations});
-          start_run_directory(dir, fresh, c.config.string(), threads, /*overwrite=*/true);
+          start_run_directory(dir, fresh, c.config.string(), threads, /*overwrite=*/true, conditions[i].fingerprint);
           rr = run_to_budget(*fresh.algorithm, *evaluator, fresh.settings, dir, report, stop);
           if (rr.reason == StopReason::kBudget) archive = fresh.algorithm->elites();
         }

@@ -89,10 +89,21 @@ void check_run_directories(const ExperimentSpec& spec, const std::vector<Resolve
     for (int r = 1; r <= spec.replicates; ++r) {
       const RunState state(replicate_dir(out, c, r));
       if (!state.has_run()) continue;
-      // Resolved again as the condition is, so that both sides hold the same keys and values.
+      // The fingerprint the run was started with (its condition's, seed-independent); a run made
+      // before fingerprints is resolved again and compared with the condition at its own seed,
+      // whose seed-drawn values (RHex's meta_fitness.damage_types) its config.toml holds.
       const toml::table run =
           build_run(state.config(), state.config_path().string(), {}, BuildScope::kTasksOnly).resolved;
-      if (resolved_config_fingerprint(run) == conditions[i].fingerprint) continue;
+      const std::optional<std::string> stored =
+          state.config()["provenance"][kConfigFingerprintKey].value<std::string>();
+      const auto condition_at_seed = [&] {
+        return build_run(c.effective_config(), c.config.string(), {static_cast<std::uint64_t>(r), spec.evaluations},
+                         BuildScope::kTasksOnly)
+            .resolved;
+      };
+      if (stored ? *stored == conditions[i].fingerprint
+                 : resolved_config_fingerprint(run) == resolved_config_fingerprint(condition_at_seed()))
+        continue;
       if (scope.restart_changed && scope.covers(c, r)) {
         changed.runs.insert({i, r});
         continue;
@@ -103,7 +114,7 @@ void check_run_directories(const ExperimentSpec& spec, const std::vector<Resolve
                                      state.dir().string(), state.budget(), conditions[i].budget));
       throw InputError(fmt::format("{} was run with another config than condition '{}' has now ({}): {}, or "
                                    "use another --out",
-                                   state.dir().string(), c.name, keys_that_differ(differing_keys(run, conditions[i].resolved)),
+                                   state.dir().string(), c.name, keys_that_differ(differing_keys(run, condition_at_seed())),
                                    restart_advice(scope)));
     }
   }

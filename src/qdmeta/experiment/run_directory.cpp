@@ -36,7 +36,7 @@ void clear_run_directory(const fs::path& dir) {
 }
 
 void start_run_directory(const fs::path& out, const BuiltRun& built, const std::string& config_file, int threads,
-                         bool overwrite) {
+                         bool overwrite, const std::optional<std::string>& fingerprint) {
   bool holds_run = false;  // a dangling link counts: it is not followed but replaced
   for (const auto& f : run_files()) holds_run = holds_run || path_taken(out / f);
   if (holds_run && !overwrite)
@@ -53,7 +53,8 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
   provenance.insert("qdmeta_version", std::string(kVersion));
   provenance.insert("config_file", config_file);
   provenance.insert("threads", threads);
-  provenance.insert(kConfigFingerprintKey, resolved_config_fingerprint(built.resolved));  // for the summariser
+  provenance.insert(kConfigFingerprintKey,  // for the summariser
+                    fingerprint.value_or(resolved_config_fingerprint(built.resolved)));
   written.insert_or_assign("provenance", std::move(provenance));
   std::ostringstream text;
   text << "# Resolved configuration of this run: every key in force, defaults included.\n" << written << "\n";

@@ -22,9 +22,11 @@ void clear_run_directory(const std::filesystem::path& dir);
 // Makes `out` ready for a new run: refuses (InputError) a directory that holds one unless
 // `overwrite`, in which case the old run's files go. Then writes config.toml: the resolved
 // config plus a [provenance] table (program version, config file, threads, config_fingerprint:
-// experiment/config_fingerprint.hpp).
+// experiment/config_fingerprint.hpp). `fingerprint`: an experiment's run carries its condition's
+// (the condition resolved with seed 1, so that values drawn from the seed, e.g. RHex's
+// meta_fitness.damage_types, do not tell its replicates apart); by default the run's own.
 void start_run_directory(const std::filesystem::path& out, const BuiltRun& built, const std::string& config_file,
-                         int threads, bool overwrite);
+                         int threads, bool overwrite, const std::optional<std::string>& fingerprint = std::nullopt);
 
 struct ResumableRun {
   BuiltRun built;

@@ -91,14 +91,18 @@ T parse_number(const std::string& text, const CellPlace& at) {
   return value;
 }
 
-// Genes and base features live in [0,1]; fitness and measures need only be finite.
-enum class CellRule { kFinite, kUnit };
+// Genes live in [0, 1]; stored base features in [-1, 1] (the task's are in [0, 1], but QD-Meta
+// with qd_meta.database_inputs = "authors-2g-1" stores 2g - 1); fitness and measures need only
+// be finite.
+enum class CellRule { kFinite, kUnit, kSignedUnit };
 
 Real parse_value(const std::string& text, const CellPlace& at, CellRule rule) {
   const Real v = parse_number<Real>(text, at);
   if (!std::isfinite(v)) throw InputError(fmt::format("{}: '{}' is not finite: every value must be", at.where(), text));
   if (rule == CellRule::kUnit && !(v >= 0 && v <= 1))
-    throw InputError(fmt::format("{}: {} is outside [0, 1], where every gene and base feature must lie", at.where(), text));
+    throw InputError(fmt::format("{}: {} is outside [0, 1], where every gene must lie", at.where(), text));
+  if (rule == CellRule::kSignedUnit && !(v >= -1 && v <= 1))
+    throw InputError(fmt::format("{}: {} is outside [-1, 1], where every stored base feature must lie", at.where(), text));
   return v;
 }
 
@@ -166,9 +170,11 @@ EliteTable read_elites_csv(const std::filesystem::path& path, EliteValues rules)
     const auto i = static_cast<Index>(r);
     std::size_t c = 2;
     for (Index j = 0; j < nm; ++j, ++c) t.measures(i, j) = parse_value(cells[c], at(c), CellRule::kFinite);
-    const CellRule unit = rules == EliteValues::kRunArchive ? CellRule::kUnit : CellRule::kFinite;
-    for (Index j = 0; j < ns; ++j, ++c) t.solutions(i, j) = parse_value(cells[c], at(c), unit);
-    for (Index j = 0; j < nb; ++j, ++c) t.base_features(i, j) = parse_value(cells[c], at(c), unit);
+    const bool run = rules == EliteValues::kRunArchive;
+    for (Index j = 0; j < ns; ++j, ++c)
+      t.solutions(i, j) = parse_value(cells[c], at(c), run ? CellRule::kUnit : CellRule::kFinite);
+    for (Index j = 0; j < nb; ++j, ++c)
+      t.base_features(i, j) = parse_value(cells[c], at(c), run ? CellRule::kSignedUnit : CellRule::kFinite);
   }
   return t;
 }

@@ -14,7 +14,8 @@ namespace qdmeta {
 void write_elites_csv(const std::filesystem::path& path, const EliteTable& elites);
 
 // What reading an archive file accepts: every value finite (any table written by
-// write_elites_csv), or also every gene and base feature in [0, 1] and each cell index once, as a
+// write_elites_csv), or also every gene in [0, 1], every stored base feature in [-1, 1] (2g - 1 under
+// qd_meta.database_inputs = "authors-2g-1") and each cell index once, as a
 // run's archive holds them (what the test phase evaluates, so it must not trust a hand-edited file).
 enum class EliteValues { kFinite, kRunArchive };
 
