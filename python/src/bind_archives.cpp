@@ -113,6 +113,8 @@ void bind_common(Class& c, EliteTable (*elites)(const Archive&)) {
           "same samples, also after pickling")
       .def("__iter__", [elites](const Handle& h) { return iterate_elites(elites(h.archive)); },
            "One dict per elite (solution, objective, measures, index), in cell order, from a snapshot")
+      .def_property_readonly("qd_score_offset", [](const Handle& h) { return h.archive.params().qd_offset; },
+                             "pyribs's name for qd_offset: qd_score sums objective - qd_score_offset")
       .def_property_readonly("seed", [](const Handle& h) { return h.seed; },
                              "The seed of sample_elites()'s random streams")
       .def("__copy__", [](const Handle& h) { return h; })
