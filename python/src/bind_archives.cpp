@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "archive_handle.hpp"
@@ -87,6 +88,14 @@ std::uint64_t seed_argument(py::handle value) {
     throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
                                  std::numeric_limits<std::int64_t>::max()));
   return static_cast<std::uint64_t>(v);
+}
+
+// A grid's bound of each measure (pyribs's lower_bounds / upper_bounds).
+std::vector<double> bounds(const ArchiveHandle<GridArchive>& h, bool upper) {
+  const GridArchiveParams& p = h.archive.params();
+  std::vector<double> out;
+  for (std::size_t d = 0; d < p.bins.size(); ++d) out.push_back(upper ? p.upper_of(d) : p.lower_of(d));
+  return out;
 }
 
 const char* kAddDoc =
@@ -193,15 +202,23 @@ void bind_archives(py::module_& m) {
   bind_elite_iterator(m);
 
   py::class_<ArchiveHandle<GridArchive>> grid(m, "GridArchive", R"doc(
-A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper] (values outside
-go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
+A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper], or measure i over
+ranges[i] = (lower_i, upper_i) as pyribs's `ranges` (values outside go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
 numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites().)doc");
   grid.def(py::init([](Index solution_dim, std::vector<int> dims, double lower, double upper, double qd_offset,
-                       Index base_feature_dim, py::handle seed) {
+                       Index base_feature_dim, py::handle seed, std::optional<std::vector<std::pair<double, double>>> ranges) {
              GridArchiveParams p;
              p.bins = std::move(dims);
              p.lower = lower;
              p.upper = upper;
+             if (ranges) {
+               if (lower != 0.0 || upper != 1.0)
+                 throw py::value_error("GridArchive(): give ranges= or lower=/upper=, not both");
+               for (const auto& [lo, hi] : *ranges) {
+                 p.lower_bounds.push_back(lo);
+                 p.upper_bounds.push_back(hi);
+               }
+             }
              p.solution_size = solution_dim;
              p.qd_offset = qd_offset;
              p.base_feature_size = base_feature_dim;
@@ -209,18 +226,15 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
              return ArchiveHandle<GridArchive>(GridArchive(p), seed_argument(seed));
            }),
            py::arg("solution_dim"), py::arg("dims"), py::arg("lower") = 0.0, py::arg("upper") = 1.0,
-           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed);
+           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed,
+           py::arg("ranges") = py::none());
   bind_elite_archive<GridArchive>(grid);
   grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
       .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
       .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; })
       // pyribs's names: one bound per measure (qdmeta.visualize draws from them).
-      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) {
-        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().lower);
-      })
-      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) {
-        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().upper);
-      });
+      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds(h, false); })
+      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds(h, true); });
 
   py::class_<ArchiveHandle<CvtArchive>> cvt(m, "CvtArchive", R"doc(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from

@@ -1,6 +1,8 @@
 """pyribs's names on qdmeta's archives, with pyribs's meanings: data(fields, return_type),
 field_list, dtypes, best_elite, empty, add_single, qd_score_offset, and a GridArchive's
 boundaries, interval_size, index_of_single, grid_to_int_index and int_to_grid_index."""
+import pickle
+
 import numpy as np
 import pytest
 
@@ -81,3 +83,29 @@ def test_an_algorithms_archive_has_the_names_too():
     algo.step()
     archive = algo.archive
     assert not archive.empty and archive.best_elite["objective"] == archive.data("objective").max()
+
+
+def test_a_grid_takes_pyribs_ranges_one_pair_per_measure():
+    archive = qdmeta.GridArchive(solution_dim=1, dims=[4, 10], ranges=[(-2.0, 2.0), (0.0, 100.0)])
+    assert archive.lower_bounds == [-2.0, 0.0] and archive.upper_bounds == [2.0, 100.0]
+    assert archive.interval_size.tolist() == [4.0, 100.0]
+    measures = np.array([[-1.5, 95.0], [1.5, 5.0], [3.0, -7.0]])
+    assert archive.index_of(measures).tolist() == [0 * 10 + 9, 3 * 10 + 0, 3 * 10 + 0]  # outside: edge bins
+    status = archive.add(np.zeros((3, 1)), np.array([1.0, 2.0, 3.0]), measures)
+    assert status.tolist() == [2, 2, 1]
+    stored = archive.data()
+    assert np.array_equal(stored["measures"], np.float32([[-1.5, 95.0], [3.0, -7.0]]))  # kept as given
+    occupied, found = archive.retrieve([[-1.9, 99.0], [0.1, 50.0]])
+    assert occupied.tolist() == [True, False] and found["index"].tolist() == [9, -1]
+    assert np.allclose(archive.boundaries[1], np.linspace(0, 100, 11))
+    restored = pickle.loads(pickle.dumps(archive))
+    assert restored.lower_bounds == [-2.0, 0.0] and restored.index_of(measures).tolist() == [9, 30, 30]
+
+
+def test_ranges_are_refused_when_they_do_not_fit():
+    with pytest.raises(qdmeta.InputError, match=r"archive ranges: 1 lower and 1 upper bounds for 2 target features"):
+        qdmeta.GridArchive(solution_dim=1, dims=[4, 4], ranges=[(0.0, 1.0)])
+    with pytest.raises(qdmeta.InputError, match=r"archive range \[1, 0\] is invalid"):
+        qdmeta.GridArchive(solution_dim=1, dims=[4, 4], ranges=[(0.0, 1.0), (1.0, 0.0)])
+    with pytest.raises(ValueError, match=r"give ranges= or lower=/upper=, not both"):
+        qdmeta.GridArchive(solution_dim=1, dims=[4, 4], lower=-1.0, ranges=[(0.0, 1.0), (0.0, 1.0)])
