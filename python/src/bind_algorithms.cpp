@@ -21,6 +21,7 @@
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
 #include "python_variation.hpp"
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
@@ -142,7 +143,9 @@ class PyAlgorithm {
     const py::int_ format(kStateFormat);
     const py::dict config = dict_from_table(built_.resolved);
     const py::bytes bytes(out.bytes());
-    return py::make_tuple(format, config, task, objective, bytes, variation_, state_checksum({format, config, bytes}));
+    const py::object centroids = centroids_of(algorithm());
+    return py::make_tuple(format, config, task, objective, bytes, variation_,
+                          state_checksum({format, config, bytes, centroids}), centroids);
   }
 
   static std::unique_ptr<PyAlgorithm> from_state(const py::tuple& s) {
@@ -152,10 +155,11 @@ class PyAlgorithm {
     if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kStateFormat)))
       throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who,
                                    py::str(s[0]).cast<std::string>(), kStateFormat));
-    if (s.size() != 7 || !py::isinstance<py::dict>(s[1]) || !py::isinstance<py::bytes>(s[4]))
+    if (s.size() != 8 || !py::isinstance<py::dict>(s[1]) || !py::isinstance<py::bytes>(s[4]))
       throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
     auto a = std::make_unique<PyAlgorithm>(s[1].cast<py::dict>(), s[2].cast<std::optional<Task>>(),
                                            s[3].cast<std::shared_ptr<PythonMetaObjective>>(), py::object(s[5]));
+    if (!s[7].is_none()) give_centroids(a->algorithm(), s[7], who);
     const std::string bytes = s[4].cast<std::string>();
     BinaryReader in(bytes, "the pickled qdmeta.Algorithm");
     {
@@ -165,12 +169,30 @@ class PyAlgorithm {
     in.finish();
     // The values first, so a state built by hand with a bad value is named for it.
     check_run_elites(a->algorithm().elites(), who);
-    check_state_checksum(s[6], state_checksum({s[0], s[1], s[4]}), who);
+    check_state_checksum(s[6], state_checksum({s[0], s[1], s[4], s[7]}), who);
     return a;
   }
 
  private:
-  static constexpr int kStateFormat = 2;  // 2: with its checksum
+  static constexpr int kStateFormat = 3;  // 2: with its checksum; 3: with CVT-MAP-Elites's centroids
+
+  // A CVT-MAP-Elites's centroids once made (None before, and for other algorithms): the pickle
+  // carries them so that unpickling need not run k-means again.
+  static py::object centroids_of(const Algorithm& algorithm) {
+    const auto* cvt = dynamic_cast<const CvtMapElites*>(&algorithm);
+    if (cvt == nullptr || !cvt->prepared()) return py::none();
+    const RowMatrix& c = cvt->archive().centroids();
+    return rows_copy(c.data(), c.rows(), c.cols());
+  }
+
+  static void give_centroids(Algorithm& algorithm, py::handle centroids, std::string_view who) {
+    auto* cvt = dynamic_cast<CvtMapElites*>(&algorithm);
+    const py::array raw = py::array::ensure(centroids);
+    if (cvt == nullptr || !raw || raw.ndim() != 2)
+      throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+    const FloatArray c = float_rows(raw, raw.shape(0), raw.shape(1), "centroids");
+    cvt->give_centroids(std::make_shared<const RowMatrix>(Eigen::Map<const RowMatrix>(c.data(), c.shape(0), c.shape(1))));
+  }
 
   void tell_blocks(const std::vector<py::tuple>& blocks) {
     if (jobs_.empty() || !algorithm().step_in_progress())
