@@ -90,14 +90,6 @@ std::uint64_t seed_argument(py::handle value) {
   return static_cast<std::uint64_t>(v);
 }
 
-// A grid's bound of each measure (pyribs's lower_bounds / upper_bounds).
-std::vector<double> bounds(const ArchiveHandle<GridArchive>& h, bool upper) {
-  const GridArchiveParams& p = h.archive.params();
-  std::vector<double> out;
-  for (std::size_t d = 0; d < p.bins.size(); ++d) out.push_back(upper ? p.upper_of(d) : p.lower_of(d));
-  return out;
-}
-
 const char* kAddDoc =
     "add(solutions, objectives, measures, base_features=None, valid=None) -> statuses: a uint8 array, one per "
     "row: 0 not added, 1 improved an elite, 2 filled a new cell. Rows go in in order, as if added one by one.";
@@ -233,8 +225,8 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
       .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
       .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; })
       // pyribs's names: one bound per measure (qdmeta.visualize draws from them).
-      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds(h, false); })
-      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds(h, true); });
+      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), false); })
+      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), true); });
 
   py::class_<ArchiveHandle<CvtArchive>> cvt(m, "CvtArchive", R"doc(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from
