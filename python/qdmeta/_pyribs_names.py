@@ -6,13 +6,13 @@ import numpy as np
 
 
 def _field_list(self):
-    """The fields stored per elite, as pyribs lists them (data() also gives "index")."""
+    """The fields data() gives, as pyribs 0.12 lists them ("index" last; no "threshold": qdmeta keeps none)."""
     fields = ["solution", "objective", "measures"]
-    return fields + ["base_features"] if "base_features" in self._elite_arrays() else fields
+    return fields + (["base_features"] if "base_features" in self._elite_arrays() else []) + ["index"]
 
 
 def _dtypes(self):
-    return {**{name: np.dtype(np.float32) for name in self.field_list}, "index": np.dtype(np.int64)}
+    return {name: np.dtype(np.int64 if name == "index" else np.float32) for name in self.field_list}
 
 
 def _data(self, fields=None, return_type="dict"):
@@ -21,10 +21,10 @@ def _data(self, fields=None, return_type="dict"):
     if return_type not in ("dict", "tuple", "pandas"):
         raise ValueError(f"data(): return_type must be 'dict', 'tuple' or 'pandas', got {return_type!r}")
     arrays = self._elite_arrays()
-    names = [fields] if isinstance(fields, str) else self.field_list + ["index"] if fields is None else list(fields)
+    names = [fields] if isinstance(fields, str) else self.field_list if fields is None else list(fields)
     unknown = [n for n in names if n not in arrays]
     if unknown:
-        raise ValueError(f"data(): no field {unknown[0]!r}: the fields are {', '.join(self.field_list + ['index'])}")
+        raise ValueError(f"data(): no field {unknown[0]!r}: the fields are {', '.join(self.field_list)}")
     if return_type == "pandas":
         frame = self.as_pandas()
         return frame[[c for c in frame.columns if any(c == n or c.startswith(n + "_") for n in names)]]

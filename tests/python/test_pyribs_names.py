@@ -18,7 +18,7 @@ def filled_grid():
 
 def test_data_selects_fields_and_return_types_as_pyribs():
     archive = filled_grid()
-    assert archive.field_list == ["solution", "objective", "measures"]
+    assert archive.field_list == ["solution", "objective", "measures", "index"]
     assert archive.dtypes == {"solution": np.float32, "objective": np.float32, "measures": np.float32,
                               "index": np.int64}
     everything = archive.data()
