@@ -159,8 +159,10 @@ def parallel_axes(ax, measures, objective, *, lower=None, upper=None, cmap="viri
     if measures.ndim != 2 or measures.shape[0] != objective.size:
         raise PlotError(f"parallel axes: measures of shape {measures.shape} against {objective.size} objectives")
     dims = measures.shape[1]
-    low = measures.min(axis=0) if lower is None else _bounds(lower, dims, "lower")
-    high = measures.max(axis=0) if upper is None else _bounds(upper, dims, "upper")
+    # An empty archive has no range of its own: its axes are drawn over [0, 1], with no lines.
+    empty = measures.shape[0] == 0
+    low = (np.zeros(dims) if empty else measures.min(axis=0)) if lower is None else _bounds(lower, dims, "lower")
+    high = (np.ones(dims) if empty else measures.max(axis=0)) if upper is None else _bounds(upper, dims, "upper")
     span = np.where(high > low, high - low, 1.0)
     scaled = (measures - low) / span
     order = np.argsort(objective, kind="stable") if sort_by_objective else np.arange(objective.size)

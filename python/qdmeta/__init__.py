@@ -42,9 +42,10 @@ from ._qdmeta import (  # noqa: F401  (the public names)
 
 import numpy as _numpy
 
-from . import _arguments, _numpy_check, _qdmeta
+from . import _arguments, _numpy_check, _pyribs_names, _qdmeta
 
 _numpy_check.check(_qdmeta, _numpy)
+_pyribs_names.add_pyribs_names((GridArchive, CvtArchive, UnstructuredArchive), GridArchive)
 
 for _archive in (GridArchive, CvtArchive, UnstructuredArchive):
     _arguments.shorten_argument_errors(_archive, "__init__", "add", "retrieve", "retrieve_single", "sample_elites")

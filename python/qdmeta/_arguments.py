@@ -1,7 +1,8 @@
 """One-line errors for calls with arguments a method does not take. pybind11's own error lists
 the repr of every argument, which for a batch of arrays runs to kilobytes (a pyribs user's
 add(solution=..., objective=...) or tell(objective=..., measures=...)); this one names the
-method, the parameters it takes and the arguments it was given, by name only. A path argument
+method, the parameters it takes and the arguments it was given, by name only, or, when an
+argument's type cannot fit, that argument with the type expected and the type given. A path argument
 that no path can be (a NUL in it, or text with no file-name encoding) is refused first, in one
 line naming the argument, where pybind11 would list every overload."""
 import functools
@@ -36,6 +37,60 @@ def _takes(message):
     return ", ".join(names)
 
 
+def _typed_parameters(message):
+    """[(name, annotation)] of the first overload pybind11 lists, self left out."""
+    lines = message.split("\n")
+    overload = lines[1] if len(lines) > 1 else ""
+    out = []
+    for parameter in _parameters(overload[overload.find("(") + 1:overload.rfind(") ->")]):
+        declared = parameter.partition(" = ")[0]
+        name, _, annotation = declared.partition(":")
+        if name.strip() != "self":
+            out.append((name.strip(), annotation.strip()))
+    return out
+
+
+def _fits(value, annotation):
+    """Whether pybind11 could convert `value` to `annotation` (True when the annotation is not one
+    of the plain kinds checked here: the call's own error then stands)."""
+    if annotation.startswith("Optional[") and annotation.endswith("]"):
+        return value is None or _fits(value, annotation[9:-1])
+    if annotation.startswith(("List[", "list[")) and annotation.endswith("]"):
+        if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or not hasattr(value, "__getitem__"):
+            return False
+        return all(_fits(v, annotation[5:-1]) for v in value)
+    if annotation in ("int", "bool"):
+        return not isinstance(value, (str, bytes, float)) and hasattr(type(value), "__index__")
+    if annotation == "float":
+        return not isinstance(value, (str, bytes)) and hasattr(type(value), "__float__")
+    if annotation == "str":
+        return isinstance(value, str)
+    if annotation == "dict":
+        return isinstance(value, dict)
+    if annotation.startswith("qdmeta."):
+        return value is None or type(value).__name__ == annotation.rsplit(".", 1)[1]
+    return True
+
+
+def _readable(annotation):
+    if annotation.startswith("Optional[") and annotation.endswith("]"):
+        return _readable(annotation[9:-1]) + " or None"
+    if annotation.startswith(("List[", "list[")) and annotation.endswith("]"):
+        return "a list of " + _readable(annotation[5:-1])
+    return annotation.replace("qdmeta._qdmeta.", "qdmeta.")
+
+
+def _mismatch(message, args, kwargs):
+    """'solution_dim must be int, got str' for the first argument given whose type cannot fit."""
+    parameters = _typed_parameters(message)
+    given = list(zip([n for n, _ in parameters], args)) + list(kwargs.items())
+    annotations = dict(parameters)
+    for name, value in given:
+        if name in annotations and not _fits(value, annotations[name]):
+            return f"{name} must be {_readable(annotations[name])}, got {type(value).__name__}"
+    return None
+
+
 def _given(args, kwargs):
     parts = [f"{len(args)} positional"] if args else []
     parts += [f"{k}=" for k in kwargs]
@@ -53,6 +108,9 @@ def _shortened(cls, name, method):
             text = str(error)
             if not _INCOMPATIBLE.match(text):  # raised by the call itself (or the caller's task): as it is
                 raise
+            wrong = _mismatch(text, args, kwargs)
+            if wrong:
+                raise TypeError(f"{shown}(): {wrong}; it takes ({_takes(text)})") from None
             raise TypeError(f"{shown}() takes ({_takes(text)}); it was given {_given(args, kwargs)}") from None
     return call
 

@@ -56,7 +56,8 @@ def cvt_archive_heatmap(archive, ax=None, *, lower=0.0, upper=1.0, cmap="viridis
 def parallel_axes_plot(archive, ax=None, *, lower=None, upper=None, cmap="viridis", vmin=None, vmax=None,
                        colorbar=True, sort_by_objective=True):
     """One line per elite through its measures, each measure scaled to [lower, upper] (default:
-    its range over the elites). Any archive. Returns the lines."""
+    its range over the elites). Any archive; an empty one draws its axes with no lines, as
+    pyribs does. Returns the lines."""
     elites = _archive_of(archive).data()
     return _archive_plots.parallel_axes(_axes(ax), elites["measures"], elites["objective"], lower=lower, upper=upper,
                                         cmap=cmap, vmin=vmin, vmax=vmax, colorbar=colorbar,

@@ -4,7 +4,9 @@
 // samples exactly as the original would have from there on.
 #include <cstdint>
 #include <utility>
+#include <vector>
 
+#include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta::python {
@@ -26,5 +28,12 @@ struct ArchiveHandle {
   std::uint64_t seed;
   std::uint64_t sample_calls;  // sample_elites() calls so far
 };
+
+// A grid's bound of each measure (pyribs's lower_bounds / upper_bounds).
+inline std::vector<double> bounds_of(const GridArchiveParams& p, bool upper) {
+  std::vector<double> out;
+  for (std::size_t d = 0; d < p.bins.size(); ++d) out.push_back(upper ? p.upper_of(d) : p.lower_of(d));
+  return out;
+}
 
 }  // namespace qdmeta::python

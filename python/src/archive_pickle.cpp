@@ -17,7 +17,7 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 2;  // of the state tuples below; 2: with their checksum
+constexpr int kFormat = 3;  // of the state tuples below; 2: with their checksum; 3: a grid's ranges
 
 const char* class_name(const GridArchive*) { return "GridArchive"; }
 const char* class_name(const CvtArchive*) { return "CvtArchive"; }
@@ -73,12 +73,12 @@ ArchiveHandle<Archive> restored(Archive archive, const py::tuple& s) {
 py::tuple archive_state(const ArchiveHandle<GridArchive>& h) {
   const GridArchiveParams& p = h.archive.params();
   return state(h, py::make_tuple(p.bins, p.lower, p.upper, p.solution_size, p.base_feature_size, p.qd_offset,
-                                 p.epsilon));
+                                 p.epsilon, p.lower_bounds, p.upper_bounds));
 }
 
 template <>
 ArchiveHandle<GridArchive> archive_from_state(const py::tuple& s) {
-  const py::tuple v = parameters_of<GridArchive>(s, 7);
+  const py::tuple v = parameters_of<GridArchive>(s, 9);
   GridArchiveParams p;
   p.bins = v[0].cast<std::vector<int>>();
   p.lower = v[1].cast<double>();
@@ -87,6 +87,8 @@ ArchiveHandle<GridArchive> archive_from_state(const py::tuple& s) {
   p.base_feature_size = v[4].cast<Index>();
   p.qd_offset = v[5].cast<double>();
   p.epsilon = v[6].cast<double>();
+  p.lower_bounds = v[7].cast<std::vector<double>>();
+  p.upper_bounds = v[8].cast<std::vector<double>>();
   p.validate();
   return restored(GridArchive(p), s);
 }

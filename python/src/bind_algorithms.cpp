@@ -3,6 +3,7 @@
 // its Python task and meta-objective (by reference) and its checkpoint bytes (Algorithm::save),
 // so an unpickled algorithm continues to the bits the original would have had.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "algorithm_archive.hpp"
+#include "archive_handle.hpp"
 #include "bindings.hpp"
 #include "elite_arrays.hpp"
 #include "numpy_arrays.hpp"
@@ -21,6 +23,7 @@
 #include "python_evaluator.hpp"
 #include "python_run.hpp"
 #include "python_variation.hpp"
+#include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
@@ -36,10 +39,11 @@ namespace {
 class PyAlgorithm {
  public:
   PyAlgorithm(const py::dict& config, std::optional<Task> task, std::shared_ptr<PythonMetaObjective> objective,
-              const py::object& variation)
+              const py::object& variation, const py::object& archive = py::none())
       : built_(build_from_python(config, PythonParts{task, objective})),
         task_(std::move(task)),
         objective_(std::move(objective)) {
+    if (!archive.is_none()) start_from(archive);
     if (variation.is_none()) return;
     auto* map_elites = dynamic_cast<MapElites*>(&algorithm());
     if (map_elites == nullptr)
@@ -142,7 +146,9 @@ class PyAlgorithm {
     const py::int_ format(kStateFormat);
     const py::dict config = dict_from_table(built_.resolved);
     const py::bytes bytes(out.bytes());
-    return py::make_tuple(format, config, task, objective, bytes, variation_, state_checksum({format, config, bytes}));
+    const py::object centroids = centroids_of(algorithm());
+    return py::make_tuple(format, config, task, objective, bytes, variation_,
+                          state_checksum({format, config, bytes, centroids}), centroids);
   }
 
   static std::unique_ptr<PyAlgorithm> from_state(const py::tuple& s) {
@@ -152,10 +158,11 @@ class PyAlgorithm {
     if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kStateFormat)))
       throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who,
                                    py::str(s[0]).cast<std::string>(), kStateFormat));
-    if (s.size() != 7 || !py::isinstance<py::dict>(s[1]) || !py::isinstance<py::bytes>(s[4]))
+    if (s.size() != 8 || !py::isinstance<py::dict>(s[1]) || !py::isinstance<py::bytes>(s[4]))
       throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
     auto a = std::make_unique<PyAlgorithm>(s[1].cast<py::dict>(), s[2].cast<std::optional<Task>>(),
                                            s[3].cast<std::shared_ptr<PythonMetaObjective>>(), py::object(s[5]));
+    if (!s[7].is_none()) give_centroids(a->algorithm(), s[7], who);
     const std::string bytes = s[4].cast<std::string>();
     BinaryReader in(bytes, "the pickled qdmeta.Algorithm");
     {
@@ -165,12 +172,53 @@ class PyAlgorithm {
     in.finish();
     // The values first, so a state built by hand with a bad value is named for it.
     check_run_elites(a->algorithm().elites(), who);
-    check_state_checksum(s[6], state_checksum({s[0], s[1], s[4]}), who);
+    check_state_checksum(s[6], state_checksum({s[0], s[1], s[4], s[7]}), who);
     return a;
   }
 
  private:
-  static constexpr int kStateFormat = 2;  // 2: with its checksum
+  // Algorithm(archive=...): MAP-Elites starts from a copy of a GridArchive of the grid its config
+  // and task describe (the checkpoint then holds its elites, so pickles need nothing more).
+  void start_from(const py::object& archive) {
+    auto* map_elites = dynamic_cast<MapElites*>(&algorithm());
+    if (map_elites == nullptr)
+      throw py::value_error(fmt::format("Algorithm(archive=...) serves algorithm \"map-elites\" only, not \"{}\"",
+                                        algorithm().name()));
+    if (!py::isinstance<ArchiveHandle<GridArchive>>(archive))
+      throw py::type_error(fmt::format("Algorithm(): archive must be a qdmeta.GridArchive, got {}",
+                                       py::type::of(archive).attr("__name__").cast<std::string>()));
+    const GridArchive& given = archive.cast<const ArchiveHandle<GridArchive>&>().archive;
+    const GridArchiveParams &g = given.params(), &w = map_elites->archive().params();
+    const auto shape = [](const GridArchiveParams& p) {
+      return fmt::format("solution_dim {}, dims [{}], bounds [{}] to [{}], base_feature_dim {}, qd_offset {}",
+                         p.solution_size, fmt::join(p.bins, ", "), fmt::join(bounds_of(p, false), ", "),
+                         fmt::join(bounds_of(p, true), ", "), p.base_feature_size, p.qd_offset);
+    };
+    if (shape(g) != shape(w))
+      throw InputError(fmt::format("Algorithm(archive=...): the archive has {}, but the config and task make {}",
+                                   shape(g), shape(w)));
+    map_elites->start_from(given);
+  }
+
+  static constexpr int kStateFormat = 3;  // 2: with its checksum; 3: with CVT-MAP-Elites's centroids
+
+  // A CVT-MAP-Elites's centroids once made (None before, and for other algorithms): the pickle
+  // carries them so that unpickling need not run k-means again.
+  static py::object centroids_of(const Algorithm& algorithm) {
+    const auto* cvt = dynamic_cast<const CvtMapElites*>(&algorithm);
+    if (cvt == nullptr || !cvt->prepared()) return py::none();
+    const RowMatrix& c = cvt->archive().centroids();
+    return rows_copy(c.data(), c.rows(), c.cols());
+  }
+
+  static void give_centroids(Algorithm& algorithm, py::handle centroids, std::string_view who) {
+    auto* cvt = dynamic_cast<CvtMapElites*>(&algorithm);
+    const py::array raw = py::array::ensure(centroids);
+    if (cvt == nullptr || !raw || raw.ndim() != 2)
+      throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+    const FloatArray c = float_rows(raw, raw.shape(0), raw.shape(1), "centroids");
+    cvt->give_centroids(std::make_shared<const RowMatrix>(Eigen::Map<const RowMatrix>(c.data(), c.shape(0), c.shape(1))));
+  }
 
   void tell_blocks(const std::vector<py::tuple>& blocks) {
     if (jobs_.empty() || !algorithm().step_in_progress())
@@ -208,14 +256,17 @@ config dict with the keys of a TOML config (docs/config.md), e.g.
 replaces [task]; `meta_objective` (a qdmeta.MetaObjective) becomes QD-Meta's [meta_fitness].
 `variation` (MAP-Elites only): f(parents, partners, seed) -> offspring, each row from two elites
 drawn by the algorithm and f's own generator seeded with `seed`, genes in [0, 1].
+`archive` (MAP-Elites only): a GridArchive of the grid the config and task make, whose elites
+(copied) the first generation mutates.
 
 ask() -> genotypes (n, genotype_size); evaluate them; tell(fitness, base_features, valid=None).
 QD-Meta's requests may hold several jobs (its meta-objective's batches): ask_jobs() ->
 [(task, genotypes)], tell_jobs([(fitness, base_features[, valid])]). step(threads=0) does one
 step with the library's evaluator. The same config and seed give the same bits either way.)doc")
-      .def(py::init<const py::dict&, std::optional<Task>, std::shared_ptr<PythonMetaObjective>, const py::object&>(),
+      .def(py::init<const py::dict&, std::optional<Task>, std::shared_ptr<PythonMetaObjective>, const py::object&,
+                    const py::object&>(),
            py::arg("config"), py::arg("task") = py::none(), py::arg("meta_objective") = py::none(),
-           py::arg("variation") = py::none())
+           py::arg("variation") = py::none(), py::arg("archive") = py::none())
       .def("ask", &PyAlgorithm::ask, "The next batch of genotypes to evaluate (a one-job request)")
       .def("ask_jobs", &PyAlgorithm::ask_jobs, "The next request as a list of (task, genotypes)")
       .def("tell", &PyAlgorithm::tell, py::arg("fitness"), py::arg("base_features"), py::arg("valid") = py::none(),

@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "archive_handle.hpp"
@@ -113,6 +114,8 @@ void bind_common(Class& c, EliteTable (*elites)(const Archive&)) {
           "same samples, also after pickling")
       .def("__iter__", [elites](const Handle& h) { return iterate_elites(elites(h.archive)); },
            "One dict per elite (solution, objective, measures, index), in cell order, from a snapshot")
+      .def_property_readonly("qd_score_offset", [](const Handle& h) { return h.archive.params().qd_offset; },
+                             "pyribs's name for qd_offset: qd_score sums objective - qd_score_offset")
       .def_property_readonly("seed", [](const Handle& h) { return h.seed; },
                              "The seed of sample_elites()'s random streams")
       .def("__copy__", [](const Handle& h) { return h; })
@@ -191,15 +194,23 @@ void bind_archives(py::module_& m) {
   bind_elite_iterator(m);
 
   py::class_<ArchiveHandle<GridArchive>> grid(m, "GridArchive", R"doc(
-A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper] (values outside
-go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
+A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper], or measure i over
+ranges[i] = (lower_i, upper_i) as pyribs's `ranges` (values outside go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
 numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites().)doc");
   grid.def(py::init([](Index solution_dim, std::vector<int> dims, double lower, double upper, double qd_offset,
-                       Index base_feature_dim, py::handle seed) {
+                       Index base_feature_dim, py::handle seed, std::optional<std::vector<std::pair<double, double>>> ranges) {
              GridArchiveParams p;
              p.bins = std::move(dims);
              p.lower = lower;
              p.upper = upper;
+             if (ranges) {
+               if (lower != 0.0 || upper != 1.0)
+                 throw py::value_error("GridArchive(): give ranges= or lower=/upper=, not both");
+               for (const auto& [lo, hi] : *ranges) {
+                 p.lower_bounds.push_back(lo);
+                 p.upper_bounds.push_back(hi);
+               }
+             }
              p.solution_size = solution_dim;
              p.qd_offset = qd_offset;
              p.base_feature_size = base_feature_dim;
@@ -207,18 +218,15 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
              return ArchiveHandle<GridArchive>(GridArchive(p), seed_argument(seed));
            }),
            py::arg("solution_dim"), py::arg("dims"), py::arg("lower") = 0.0, py::arg("upper") = 1.0,
-           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed);
+           py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed,
+           py::arg("ranges") = py::none());
   bind_elite_archive<GridArchive>(grid);
   grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
       .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
       .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; })
       // pyribs's names: one bound per measure (qdmeta.visualize draws from them).
-      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) {
-        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().lower);
-      })
-      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) {
-        return std::vector<double>(h.archive.params().bins.size(), h.archive.params().upper);
-      });
+      .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), false); })
+      .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), true); });
 
   py::class_<ArchiveHandle<CvtArchive>> cvt(m, "CvtArchive", R"doc(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from

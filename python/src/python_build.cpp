@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <sstream>
+#include <string_view>
 
 #include "configured_task.hpp"
 #include "python_task.hpp"
@@ -80,7 +81,13 @@ BuiltRun build_from_python(const py::dict& config, const PythonParts& parts, Bui
     if (const toml::table* builtin = builtin_table(*parts.task)) take_builtin_table(subtable(table, "task"), *builtin);
   }
   if (parts.meta_objective) require_key(subtable(table, "meta_fitness"), "meta_fitness", "kind", parts.meta_objective->name());
-  return build_run(table, "<python>", {}, run_parts(parts), scope);
+  try {
+    return build_run(table, "<python>", {}, run_parts(parts), scope);
+  } catch (const InputError& e) {
+    // The registry's message knows only [meta_fitness]; from Python the meta-fitness is an argument.
+    if (parts.meta_objective || !std::string_view(e.what()).ends_with("has no meta-fitness yet")) throw;
+    throw InputError(fmt::format("{}: pass meta_objective=qdmeta.MetaObjective(f, name=...)", e.what()));
+  }
 }
 
 RunParts parts_for_resume(const std::filesystem::path& dir, const PythonParts& parts) {

@@ -96,9 +96,9 @@ class Converter {
       put(table_of(py::reinterpret_borrow<py::dict>(value), path));
     } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
       put(array_of(py::reinterpret_borrow<py::sequence>(value), path));
-    } else if (py::hasattr(value, "item") && py::hasattr(value, "dtype")) {  // a numpy scalar
-      convert(value.attr("item")(), path, put);
-    } else if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype")) {  // a numpy array
+    } else if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype")) {
+      // A numpy array or scalar: tolist() gives nested lists of Python numbers, or one number
+      // (item() would refuse an array of more than one element).
       convert(value.attr("tolist")(), path, put);
     } else {
       throw py::type_error(fmt::format("config: '{}' is {}, which a TOML config cannot hold", path,

@@ -324,3 +324,35 @@ def test_an_integer_too_large_for_the_config_is_named_with_its_range():
                                "[-9223372036854775808, 9223372036854775807]")
     with pytest.raises(qdmeta.InputError, match=r"seed = -1 is out of range"):
         qdmeta.Algorithm(dict(ME, seed=-1), task=numpy_rastrigin())
+
+
+def warm_sphere(x):
+    return -np.sum(x * x, axis=1), x[:, :2].copy()
+
+
+def test_map_elites_starts_from_a_given_archive_of_its_shape():
+    import pickle
+    task = qdmeta.Task(warm_sphere, genotype_size=3, base_feature_size=2, name="warm")
+    config = {"algorithm": "map-elites", "seed": 3, "archive": {"bins": [4, 4]},
+              "map_elites": {"batch_size": 8, "initial_population": 8}}
+    given = qdmeta.GridArchive(solution_dim=3, dims=[4, 4])
+    given.add(np.full((1, 3), 0.1), np.array([-0.03]), np.array([[0.1, 0.1]]))
+    algo = qdmeta.Algorithm(config, task=task, archive=given)
+    assert len(algo.archive) == 1 and algo.archive.best_elite["objective"] == np.float32(-0.03)
+    offspring = algo.ask()  # the first generation mutates the given elite instead of drawing at random
+    assert len(offspring) == 8 and np.mean(offspring == np.float32(0.1)) > 0.5  # rate 0.1: most genes kept
+    algo.tell(*task.evaluate(offspring)[:2])
+    assert len(given) == 1 and len(algo.archive) >= 1  # the algorithm took a copy
+    back = pickle.loads(pickle.dumps(algo))
+    assert np.array_equal(back.archive.data("solution"), algo.archive.data("solution"))
+    with pytest.raises(qdmeta.InputError, match=r"^Algorithm\(archive=\.\.\.\): the archive has solution_dim 2, "
+                                                r"dims \[4, 4\].*, but the config and task make solution_dim 3, dims "
+                                                r"\[4, 4\]"):
+        qdmeta.Algorithm(config, task=task, archive=qdmeta.GridArchive(solution_dim=2, dims=[4, 4]))
+    with pytest.raises(qdmeta.InputError, match=r"dims \[5, 4\]"):
+        qdmeta.Algorithm(config, task=task, archive=qdmeta.GridArchive(solution_dim=3, dims=[5, 4]))
+    with pytest.raises(ValueError, match=r'serves algorithm "map-elites" only, not "cvt-map-elites"'):
+        qdmeta.Algorithm({"algorithm": "cvt-map-elites", "cvt": {"centroids": 20, "samples": 500, "cache": False}},
+                         task=task, archive=given)
+    with pytest.raises(TypeError, match=r"archive must be a qdmeta\.GridArchive, got list"):
+        qdmeta.Algorithm(config, task=task, archive=[1])

@@ -148,3 +148,61 @@ def test_a_path_with_a_nul_names_the_argument_in_one_line(tmp_path, call):
         else:
             qdmeta.Algorithm(dict(ME, task={"name": "rastrigin"})).run(out_dir=out)
     assert str(refused.value) == f"{call}(): out_dir holds a NUL character, which no path can hold"
+
+
+def test_a_config_takes_numpy_arrays_and_scalars_where_it_takes_lists_and_numbers():
+    task = qdmeta.Task(lambda x: (np.zeros(len(x)), features_of(x)), genotype_size=4, base_feature_size=2, name="ok")
+    config = dict(ME, archive={"bins": np.array([5, 3])}, map_elites={"batch_size": np.int64(10),
+                                                                      "initial_population": 20})
+    algo = qdmeta.Algorithm(config, task=task)
+    assert algo.archive.dims == [5, 3] and len(algo.ask()) == 20
+    assert qdmeta.Algorithm(dict(ME, archive={"bins": [np.int32(2), 2]}), task=task).archive.dims == [2, 2]
+
+
+def test_a_mutation_key_the_kind_does_not_read_is_refused_naming_it():
+    task = qdmeta.Task(lambda x: (np.zeros(len(x)), features_of(x)), genotype_size=4, base_feature_size=2, name="ok")
+    with pytest.raises(qdmeta.InputError, match=r'^<python>: mutation\.sigma is not read by mutation kind "iso-line" '
+                                                r'\(it reads iso_sigma, line_sigma\): remove it$'):
+        qdmeta.Algorithm(dict(ME, mutation={"kind": "iso-line", "sigma": 0.3}), task=task)
+    with pytest.raises(qdmeta.InputError, match=r"mutation\.rate is not read"):
+        qdmeta.Algorithm(dict(ME, mutation={"kind": "iso-line", "rate": 0.5}), task=task)
+    # The kind's own keys, and a recorded config's defaults, still build.
+    qdmeta.Algorithm(dict(ME, mutation={"kind": "iso-line", "iso_sigma": 0.02, "line_sigma": 0.1}), task=task)
+    qdmeta.Algorithm(dict(ME, mutation={"kind": "gaussian", "sigma": 0.1, "step": 0.025, "iso_sigma": 0.01}),
+                     task=task)
+
+
+def test_a_wrong_argument_type_is_named_with_the_types():
+    with pytest.raises(TypeError, match=r"^GridArchive\(\): solution_dim must be int, got str; it takes "
+                                        r"\(solution_dim, dims, "):
+        qdmeta.GridArchive(solution_dim="x", dims=[4, 4])
+    with pytest.raises(TypeError, match=r"^GridArchive\(\): dims must be a list of int, got float"):
+        qdmeta.GridArchive(2, 4.0)
+    with pytest.raises(TypeError, match=r"^Algorithm\(\): task must be qdmeta\.Task or None, got int"):
+        qdmeta.Algorithm(ME, task=3)
+
+
+def test_tell_gives_runs_hint_for_a_feature_outside_the_unit_range():
+    by_hand = qdmeta.Algorithm(ME, task=bad_task())
+    x = by_hand.ask()
+    with pytest.raises(qdmeta.InputError) as from_tell:
+        by_hand.tell(*with_a_bad_feature(x))
+    with pytest.raises(qdmeta.InputError) as from_run:
+        qdmeta.Algorithm(ME, task=bad_task()).run()
+    hint = str(from_run.value).split("outside [0, 1]")[1]
+    assert hint.startswith(" (base features are in [0, 1]") and str(from_tell.value).endswith(hint)
+
+
+def test_qd_meta_without_a_meta_objective_names_the_argument():
+    task = qdmeta.Task(lambda x: (np.zeros(len(x)), features_of(x)), genotype_size=4, base_feature_size=2, name="t")
+    with pytest.raises(qdmeta.InputError, match=r"task 't' has no meta-fitness yet: pass "
+                                                r"meta_objective=qdmeta\.MetaObjective\(f, name=\.\.\.\)$"):
+        qdmeta.Algorithm({"algorithm": "qd-meta"}, task=task)
+
+
+def test_an_archive_refuses_a_non_finite_solution_naming_the_row():
+    archive = qdmeta.GridArchive(solution_dim=2, dims=[4, 4])
+    for bad in (np.nan, np.inf):
+        with pytest.raises(qdmeta.InputError, match=r"^grid archive: row 1 of the batch has solution value 1 = "):
+            archive.add(np.array([[0.0, 0.0], [0.0, bad]]), np.ones(2), np.full((2, 2), 0.5))
+    assert len(archive) == 0

@@ -325,3 +325,20 @@ def test_an_algorithm_state_whose_bytes_changed_is_refused_by_its_checksum():
     config = dict(state[1], seed=state[1]["seed"] + 1)  # the config too
     with pytest.raises(qdmeta.InputError, match="checksum mismatch"):
         qdmeta.Algorithm.__new__(qdmeta.Algorithm).__setstate__(state[:1] + (config,) + state[2:])
+
+
+def test_a_pickled_cvt_map_elites_carries_its_centroids():
+    algo = qdmeta.Algorithm(CVT, task=sphere_task())
+    assert algo.__getstate__()[7] is None  # no centroids before the first step
+    algo.step()
+    state = algo.__getstate__()
+    centroids = algo.archive.centroids
+    assert state[0] == 3 and np.array_equal(state[7], centroids) and state[7].shape == (50, 2)
+    back = pickle.loads(pickle.dumps(algo))
+    assert np.array_equal(back.archive.centroids, centroids)
+    assert_same_algorithm(algo, back)
+    # The pickle's centroids are the ones used (the elites no longer fall in their cells), and refused.
+    tampered = state[:7] + (centroids[::-1].copy(),)
+    with pytest.raises(qdmeta.InputError, match=r"does not fall in its saved cell|checksum"):
+        qdmeta.Algorithm.__new__(qdmeta.Algorithm).__setstate__(tampered)
+    assert qdmeta.Algorithm(ME, task=sphere_task()).__getstate__()[7] is None

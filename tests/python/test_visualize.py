@@ -80,3 +80,13 @@ def test_a_plot_that_cannot_draw_the_archive_says_why():
         visualize.cvt_archive_heatmap(three_d, ax=ax)
     assert issubclass(visualize.PlotError, ValueError)
     plt.close(fig)
+
+
+def test_the_parallel_axes_of_an_empty_archive_are_drawn_with_no_lines():
+    for archive in (qdmeta.GridArchive(solution_dim=2, dims=[4, 4, 4]),
+                    qdmeta.UnstructuredArchive(solution_dim=2, measure_dim=3)):
+        fig, ax = plt.subplots()
+        lines = visualize.parallel_axes_plot(archive, ax=ax)
+        assert len(lines.get_segments()) == 0 and len(ax.get_xticks()) == 3
+        assert ax.get_ylim() == (-0.02, 1.02)
+        plt.close(fig)

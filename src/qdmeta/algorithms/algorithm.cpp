@@ -108,8 +108,8 @@ void check_result_block(const std::string& algorithm, std::size_t j, const Evalu
                                    r.fitness[i]));
     for (Index k = 0; k < r.base_features.cols(); ++k)
       if (!(r.base_features(i, k) >= 0 && r.base_features(i, k) <= 1))
-        throw InputError(fmt::format("{}: tell(): job {} row {}: base feature {} is {}, outside [0, 1]", algorithm, j,
-                                     i, k, r.base_features(i, k)));
+        throw InputError(fmt::format("{}: tell(): job {} row {}: base feature {} is {}, outside [0, 1]{}", algorithm,
+                                     j, i, k, r.base_features(i, k), kBaseFeatureRangeHint));
   }
 }
 }  // namespace

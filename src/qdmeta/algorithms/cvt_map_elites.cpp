@@ -47,11 +47,17 @@ CvtMapElites::CvtMapElites(CvtMapElitesParams params, Task task, MutationParams 
       seed_(seed),
       search_(resolve_cvt_search(params_.search, task_.base_feature_size())) {
   params_.validate();
-  const RowMatrix* given = params_.centroids.get();
-  if (given && (given->rows() != params_.kmeans.centroids || given->cols() != task_.base_feature_size()))
+  if (params_.centroids) give_centroids(params_.centroids);
+}
+
+void CvtMapElites::give_centroids(std::shared_ptr<const RowMatrix> centroids) {
+  if (archive_) throw Error("cvt-map-elites: centroids can be given only before the archive is made");
+  if (!centroids || centroids->rows() != params_.kmeans.centroids || centroids->cols() != task_.base_feature_size())
     throw InputError(fmt::format("cvt-map-elites: the given centroids are {} x {}, expected cvt.centroids x base "
                                  "features = {} x {}",
-                                 given->rows(), given->cols(), params_.kmeans.centroids, task_.base_feature_size()));
+                                 centroids ? centroids->rows() : 0, centroids ? centroids->cols() : 0,
+                                 params_.kmeans.centroids, task_.base_feature_size()));
+  params_.centroids = std::move(centroids);
 }
 
 void CvtMapElites::prepare(Evaluator& evaluator) {

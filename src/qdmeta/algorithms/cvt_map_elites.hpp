@@ -72,6 +72,9 @@ class CvtMapElites final : public Algorithm {
   // file is reported on stderr.
   void prepare(Evaluator& evaluator);
   bool prepared() const { return archive_.has_value(); }
+  // Centroids to use instead of making them, before the archive is made (a pickled Python
+  // Algorithm brings its own: k-means at the paper's size takes minutes).
+  void give_centroids(std::shared_ptr<const RowMatrix> centroids);
   const CvtArchive& archive() const;
   CacheOutcome cache_outcome() const { return cache_outcome_; }
   // Offspring whose cell needed the full search (the rest were settled by the parent bound).

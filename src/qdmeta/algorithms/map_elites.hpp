@@ -199,6 +199,13 @@ class BasicMapElites final : public Algorithm {
     p.variation_name = "variation";
     mutation_ = Mutation(std::move(p));
   }
+  // Starts from `archive`'s elites instead of the empty archive built (a warm start: the first
+  // generation mutates them), before the first step; the caller checks that its shape fits.
+  void start_from(Archive archive) {
+    if (generation_ != 0 || step_in_progress() || !archive_.empty())
+      throw Error("map-elites: an archive can be given only before the first step");
+    archive_ = std::move(archive);
+  }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;

@@ -40,6 +40,12 @@ void check_batch(const EliteBatch& batch, std::size_t status_size, Index solutio
       if (!std::isfinite(m[d]))
         throw InputError(fmt::format("{}: row {} of the batch has measure {} = {}; measures must be finite", archive, r,
                                      d, m[d]));
+    // A NaN gene would be stored, pickled and sampled as a parent: refused like the rest.
+    const Real* s = batch.solutions.row(r);
+    for (Index g = 0; g < solution_size; ++g)
+      if (!std::isfinite(s[g]))
+        throw InputError(fmt::format("{}: row {} of the batch has solution value {} = {}; solutions must be finite",
+                                     archive, r, g, s[g]));
   }
 }
 

@@ -11,17 +11,9 @@
 
 namespace qdmeta {
 
-void GridArchiveParams::validate() const {
-  if (bins.empty()) throw InputError("archive.bins is empty: give the number of bins of each target feature");
-  double cells = 1;
-  for (int b : bins) {
-    if (b < 1) throw InputError(fmt::format("archive.bins = [{}] is out of range: each must be at least 1",
-                                            fmt::join(bins, ", ")));
-    cells *= b;
-  }
-  if (cells > 1e8)
-    throw InputError(fmt::format("archive.bins = [{}] gives {} cells: at most 100,000,000 are allowed",
-                                 fmt::join(bins, ", "), cells));
+namespace {
+// One feature's [lower, upper]: finite, ordered, and of a width whose reciprocal is finite.
+void check_range(double lower, double upper) {
   if (!(lower < upper) || !std::isfinite(lower) || !std::isfinite(upper))
     throw InputError(fmt::format("archive range [{}, {}] is invalid: lower must be below upper", lower, upper));
   // Cells come from (m - lower) * (1 / width): a width whose reciprocal overflows (below the
@@ -34,6 +26,26 @@ void GridArchiveParams::validate() const {
     throw InputError(fmt::format("archive range [{}, {}] is too narrow: upper - lower = {} is below {}, the smallest "
                                  "normal double",
                                  lower, upper, width, std::numeric_limits<double>::min()));
+}
+}  // namespace
+
+void GridArchiveParams::validate() const {
+  if (bins.empty()) throw InputError("archive.bins is empty: give the number of bins of each target feature");
+  double cells = 1;
+  for (int b : bins) {
+    if (b < 1) throw InputError(fmt::format("archive.bins = [{}] is out of range: each must be at least 1",
+                                            fmt::join(bins, ", ")));
+    cells *= b;
+  }
+  if (cells > 1e8)
+    throw InputError(fmt::format("archive.bins = [{}] gives {} cells: at most 100,000,000 are allowed",
+                                 fmt::join(bins, ", "), cells));
+  check_range(lower, upper);
+  if (lower_bounds.size() != upper_bounds.size() || (!lower_bounds.empty() && lower_bounds.size() != bins.size()))
+    throw InputError(fmt::format("archive ranges: {} lower and {} upper bounds for {} target features: give one "
+                                 "(lower, upper) pair per feature",
+                                 lower_bounds.size(), upper_bounds.size(), bins.size()));
+  for (std::size_t d = 0; d < lower_bounds.size(); ++d) check_range(lower_bounds[d], upper_bounds[d]);
   require_at_least("archive solution size", solution_size, Index{1});
   require_at_least("archive base-feature size", base_feature_size, Index{0});
   require_range("archive.epsilon", epsilon, 0.0, 0.5);

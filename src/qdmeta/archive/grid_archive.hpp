@@ -21,6 +21,8 @@ struct GridArchiveParams {
   std::vector<int> bins = {100, 100};  // bins per target dimension, each >= 1
   double lower = 0.0;                  // lower bound of every target feature
   double upper = 1.0;                  // upper bound of every target feature (> lower)
+  // Per-target-feature bounds (pyribs's `ranges`), one per bin count; empty: lower and upper for all.
+  std::vector<double> lower_bounds, upper_bounds;
   Index solution_size = 0;             // genes per solution, >= 1
   Index base_feature_size = 0;         // base features kept per elite (0: none)
   double qd_offset = 0.0;              // QD-score counts objective - qd_offset
@@ -29,6 +31,8 @@ struct GridArchiveParams {
   // because float measures carry more rounding than pyribs's float64 (0.84f * 100 = 83.999997).
   double epsilon = 1e-6;
   void validate() const;
+  double lower_of(std::size_t d) const { return lower_bounds.empty() ? lower : lower_bounds[d]; }
+  double upper_of(std::size_t d) const { return upper_bounds.empty() ? upper : upper_bounds[d]; }
 };
 
 // The cells of a grid (the product of its bins), and what a GridArchive of `p` allocates for them

@@ -27,8 +27,12 @@
 namespace qdmeta {
 
 GridIndex::GridIndex(const GridArchiveParams& params)
-    : lower_(params.lower), scale_(1.0 / (params.upper - params.lower)) {
+{
   const auto dims = params.bins.size();
+  for (std::size_t d = 0; d < dims; ++d) {
+    lower_.push_back(params.lower_of(d));
+    scale_.push_back(1.0 / (params.upper_of(d) - params.lower_of(d)));
+  }
   bins_.resize(dims);
   top_.resize(dims);
   margin_.resize(dims);
@@ -51,7 +55,7 @@ Index GridIndex::cell_of(const Real* measures) const {
   for (std::size_t d = 0; d < bins_.size(); ++d) {
     const double m = measures[d];
     if (std::isnan(m)) throw Error(fmt::format("grid archive: target feature {} is NaN", d));
-    const double pos = std::floor(fused((m - lower_) * scale_, bins_[d], margin_[d]));
+    const double pos = std::floor(fused((m - lower_[d]) * scale_[d], bins_[d], margin_[d]));
     cell += static_cast<Index>(std::clamp(pos, 0.0, top_[d])) * stride_[d];
   }
   return cell;
@@ -62,8 +66,6 @@ void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::i
   Index r = 0;
 #if defined(QDMETA_GRID_INDEX_AVX512)
   // Sixteen rows per step in two halves of eight double lanes.
-  const __m512d lower = _mm512_set1_pd(lower_);
-  const __m512d scale = _mm512_set1_pd(scale_);
   const __m512d zero = _mm512_setzero_pd();
   for (; r + 16 <= count; r += 16) {
     __m256i lo = _mm256_setzero_si256(), hi = _mm256_setzero_si256();
@@ -73,6 +75,7 @@ void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::i
       const __m512 m = _mm512_loadu_ps(measures_t + d * ld + r);
       nan |= _mm512_cmp_ps_mask(m, m, _CMP_UNORD_Q);
       const __m512d bins = _mm512_set1_pd(bins_[du]), margin = _mm512_set1_pd(margin_[du]);
+      const __m512d lower = _mm512_set1_pd(lower_[du]), scale = _mm512_set1_pd(scale_[du]);
       const __m512d top = _mm512_set1_pd(top_[du]);
       const __m256i stride = _mm256_set1_epi32(stride_[du]);
       auto half = [&](__m256 m8) {
@@ -89,8 +92,6 @@ void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::i
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(cells + r + 8), hi);
   }
 #elif defined(QDMETA_GRID_INDEX_AVX2)
-  const __m256d lower = _mm256_set1_pd(lower_);
-  const __m256d scale = _mm256_set1_pd(scale_);
   const __m256d zero = _mm256_setzero_pd();
   for (; r + 8 <= count; r += 8) {
     __m128i lo = _mm_setzero_si128(), hi = _mm_setzero_si128();
@@ -100,6 +101,7 @@ void GridIndex::cells_of_t(const Real* measures_t, Index ld, Index count, std::i
       const __m256 m = _mm256_loadu_ps(measures_t + d * ld + r);
       nan |= _mm256_movemask_ps(_mm256_cmp_ps(m, m, _CMP_UNORD_Q)) != 0;
       const __m256d bins = _mm256_set1_pd(bins_[du]), margin = _mm256_set1_pd(margin_[du]);
+      const __m256d lower = _mm256_set1_pd(lower_[du]), scale = _mm256_set1_pd(scale_[du]);
       const __m256d top = _mm256_set1_pd(top_[du]);
       const __m128i stride = _mm_set1_epi32(stride_[du]);
       auto half = [&](__m128 m4) {

@@ -31,8 +31,8 @@ class GridIndex {
   void cells_of_t(const Real* measures_t, Index ld, Index count, std::int32_t* cells) const;
 
  private:
-  double lower_ = 0;
-  double scale_ = 1;                  // 1 / (upper - lower)
+  std::vector<double> lower_;         // per target feature
+  std::vector<double> scale_;         // 1 / (upper - lower), per target feature
   std::vector<double> bins_;          // per dimension, as double
   std::vector<double> top_;           // bins - 1
   std::vector<double> margin_;        // epsilon + bins * FLT_EPSILON (fused)

@@ -1,6 +1,7 @@
 #include "qdmeta/experiment/standard_tables.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <limits>
@@ -44,6 +45,31 @@ std::vector<std::string> joined(std::vector<std::string> builtin, const std::vec
   return builtin;
 }
 
+// A key the chosen kind does not read (iso-line's sigma) would be ignored silently: refused. A
+// resolved config.toml records every key at its value in force, so one holding the default is
+// let through (run directories written so far stay readable).
+void refuse_unread_mutation_keys(const ConfigReader& m, const MutationParams& p) {
+  const MutationParams defaults;
+  const bool gaussian = p.kind == MutationKind::kGaussian, iso_line = p.kind == MutationKind::kIsoLine;
+  const struct {
+    const char* key;
+    bool read;
+    double value, fallback;
+  } keys[] = {{"rate", !iso_line, p.rate, defaults.rate},
+              {"sigma", gaussian, p.sigma, defaults.sigma},
+              {"step", !gaussian && !iso_line, p.step, defaults.step},
+              {"iso_sigma", iso_line, p.iso_sigma, defaults.iso_sigma},
+              {"line_sigma", iso_line, p.line_sigma, defaults.line_sigma}};
+  std::vector<std::string> read;
+  for (const auto& k : keys)
+    if (k.read) read.emplace_back(k.key);
+  for (const auto& k : keys)
+    if (!k.read && m.has(k.key) && k.value != k.fallback)
+      throw InputError(fmt::format("{}: mutation.{} is not read by mutation kind \"{}\" (it reads {}): remove it",
+                                   m.source(), k.key, enum_to_string(kMutationKindNames, p.kind),
+                                   fmt::join(read, ", ")));
+}
+
 }  // namespace
 
 std::vector<std::string> mutation_kinds() {
@@ -69,6 +95,7 @@ MutationParams read_mutation_table(ConfigReader& m, const Task& task) {
   p.step = m.number("step", p.step, 0.0, 1.0, Open::kLower);
   p.iso_sigma = m.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
   p.line_sigma = m.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
+  refuse_unread_mutation_keys(m, p);
   naming_source(m, [&] { p.validate(); });
   return p;
 }
