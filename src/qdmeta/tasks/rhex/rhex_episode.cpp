@@ -21,6 +21,9 @@ void EpisodeSettings::validate() const {
     throw InputError(fmt::format("task.episode_seconds = {}: the episode must last a multiple of 10 time steps "
                                  "(it has {})", duration, steps()));
   require_range("task.settle_steps", settle_steps, 0, 1000000);
+  if (engine == Engine::kMujoco && legs == LegModel::kCompliant)
+    throw InputError("task.engine = \"mujoco\" has rigid legs only so far: the compliant legs' plate springs "
+                     "(152,000-202,672 N m / rad on 12.5 g plates) diverge at a 5 ms step (docs/fidelity.md, \"MuJoCo\")");
   require_range("task.stable_steps", stable_steps, 0, 1000000);
 }
 
@@ -65,6 +68,10 @@ class Episode {
       observe(step + 1);
       if (step + 1 >= turnover_step && turned_over(w_->body_pose())) {
         result_.dead = result_.turned_over = true;
+        return finish();
+      }
+      if (w_->diverged()) {
+        result_.dead = true;
         return finish();
       }
     }
@@ -147,6 +154,10 @@ class Episode {
     for (int step = 0; step < s_.settle_steps; ++step) {
       w_->step();
       ++result_.settle_steps;
+      if (w_->diverged()) {
+        result_.dead = true;
+        return;
+      }
       const Eigen::Isometry3d now_t = w_->body_pose();
       if (s_.record_poses) record(result_.walk_steps + step + 1, now_t);
       const RelativePose now = relative_pose(start_, now_t);

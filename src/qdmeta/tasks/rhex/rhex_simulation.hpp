@@ -31,6 +31,9 @@ class Simulation {
   virtual Eigen::Matrix3d leg_rotation(int leg) const = 0;
   virtual std::int64_t contact_count() const = 0;     // contact points of the last step
   virtual std::array<bool, kLegs> legs_touching() const = 0;  // any plate of each leg in contact
+  // The engine gave up on the state (MuJoCo: a non-finite or huge acceleration, after which it
+  // resets the state): the episode is dead.
+  virtual bool diverged() const { return false; }
 
   std::array<bool, kLegs> actuated{};  // false: removed, blocked or passive
   std::array<int, kLegs> leg_bodies{};  // rigid bodies of each leg (0 when removed)
