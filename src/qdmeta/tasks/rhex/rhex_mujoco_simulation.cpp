@@ -35,11 +35,16 @@ mjModel* compile(const std::string& xml) {
   return model;
 }
 
-// Models by MJCF text, compiled on first use and kept for the program's life.
+void quiet(const char*) {}
+
+// Models by MJCF text, compiled on first use and kept for the program's life. MuJoCo's warnings
+// (printed, and appended to MUJOCO_LOG.TXT in the working directory) are silenced: the one that
+// matters, a diverged state, is read from the episode's mjData (diverged()).
 const mjModel* model_for(const std::string& xml) {
   static std::mutex mutex;
   static std::map<std::string, mjModel*> models;
   const std::lock_guard lock(mutex);
+  mju_user_warning = quiet;
   auto it = models.find(xml);
   if (it == models.end()) it = models.emplace(xml, compile(xml)).first;
   return it->second;
