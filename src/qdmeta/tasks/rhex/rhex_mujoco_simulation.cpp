@@ -87,6 +87,11 @@ class MujocoSimulation final : public Simulation {
   void step() override {
     mj_step2(m_, d_);
     mj_step1(m_, d_);
+    // Full contact or constraint buffers drop contacts silently: a model limit to raise
+    // (rhex_mjcf.cpp's <size>), never an outcome.
+    if (d_->warning[mjWARN_CONTACTFULL].number > 0 || d_->warning[mjWARN_CNSTRFULL].number > 0)
+      throw Error(fmt::format("MuJoCo's contact buffers are full ({} contacts): raise nconmax / njmax in rhex_mjcf.cpp",
+                              d_->ncon));
   }
   bool diverged() const override { return d_->warning[mjWARN_BADQACC].number > 0; }
   Eigen::Isometry3d body_pose() const override {
