@@ -46,7 +46,7 @@ std::array<Real, rhex::kGenes> archive_genes(const std::string& archive, Index r
 
 int main(int argc, char** argv) {
   CLI::App app{"qdmeta-rhex-gait: replay an RHex controller and write its gait (HTML animation or CSV)"};
-  std::string genes, archive, out, course = "flat", damage = "none", legs = "rigid";
+  std::string genes, archive, out, course = "flat", damage = "none", legs = "rigid", engine = "dart";
   Index row = 0;
   int leg = 0;
   double seconds = 5.0;
@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   app.add_option("--damage", damage, "damage (docs/config.md, task.damage)");
   app.add_option("--leg", leg, "damaged leg, 0..5");
   app.add_option("--legs", legs, "leg model: rigid or compliant");
+  app.add_option("--engine", engine, "physics engine: dart or mujoco");
   app.add_option("--seconds", seconds, "episode length");
   app.add_option("--out", out, "output file: .html (animation) or .csv (poses)")->required();
   CLI11_PARSE(app, argc, argv);
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
     p.episode.duration = seconds;
     p.episode.record_poses = true;
     p.episode.legs = enum_from_string(rhex::kLegModelNames, "--legs", legs);
+    p.episode.engine = enum_from_string(rhex::kEngineNames, "--engine", engine);
     rhex::RhexEnvironment env;
     env.course = enum_from_string(rhex::kObstacleCourseNames, "--course", course);
     env.damage = enum_from_string(rhex::kDamageTypeNames, "--damage", damage);

@@ -1,5 +1,5 @@
 # `cmake --install build --prefix P`: headers, libraries, the qdmeta executable, the report
-# tools, and the CMake package (find_package(qdmeta) with components rhex and mpi).
+# tools, and the CMake package (find_package(qdmeta) with components rhex, mujoco and mpi).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -15,6 +15,12 @@ install(EXPORT qdmetaTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMA
 set(qdmeta_header_excludes PATTERN rhex_world.hpp EXCLUDE)
 if(QDMETA_WITH_RHEX)
   install(TARGETS qdmeta_rhex EXPORT qdmetaRhexTargets ${qdmeta_library_destinations})
+  if(QDMETA_WITH_MUJOCO)
+    install(TARGETS qdmeta_rhex_mujoco EXPORT qdmetaRhexTargets ${qdmeta_library_destinations})
+    # The marker of component mujoco: the MuJoCo library the rhex targets link.
+    file(WRITE ${PROJECT_BINARY_DIR}/qdmetaMujoco.cmake "set(_qdmeta_mujoco_library \"${QDMETA_MUJOCO_LIBRARY}\")\n")
+    install(FILES ${PROJECT_BINARY_DIR}/qdmetaMujoco.cmake DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
+  endif()
   install(EXPORT qdmetaRhexTargets NAMESPACE qdmeta:: DESTINATION ${QDMETA_INSTALL_CMAKEDIR})
 else()
   list(APPEND qdmeta_header_excludes PATTERN rhex EXCLUDE)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages qdmeta needs to build, test and plot. Idempotent: packages
 # already installed are skipped, and nothing is done when all are present. Uses sudo when not
-# root. Set QDMETA_DEPS=core to skip the optional components (DART robot task, MPI).
+# root. Set QDMETA_DEPS=core to skip the optional components (DART robot task, MuJoCo, MPI).
 set -euo pipefail
 
 core=(
@@ -12,9 +12,10 @@ core=(
 )
 # Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
 # DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
+# MuJoCo 2.2.2 is the RHex task's second engine ([task] engine = "mujoco", docs/fidelity.md).
 # OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test. pandas gives
 # the Python archives their as_pandas(); python3-venv is for make test-pip and bench/peers.
-optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev
+optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev libmujoco-dev
           openmpi-bin libopenmpi-dev python3-pandas python3-venv)
 
 packages=("${core[@]}")

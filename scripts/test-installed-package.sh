@@ -111,16 +111,22 @@ mkdir -p "$lean/lib"
 ln -s "$prefix/include" "$prefix/share" "$lean/"
 ln -s "$prefix"/lib/*.a "$lean/lib/"
 cp -r "$prefix/lib/cmake" "$lean/lib/"
-rm -f "$lean"/lib/cmake/qdmeta/qdmeta{Rhex,Mpi}Targets*.cmake
+rm -f "$lean"/lib/cmake/qdmeta/qdmeta{Rhex,Mpi}Targets*.cmake "$lean"/lib/cmake/qdmeta/qdmetaMujoco.cmake
 message=$(ask rhex "$lean") && fail "a missing rhex component was accepted: $message"
 [[ $message == *"has no component rhex: qdmeta was built without DART 6.12"* ]] || fail "missing rhex: $message"
 message=$(ask mpi "$lean") && fail "a missing mpi component was accepted: $message"
 [[ $message == *"has no component mpi: qdmeta was built without MPI"* ]] || fail "missing mpi: $message"
 message=$(ask gpu "$prefix") && fail "component gpu was accepted: $message"
-[[ $message == *'qdmeta has no component "gpu" (its components: rhex, mpi)'* ]] || fail "component gpu: $message"
+[[ $message == *'qdmeta has no component "gpu" (its components: rhex, mujoco, mpi)'* ]] || fail "component gpu: $message"
 if [[ -e $package/qdmetaMpiTargets.cmake ]]; then
   message=$(ask mpi "$prefix" -DCMAKE_DISABLE_FIND_PACKAGE_MPI=ON) && fail "mpi was found without MPI: $message"
   [[ $message == *"component mpi needs MPI (C++), which was not found"* ]] || fail "mpi without MPI: $message"
+fi
+message=$(ask mujoco "$lean") && fail "a missing mujoco component was accepted: $message"
+[[ $message == *"has no component mujoco: qdmeta was built without MuJoCo"* ]] || fail "missing mujoco: $message"
+if [[ -e $package/qdmetaMujoco.cmake ]]; then
+  message=$(ask mujoco "$prefix") || fail "component mujoco: $message"
+  [[ $message == *"found: mujoco"* ]] || fail "finding mujoco: $message"
 fi
 if [[ -e $package/qdmetaRhexTargets.cmake ]]; then
   message=$(ask rhex "$prefix") || fail "component rhex: $message"

@@ -43,6 +43,33 @@ BENCHMARK(BM_RhexEpisode)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
+// DART and MuJoCo side by side (docs/fidelity.md, "RHex on MuJoCo"): the tripod's 5 s episode
+// with rigid legs on each engine, and with compliant legs on DART (MuJoCo refuses them so far).
+// MuJoCo only where built with it.
+void BM_RhexEngine(benchmark::State& state) {
+  RhexParams params;
+  params.episode.engine = static_cast<rhex::Engine>(state.range(0));
+  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+  try {  // refused settings, or an engine this build lacks: one short episode says
+    RhexParams probe = params;
+    probe.episode.duration = 0.05;
+    const auto genes = rhex::tripod_genes();
+    RhexTask(probe).episode(genes.data(), {});
+  } catch (const InputError& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const rhex::EpisodeResult result = time_tripod_episode(state, params);
+  state.SetLabel(std::string(enum_to_string(rhex::kEngineNames, params.episode.engine)) + "/" +
+                 std::string(enum_to_string(rhex::kLegModelNames, params.episode.legs)));
+  state.counters["steps"] = result.walk_steps + result.settle_steps;
+}
+BENCHMARK(BM_RhexEngine)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"engine", "legs"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
 // The compliant legs' cost under the solver options the issue of its speed names (bench/README.md,
 // "RHex"): the LCP solver and the plate joints' limit rows, with DART's own collision detector.
 void BM_RhexCompliantOptions(benchmark::State& state) {

@@ -20,10 +20,12 @@
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
+#include "tasks/paired_stats.hpp"
 
 namespace {
 
 using namespace qdmeta;
+using qdmeta::bench::correlation;
 
 struct Model {
   std::string name;
@@ -37,19 +39,6 @@ struct Outcome {
   std::vector<int> dead;
   double seconds_per_episode = 0.0;
 };
-
-double correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const auto n = static_cast<double>(a.size());
-  double ma = 0, mb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
-  double sab = 0, saa = 0, sbb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb);
-    saa += (a[i] - ma) * (a[i] - ma);
-    sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
-}
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
@@ -55,21 +56,30 @@ TEST(RhexTask, RejectsBadParams) {
   EXPECT_THROW(RhexTask{p}, InputError);
 }
 
+// On each engine built (MuJoCo: one mjData per episode on a shared model).
 TEST(RhexTask, EpisodesAreDeterministicAtAnyThreadCount) {
-  const Task task{RhexTask{short_params(1.0)}};
-  const RowMatrix genotypes = random_genotypes(4, 11);
-  const GenotypeView view{genotypes.data(), genotypes.rows(), genotypes.cols()};
-  EvaluationBatch a, b, c;
-  a.resize(4, task.base_feature_size());
-  b.resize(4, task.base_feature_size());
-  c.resize(4, task.base_feature_size());
-  task.evaluate(view, a.view());
-  task.evaluate(view, b.view());
-  make_thread_evaluator(2, 1)->evaluate(task, view, c.view());
-  for (const EvaluationBatch* other : {&b, &c}) {
-    EXPECT_EQ(std::memcmp(a.fitness.data(), other->fitness.data(), sizeof(Real) * 4), 0);
-    EXPECT_EQ(std::memcmp(a.base_features.data(), other->base_features.data(), sizeof(Real) * 4 * 50), 0);
-    EXPECT_EQ(a.valid, other->valid);
+  std::vector<rhex::Engine> engines{rhex::Engine::kDart};
+#ifdef QDMETA_TEST_MUJOCO
+  engines.push_back(rhex::Engine::kMujoco);
+#endif
+  for (const rhex::Engine engine : engines) {
+    RhexParams p = short_params(1.0);
+    p.episode.engine = engine;
+    const Task task{RhexTask{p}};
+    const RowMatrix genotypes = random_genotypes(4, 11);
+    const GenotypeView view{genotypes.data(), genotypes.rows(), genotypes.cols()};
+    EvaluationBatch a, b, c;
+    a.resize(4, task.base_feature_size());
+    b.resize(4, task.base_feature_size());
+    c.resize(4, task.base_feature_size());
+    task.evaluate(view, a.view());
+    task.evaluate(view, b.view());
+    make_thread_evaluator(2, 1)->evaluate(task, view, c.view());
+    for (const EvaluationBatch* other : {&b, &c}) {
+      EXPECT_EQ(std::memcmp(a.fitness.data(), other->fitness.data(), sizeof(Real) * 4), 0);
+      EXPECT_EQ(std::memcmp(a.base_features.data(), other->base_features.data(), sizeof(Real) * 4 * 50), 0);
+      EXPECT_EQ(a.valid, other->valid);
+    }
   }
 }
 

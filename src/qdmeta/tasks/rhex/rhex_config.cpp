@@ -25,6 +25,7 @@ Task read_rhex_task(ConfigReader& t) {
   p.episode.settle_steps = static_cast<int>(t.integer("settle_steps", p.episode.settle_steps, 0, 1'000'000));
   p.gene_step = t.number("gene_step", p.gene_step, 0.0, 1.0, Open::kLower);
   p.stance_offset = t.choice("stance_offset", p.stance_offset, rhex::kStanceOffsetNames);
+  p.episode.engine = t.choice("engine", p.episode.engine, rhex::kEngineNames);
   p.episode.legs = t.choice("legs", p.episode.legs, rhex::kLegModelNames);
   p.episode.collision = t.choice("collision", p.episode.collision, rhex::kCollisionKindNames);
   p.episode.lcp = t.choice("lcp", p.episode.lcp, rhex::kLcpSolverNames);

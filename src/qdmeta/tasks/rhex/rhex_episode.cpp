@@ -2,20 +2,13 @@
 #include "qdmeta/tasks/rhex/rhex_episode.hpp"
 
 #include <fmt/format.h>
-#include <dart/collision/CollisionObject.hpp>
-#include <dart/collision/CollisionResult.hpp>
-#include <dart/dynamics/BodyNode.hpp>
-#include <dart/dynamics/Joint.hpp>
-#include <dart/dynamics/ShapeNode.hpp>
-#include <dart/dynamics/Skeleton.hpp>
-#include <dart/math/Geometry.hpp>
-#include <dart/simulation/World.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "qdmeta/tasks/rhex/rhex_world.hpp"
+#include "qdmeta/tasks/rhex/rhex_geometry.hpp"
+#include "qdmeta/tasks/rhex/rhex_simulation.hpp"
 
 namespace qdmeta::rhex {
 
@@ -28,6 +21,9 @@ void EpisodeSettings::validate() const {
     throw InputError(fmt::format("task.episode_seconds = {}: the episode must last a multiple of 10 time steps "
                                  "(it has {})", duration, steps()));
   require_range("task.settle_steps", settle_steps, 0, 1000000);
+  if (engine == Engine::kMujoco && legs == LegModel::kCompliant)
+    throw InputError("task.engine = \"mujoco\" has rigid legs only so far: the compliant legs' plate springs "
+                     "(152,000-202,672 N m / rad on 12.5 g plates) diverge at a 5 ms step (docs/fidelity.md, \"MuJoCo\")");
   require_range("task.stable_steps", stable_steps, 0, 1000000);
 }
 
@@ -37,37 +33,24 @@ constexpr int kFeatureEvery = 2;       // steps between feature-set samples (10 
 
 RelativePose relative_pose(const Eigen::Isometry3d& start, const Eigen::Isometry3d& now) {
   const Eigen::Vector3d d = now.translation() - start.translation();
-  const Eigen::Vector3d euler = dart::math::matrixToEulerXYZ(start.linear().transpose() * now.linear());
+  const Eigen::Vector3d euler = euler_xyz(start.linear().transpose() * now.linear());
   return {d.x(), d.y(), d.z(), euler.x(), euler.y(), euler.z()};
 }
 
 
 bool turned_over(const Eigen::Isometry3d& t) { return t.linear()(2, 2) <= 0.0; }  // body z-axis tilted >= 90 deg
 
-void count_contacts(const RhexWorld& w, FeatureSetCounts& counts) {
-  std::array<bool, kLegs> touching{};
-  for (const auto& contact : w.world->getLastCollisionResult().getContacts()) {
-    for (const auto* object : {contact.collisionObject1, contact.collisionObject2}) {
-      const auto* shape = dynamic_cast<const dart::dynamics::ShapeNode*>(object->getShapeFrame());
-      if (shape == nullptr) continue;
-      const int leg = w.leg_of(shape->getBodyNodePtr().get());
-      if (leg >= 0) touching[leg] = true;
-    }
-  }
-  for (int i = 0; i < kLegs; ++i) counts.leg_contact[i] += touching[i];
-}
-
 class Episode {
  public:
-  Episode(const EpisodeSettings& s, const RhexEnvironment& env) : s_(s), w_(build_world(s, env)) {
-    result_.leg_bodies = w_.leg_bodies;
-    result_.leg_plates = w_.leg_plates;
+  Episode(const EpisodeSettings& s, const RhexEnvironment& env) : s_(s), w_(make_simulation(s, env)) {
+    result_.leg_bodies = w_->leg_bodies;
+    result_.leg_plates = w_->leg_plates;
     for (int i = 0; i < kLegs; ++i) {
-      const double q = w_.hips[i] != nullptr && w_.hips[i]->getNumDofs() == 1 ? w_.hips[i]->getPosition(0) : 0.0;
+      const double q = w_->has_hip(i) ? w_->hip_angle(i) : 0.0;
       result_.hip_min[i] = result_.hip_max[i] = q;
     }
     for (int i = 0; i < kLegs; ++i) leg_start_[i] = leg_angle(i);
-    start_ = w_.body->getWorldTransform();
+    start_ = w_->body_pose();
     result_.min_z = result_.max_z = start_.translation().z();
     result_.start_z = start_.translation().z();
     result_.trajectory.push_back(relative_pose(start_, start_));
@@ -79,12 +62,16 @@ class Episode {
     const int turnover_step = static_cast<int>(std::lround(s_.turnover_from / s_.time_step));
     for (int step = 0; step < steps; ++step) {
       command(gait, step * s_.time_step);
-      w_.world->step(false);
+      w_->step();
       ++result_.walk_steps;
-      result_.contacts += static_cast<std::int64_t>(w_.world->getLastCollisionResult().getNumContacts());
+      result_.contacts += w_->contact_count();
       observe(step + 1);
-      if (step + 1 >= turnover_step && turned_over(w_.body->getWorldTransform())) {
+      if (step + 1 >= turnover_step && turned_over(w_->body_pose())) {
         result_.dead = result_.turned_over = true;
+        return finish();
+      }
+      if (w_->diverged()) {
+        result_.dead = true;
         return finish();
       }
     }
@@ -95,27 +82,27 @@ class Episode {
  private:
   void command(const GaitParams* gait, double t) {
     for (int i = 0; i < kLegs; ++i) {
-      if (!w_.actuated[i]) continue;
+      if (!w_->actuated[i]) continue;
       double torque = 0.0;
       if (gait != nullptr) {
-        const double measured = w_.hips[i]->getPosition(0);
+        const double measured = w_->hip_angle(i);
         const double target = unwrap_target(target_angle(*gait, i, t), measured, turns_[i]);
         torque = servos_[i].torque(target, measured, s_.time_step);
       }
-      w_.hips[i]->setCommand(0, torque);
+      w_->set_hip_torque(i, torque);
     }
   }
 
   void observe(int step) {
-    const Eigen::Isometry3d now = w_.body->getWorldTransform();
+    const Eigen::Isometry3d now = w_->body_pose();
     for (int i = 0; i < kLegs; ++i) {
-      if (w_.hips[i] == nullptr || w_.hips[i]->getNumDofs() != 1) continue;
-      const double q = w_.hips[i]->getPosition(0);
+      if (!w_->has_hip(i)) continue;
+      const double q = w_->hip_angle(i);
       result_.hip_min[i] = std::min(result_.hip_min[i], q);
       result_.hip_max[i] = std::max(result_.hip_max[i], q);
     }
     for (int i = 0; i < kLegs; ++i) {
-      if (w_.leg_roots[i] == nullptr) continue;
+      if (w_->leg_bodies[i] == 0) continue;
       const double d = std::abs(std::remainder(leg_angle(i) - leg_start_[i], 2.0 * std::numbers::pi));
       result_.leg_swing[i] = std::max(result_.leg_swing[i], d);
     }
@@ -131,9 +118,10 @@ class Episode {
     if (step % kFeatureEvery == 0) {
       FeatureSetCounts& c = result_.counts;
       ++c.samples;
-      count_contacts(w_, c);
+      const std::array<bool, kLegs> touching = w_->legs_touching();
+      for (int i = 0; i < kLegs; ++i) c.leg_contact[i] += touching[i];
       c.add_orientation(relative_pose(start_, now));
-      const Eigen::Vector3d v = w_.robot->getCOMLinearVelocity();
+      const Eigen::Vector3d v = w_->com_velocity();
       for (int j = 0; j < 3; ++j) c.velocity_sum[j] += v[j];
     }
   }
@@ -141,7 +129,7 @@ class Episode {
   void record(int step, const Eigen::Isometry3d& body) {
     PoseRecord p;
     p.time = step * s_.time_step;
-    const Eigen::Vector3d euler = dart::math::matrixToEulerXYZ(body.linear());
+    const Eigen::Vector3d euler = euler_xyz(body.linear());
     for (int j = 0; j < 3; ++j) {
       p.position[j] = body.translation()[j];
       p.euler[j] = euler[j];
@@ -152,21 +140,25 @@ class Episode {
 
   // Rotation of leg i's first body about y relative to the robot body.
   double leg_angle(int i) const {
-    if (w_.leg_roots[i] == nullptr) return 0.0;
-    const Eigen::Matrix3d r = w_.body->getWorldTransform().linear().transpose() * w_.leg_roots[i]->getWorldTransform().linear();
+    if (w_->leg_bodies[i] == 0) return 0.0;
+    const Eigen::Matrix3d r = w_->body_pose().linear().transpose() * w_->leg_rotation(i);
     return std::atan2(r(0, 2), r(0, 0));
   }
 
   // No commands until the pose has stayed still for more than `stable_steps` steps in a row.
   void settle() {
     for (int i = 0; i < kLegs; ++i)
-      if (w_.actuated[i]) w_.hips[i]->setCommand(0, 0.0);
-    RelativePose last = relative_pose(start_, w_.body->getWorldTransform());
+      if (w_->actuated[i]) w_->set_hip_torque(i, 0.0);
+    RelativePose last = relative_pose(start_, w_->body_pose());
     int quiet = 0;
     for (int step = 0; step < s_.settle_steps; ++step) {
-      w_.world->step(false);
+      w_->step();
       ++result_.settle_steps;
-      const Eigen::Isometry3d now_t = w_.body->getWorldTransform();
+      if (w_->diverged()) {
+        result_.dead = true;
+        return;
+      }
+      const Eigen::Isometry3d now_t = w_->body_pose();
       if (s_.record_poses) record(result_.walk_steps + step + 1, now_t);
       const RelativePose now = relative_pose(start_, now_t);
       const double change = std::sqrt(std::pow(now.x - last.x, 2) + std::pow(now.y - last.y, 2) +
@@ -180,7 +172,7 @@ class Episode {
   }
 
   EpisodeResult finish() {
-    const Eigen::Isometry3d now = w_.body->getWorldTransform();
+    const Eigen::Isometry3d now = w_->body_pose();
     result_.final_pose = relative_pose(start_, now);
     result_.final_z = now.translation().z();
     result_.fitness = result_.final_pose.x;
@@ -188,7 +180,7 @@ class Episode {
   }
 
   EpisodeSettings s_;
-  RhexWorld w_;
+  std::unique_ptr<Simulation> w_;
   Eigen::Isometry3d start_;
   EpisodeResult result_;
   std::array<int, kLegs> turns_{};

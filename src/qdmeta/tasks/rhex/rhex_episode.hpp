@@ -1,7 +1,7 @@
 #pragma once
 // One RHex episode (docs/specification.md, RHex): build the world, walk for `duration` seconds under the
 // Buehler-clock controller, let the robot settle, and report what the task and the tests need.
-// DART-free header: DART stays inside rhex_world.cpp and rhex_episode.cpp.
+// Engine-free header: DART and MuJoCo stay behind rhex_simulation.hpp.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -12,6 +12,10 @@
 #include "qdmeta/tasks/rhex/rhex_features.hpp"
 
 namespace qdmeta::rhex {
+
+// The physics engine of every episode: DART (the authors') or MuJoCo (docs/fidelity.md, "MuJoCo").
+enum class Engine { kDart, kMujoco };
+inline constexpr EnumNames<Engine, 2> kEngineNames{{{Engine::kDart, "dart"}, {Engine::kMujoco, "mujoco"}}};
 
 enum class CollisionKind { kBullet, kDart, kFcl };
 inline constexpr EnumNames<CollisionKind, 3> kCollisionKindNames{
@@ -33,6 +37,7 @@ struct EpisodeSettings {
   int stable_steps = 30;          // settled after more than this many quiet steps in a row
   double stable_tolerance = 1e-4; // a step is quiet when the pose changes less than this
   double turnover_from = 2.0;     // s: from then on, a tilt of 90 degrees or more is death
+  Engine engine = Engine::kDart;  // collision and lcp below are DART's own settings
   CollisionKind collision = CollisionKind::kBullet;
   LegModel legs = LegModel::kRigid;
   LcpSolver lcp = LcpSolver::kDantzig;  // DART's contact solver (Dantzig, PGS as its fallback)

@@ -9,9 +9,6 @@
 #include <dart/dynamics/Skeleton.hpp>
 #include <dart/dynamics/WeldJoint.hpp>
 
-#include <cmath>
-#include <numbers>
-
 #include "qdmeta/tasks/rhex/rhex_world.hpp"
 
 namespace qdmeta::rhex::detail {
@@ -22,45 +19,12 @@ using dart::dynamics::BoxShape;
 using dart::dynamics::CollisionAspect;
 using dart::dynamics::DynamicsAspect;
 using dart::dynamics::VisualAspect;
-using std::numbers::pi;
-
-constexpr double kHipDamping = 0.1;
-constexpr double kPlateJointDamping = 0.1;
-constexpr double kPlateArc = pi / kPlates;  // each plate spans pi / 8 of the half circle
-
-Eigen::Isometry3d rotation_y(double angle) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  return t;
-}
-
-// Frame of plate k in the hip frame: origin at the plate's start on the arc, x along its chord
-// away from the hip. The half circle of diameter D hangs below the hip:
-// point(a) = (-r sin a, 0, r cos a - r), bulging backward at hip angle 0 (as the authors' model);
-// a positive hip angle swings the foot backward (stance pushes forward). The chord from point(a)
-// to point(a + arc) points along (-cos m, 0, -sin m), m = a + arc / 2, which is x rotated by pi - m.
-Eigen::Isometry3d plate_frame(int k) {
-  const double r = kLegDiameter / 2.0;
-  const double a = k * kPlateArc;
-  Eigen::Isometry3d t = rotation_y(pi - (a + kPlateArc / 2.0));
-  t.translation() = Eigen::Vector3d(-r * std::sin(a), 0.0, r * std::cos(a) - r);
-  return t;
-}
-
-double plate_chord() { return kLegDiameter * std::sin(kPlateArc / 2.0); }
-
-// The plate's box in its own frame: centred half a chord along x.
-Eigen::Isometry3d plate_shape_offset() {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(plate_chord() / 2.0, 0.0, 0.0);
-  return t;
-}
 
 void add_box_shape(BodyNode* node, const Eigen::Vector3d& size, const Eigen::Isometry3d& where) {
   auto box = std::make_shared<BoxShape>(size);
   auto* shape = node->createShapeNodeWith<VisualAspect, CollisionAspect, DynamicsAspect>(box);
   shape->setRelativeTransform(where);
-  shape->getDynamicsAspect()->setFrictionCoeff(1.0);
+  shape->getDynamicsAspect()->setFrictionCoeff(kFriction);
   shape->getDynamicsAspect()->setRestitutionCoeff(0.0);
 }
 
@@ -68,23 +32,7 @@ void add_plate_shape(BodyNode* node, const Eigen::Isometry3d& where) {
   add_box_shape(node, Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness), where);
 }
 
-Eigen::Matrix3d diagonal(const std::array<double, 3>& d) { return Eigen::Vector3d(d[0], d[1], d[2]).asDiagonal(); }
-
-// Inertia of plates placed at `frames` (in the body frame), by the parallel-axis theorem. Each
-// plate's own inertia is the authors' (about 6x a uniform box of its size).
-dart::dynamics::Inertia plates_inertia(const std::vector<Eigen::Isometry3d>& frames) {
-  const Eigen::Matrix3d own = diagonal(kPlateInertia);
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();
-  for (const auto& f : frames) com += f.translation();
-  com /= static_cast<double>(frames.size());
-  Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
-  for (const auto& f : frames) {
-    const Eigen::Vector3d c = f.translation() - com;
-    moment += f.linear() * own * f.linear().transpose() +
-              kPlateMass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
-  }
-  return dart::dynamics::Inertia(kPlateMass * static_cast<double>(frames.size()), com, moment);
-}
+dart::dynamics::Inertia inertia(const MassProperties& m) { return {m.mass, m.com, m.moment}; }
 
 // Joint from the robot body to the leg's first body, at the hip; `plate0` places that body's
 // frame in the hip frame.
@@ -92,7 +40,7 @@ template <class JointType>
 typename JointType::Properties hip_properties(int leg, const Eigen::Isometry3d& plate0) {
   typename JointType::Properties props;
   props.mName = "hip_" + std::to_string(leg);
-  props.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(kHipX[leg], kHipY[leg], -kBodyAboveHips);
+  props.mT_ParentBodyToJoint.translation() = hip_position(leg);
   props.mT_ChildBodyToJoint = plate0.inverse();
   return props;
 }
@@ -132,7 +80,7 @@ void build_leg(int leg, DamageType damage, const EpisodeSettings& settings, Body
       frames.push_back(plate_frame(k) * plate_shape_offset());
       add_plate_shape(root, frames.back());
     }
-    root->setInertia(plates_inertia(frames));
+    root->setInertia(inertia(plates_mass(frames)));
     out.leg_body_nodes.push_back(root);
     out.leg_of_body.push_back(leg);
     out.leg_bodies[leg] = 1;
@@ -147,7 +95,7 @@ void build_leg(int leg, DamageType damage, const EpisodeSettings& settings, Body
       props.mName = "plate_" + std::to_string(leg) + "_" + std::to_string(k);
       props.mAxis = Eigen::Vector3d::UnitY();
       props.mT_ParentBodyToJoint = plate_frame(k - 1).inverse() * plate_frame(k);
-      props.mSpringStiffnesses[0] = k == 1 || k == kPlates - 1 ? kStiffnessAtEnds : kStiffnessBetween;
+      props.mSpringStiffnesses[0] = plate_joint_stiffness(k);
       props.mRestPositions[0] = 0.0;
       props.mDampingCoefficients[0] = kPlateJointDamping;
       props.mPositionLowerLimits[0] = 0.0;
@@ -159,7 +107,7 @@ void build_leg(int leg, DamageType damage, const EpisodeSettings& settings, Body
       node = out.robot->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(parent, props, plate_props).second;
     }
     add_plate_shape(node, plate_shape_offset());
-    node->setInertia(plates_inertia({plate_shape_offset()}));
+    node->setInertia(inertia(plates_mass({plate_shape_offset()})));
     out.leg_body_nodes.push_back(node);
     out.leg_of_body.push_back(leg);
     ++out.leg_bodies[leg];
@@ -179,16 +127,12 @@ void build_robot(const EpisodeSettings& settings, const RhexEnvironment& environ
   add_box_shape(body, Eigen::Vector3d(kBodyLength, kBodyWidth, kBodyHeight), Eigen::Isometry3d::Identity());
   // The spacers are welded to the body in the authors' model: here they are shapes of the body,
   // their masses and inertias added to its own (the same dynamics, two bodies fewer).
-  Eigen::Matrix3d moment = diagonal(kBodyInertia);
   for (const double side : {1.0, -1.0}) {
     Eigen::Isometry3d where = Eigen::Isometry3d::Identity();
-    where.translation() = Eigen::Vector3d(0.0, side * kSpacerY, 0.0);
+    where.translation() = spacer_position(side);
     add_box_shape(body, Eigen::Vector3d(kSpacerLength, kSpacerWidth, kBodyHeight), where);
-    const Eigen::Vector3d c = where.translation();
-    moment += kSpacerInertia * Eigen::Matrix3d::Identity() +
-              kSpacerMass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
   }
-  body->setInertia(dart::dynamics::Inertia(kBodyMass + 2.0 * kSpacerMass, Eigen::Vector3d::Zero(), moment));
+  body->setInertia(inertia(body_mass()));
   out.body = body;
 
   for (int leg = 0; leg < kLegs; ++leg) {

@@ -7,6 +7,7 @@
 #include <dart/constraint/ConstraintSolver.hpp>
 #include <dart/constraint/PgsBoxedLcpSolver.hpp>
 #include <dart/dynamics/Skeleton.hpp>
+#include <dart/math/Geometry.hpp>
 #include <dart/simulation/World.hpp>
 
 #include <algorithm>
@@ -24,6 +25,8 @@ std::shared_ptr<dart::collision::CollisionDetector> make_detector(CollisionKind 
 }
 
 }  // namespace
+
+Eigen::Vector3d euler_xyz(const Eigen::Matrix3d& r) { return dart::math::matrixToEulerXYZ(r); }
 
 int RhexWorld::leg_of(const dart::dynamics::BodyNode* node) const {
   const auto it = std::find(leg_body_nodes.begin(), leg_body_nodes.end(), node);

@@ -1,0 +1,132 @@
+// DART against MuJoCo (docs/fidelity.md, "MuJoCo"): the same random controllers, and the tripod
+// gait, in every environment of the study (flat ground, the four damages on one leg, the nine
+// courses) on DART with rigid legs (the reference), MuJoCo with rigid legs, and DART with
+// compliant legs on the first `compliant` controllers (each ~1.5 s). Per environment and model:
+// mean distance (dead = 0), deaths, the tripod's distance, and against DART-rigid over the same
+// controllers Pearson's r and Spearman's rank correlation, and how many die on one engine only.
+// MuJoCo's compliant legs are not modelled yet (rhex_episode.cpp refuses them). Not a
+// micro-benchmark: a plain program.
+//   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [seconds=5]
+#include <fmt/format.h>
+
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/tasks/rhex/rhex_task.hpp"
+#include "tasks/paired_stats.hpp"
+
+namespace {
+
+using namespace qdmeta;
+
+struct Model {
+  std::string name;
+  rhex::Engine engine;
+  rhex::LegModel legs;
+  bool subset;  // only the first `compliant` controllers
+};
+
+struct Outcome {
+  std::vector<double> distance;  // 0 when dead
+  std::vector<int> dead;
+  double tripod = 0.0;
+  double seconds_per_episode = 0.0;
+};
+
+std::vector<double> head(const std::vector<double>& v, std::size_t n) { return {v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n)}; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::map<std::string, std::string> args{{"count", "200"}, {"seed", "3"},      {"threads", "1"},
+                                          {"leg", "1"},     {"compliant", "0"}, {"seconds", "5"}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
+      fmt::print(stderr, "rhex_engines: bad argument '{}' (key=value, keys: count seed threads leg compliant seconds)\n", a);
+      return 2;
+    }
+    args[a.substr(0, eq)] = a.substr(eq + 1);
+  }
+  try {
+    const Index count = std::stoll(args["count"]);
+    const auto subset = static_cast<std::size_t>(std::min<Index>(count, std::stoll(args["compliant"])));
+    const int leg = std::stoi(args["leg"]);
+    const int threads = std::stoi(args["threads"]);
+    Rng rng(std::stoull(args["seed"]));
+    RowMatrix g(count, rhex::kGenes);
+    for (Index i = 0; i < g.size(); ++i) g.data()[i] = static_cast<Real>(rng.uniform());
+    std::vector<Model> models{{"DART rigid", rhex::Engine::kDart, rhex::LegModel::kRigid, false},
+                              {"MuJoCo rigid", rhex::Engine::kMujoco, rhex::LegModel::kRigid, false}};
+    if (subset > 0) models.push_back({"DART compliant", rhex::Engine::kDart, rhex::LegModel::kCompliant, true});
+    std::vector<std::pair<std::string, rhex::RhexEnvironment>> envs{{"flat", {}}};
+    for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
+                   rhex::DamageType::kPassiveHip})
+      envs.emplace_back(fmt::format("{} leg {}", enum_to_string(rhex::kDamageTypeNames, d), leg),
+                        rhex::RhexEnvironment::damaged(d, leg));
+    for (const auto& [course, name] : rhex::kObstacleCourseNames)
+      if (course != rhex::ObstacleCourse::kFlat) envs.emplace_back(std::string(name), rhex::RhexEnvironment::obstacle(course));
+    auto evaluator = make_evaluator(threads);
+    const auto tripod = rhex::tripod_genes();
+    fmt::print("{} random controllers (seed {}), DART compliant on the first {}, {} threads; distance in m (dead = 0)\n",
+               count, args["seed"], subset, threads);
+    for (const auto& [env_name, env] : envs) {
+      std::vector<Outcome> outcomes;
+      for (const auto& m : models) {
+        RhexParams p;
+        p.episode.engine = m.engine;
+        p.episode.legs = m.legs;
+        p.episode.duration = std::stod(args["seconds"]);
+        const RhexTask task(p);
+        const Index n = m.subset ? static_cast<Index>(subset) : count;
+        Outcome o;
+        o.distance.resize(static_cast<std::size_t>(n));
+        o.dead.resize(static_cast<std::size_t>(n));
+        const auto start = std::chrono::steady_clock::now();
+        evaluator->parallel_for(n, [&](Index i) {
+          const rhex::EpisodeResult r = task.episode(g.row(i).data(), env);
+          o.distance[static_cast<std::size_t>(i)] = r.dead ? 0.0 : r.fitness;
+          o.dead[static_cast<std::size_t>(i)] = r.dead;
+        });
+        o.seconds_per_episode =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * threads / static_cast<double>(n);
+        const rhex::EpisodeResult t = task.episode(tripod.data(), env);
+        o.tripod = t.dead ? 0.0 : t.fitness;
+        outcomes.push_back(std::move(o));
+      }
+      fmt::print("{}:\n", env_name);
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        const Outcome& o = outcomes[k];
+        const std::size_t n = o.distance.size();
+        double mean = 0;
+        int dead = 0, dead_disagree = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+          mean += o.distance[j] / static_cast<double>(n);
+          dead += o.dead[j];
+          dead_disagree += o.dead[j] != outcomes[0].dead[j];
+        }
+        fmt::print("  {:15s} n {:3d}, mean {:6.3f}, dead {:3d}, tripod {:6.3f}, {:.3f} s/episode/core", models[k].name, n,
+                   mean, dead, o.tripod, o.seconds_per_episode);
+        if (k > 0) {
+          const auto ref = head(outcomes[0].distance, n);
+          fmt::print("; vs DART rigid: r = {:.3f}, rank r = {:.3f}, dead on one only {}", bench::correlation(o.distance, ref),
+                     bench::rank_correlation(o.distance, ref), dead_disagree);
+        }
+        if (k == 2) {
+          const auto mj = head(outcomes[1].distance, n);
+          fmt::print("; vs MuJoCo rigid: r = {:.3f}", bench::correlation(o.distance, mj));
+        }
+        fmt::print("\n");
+      }
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "rhex_engines: {}\n", e.what());
+    return 2;
+  }
+  return 0;
+}

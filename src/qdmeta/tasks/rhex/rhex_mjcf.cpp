@@ -1,0 +1,138 @@
+// The RHex MJCF. Robot geoms collide only with the terrain (contype 1 / conaffinity 0 against the
+// terrain's 0 / 1), as DART's robot has no self-collision. Contacts: friction 1 (sliding only,
+// condim 3, pyramidal cone as DART's boxed LCP), no restitution: MuJoCo's soft contact, critically
+// damped, with the stiffest time constant its solver accepts at this step (2 steps) and an
+// impedance near 1 (solimp 0.99-0.999: contacts nearly as hard as DART's; the default 0.9-0.95
+// let the robot bounce, pitching 0.4 rad against DART's 0.07 on the tripod gait).
+#include "qdmeta/tasks/rhex/rhex_mjcf.hpp"
+
+#include <fmt/format.h>
+
+#include "qdmeta/tasks/rhex/rhex_course.hpp"
+#include "qdmeta/tasks/rhex/rhex_geometry.hpp"
+
+namespace qdmeta::rhex {
+namespace {
+
+// Contact buffers: sized for the worst course (rubble) with room to spare; mjData's arena, allocated
+// and cleared once per episode, grows with them (4,000 rows cost ~0.1 s an episode in page faults).
+constexpr int kMaxContacts = 250;
+
+std::string vec(const Eigen::Vector3d& v) { return fmt::format("{:.17g} {:.17g} {:.17g}", v.x(), v.y(), v.z()); }
+
+std::string quat(const Eigen::Matrix3d& r) {
+  const Eigen::Quaterniond q(r);
+  return fmt::format("{:.17g} {:.17g} {:.17g} {:.17g}", q.w(), q.x(), q.y(), q.z());
+}
+
+std::string placement(const Eigen::Isometry3d& t) {
+  return fmt::format("pos=\"{}\" quat=\"{}\"", vec(t.translation()), quat(t.linear()));
+}
+
+Eigen::Isometry3d translation(const Eigen::Vector3d& v) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = v;
+  return t;
+}
+
+std::string inertial(const MassProperties& m) {
+  const Eigen::Matrix3d& i = m.moment;
+  return fmt::format("<inertial pos=\"{}\" mass=\"{:.17g}\" fullinertia=\"{:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\"/>\n",
+                     vec(m.com), m.mass, i(0, 0), i(1, 1), i(2, 2), i(0, 1), i(0, 2), i(1, 2));
+}
+
+std::string box(const Eigen::Vector3d& size, const Eigen::Isometry3d& where, const char* cls) {
+  return fmt::format("<geom class=\"{}\" type=\"box\" size=\"{}\" {}/>\n", cls, vec(size / 2.0), placement(where));
+}
+
+std::string plate(const Eigen::Isometry3d& where) {
+  return box(Eigen::Vector3d(kPlateLength, kPlateWidth, kPlateThickness), where, "robot");
+}
+
+std::string hip(int leg, DamageType damage) {
+  if (damage == DamageType::kBlockedHip) return "";  // the leg is welded at angle 0
+  return fmt::format("<joint name=\"{}\" type=\"hinge\" axis=\"0 1 0\" damping=\"{:.17g}\"/>\n", hip_joint_name(leg),
+                     kHipDamping);
+}
+
+// Plate joint k (between plates k - 1 and k) of the compliant leg: see docs/fidelity.md,
+// "MuJoCo", on how its spring is modelled.
+std::string plate_joint(const EpisodeSettings& settings, int k) {
+  return fmt::format("<joint type=\"hinge\" axis=\"0 1 0\" stiffness=\"{:.17g}\" damping=\"{:.17g}\" limited=\"{}\" "
+                     "range=\"0 {:.17g}\"/>\n",
+                     plate_joint_stiffness(k), kPlateJointDamping, settings.plate_joint_limits ? "true" : "false",
+                     kPlateJointUpper);
+}
+
+std::string leg(const EpisodeSettings& settings, int i, DamageType damage) {
+  const int plates = damage == DamageType::kLegShortening ? kShortenedPlates : kPlates;
+  const Eigen::Isometry3d at_hip = translation(hip_position(i));
+  if (settings.legs == LegModel::kRigid) {
+    std::string out = fmt::format("<body name=\"{}\" {}>\n", leg_body_name(i, 0), placement(at_hip)) + hip(i, damage);
+    std::vector<Eigen::Isometry3d> frames;
+    for (int k = 0; k < plates; ++k) frames.push_back(plate_frame(k) * plate_shape_offset());
+    out += inertial(plates_mass(frames));
+    for (const auto& f : frames) out += plate(f);
+    return out + "</body>\n";
+  }
+  // Compliant: plate k's body frame at its start on the arc (as DART's), each hinged to the last.
+  std::string out;
+  const MassProperties one = plates_mass({plate_shape_offset()});
+  for (int k = 0; k < plates; ++k) {
+    const Eigen::Isometry3d where = k == 0 ? at_hip * plate_frame(0) : plate_frame(k - 1).inverse() * plate_frame(k);
+    out += fmt::format("<body name=\"{}\" {}>\n", leg_body_name(i, k), placement(where));
+    out += k == 0 ? hip(i, damage) : plate_joint(settings, k);
+    out += inertial(one) + plate(plate_shape_offset());
+  }
+  for (int k = 0; k < plates; ++k) out += "</body>\n";
+  return out;
+}
+
+std::string terrain(ObstacleCourse course) {
+  std::string out;
+  for (const TerrainShape& s : course_shapes(course)) {
+    if (s.kind == TerrainShape::Kind::kBox) out += box(s.size, s.where, "terrain");
+    else out += fmt::format("<geom class=\"terrain\" type=\"sphere\" size=\"{:.17g}\" pos=\"{}\"/>\n", s.radius,
+                            vec(s.where.translation()));
+  }
+  return out;
+}
+
+std::string robot(const EpisodeSettings& settings, const RhexEnvironment& environment) {
+  std::string out = fmt::format("<body name=\"body\" pos=\"0 0 {:.17g}\">\n<freejoint/>\n", kStartHeight);
+  out += inertial(body_mass());
+  out += box(Eigen::Vector3d(kBodyLength, kBodyWidth, kBodyHeight), Eigen::Isometry3d::Identity(), "robot");
+  for (const double side : {1.0, -1.0})
+    out += box(Eigen::Vector3d(kSpacerLength, kSpacerWidth, kBodyHeight),
+               translation(spacer_position(side)), "robot");
+  for (int i = 0; i < kLegs; ++i) {
+    const DamageType damage = environment.leg == i ? environment.damage : DamageType::kNone;
+    if (damage != DamageType::kLegRemoval) out += leg(settings, i, damage);
+  }
+  return out + "</body>\n";
+}
+
+}  // namespace
+
+std::string leg_body_name(int leg, int plate) { return fmt::format("leg_{}_plate_{}", leg, plate); }
+std::string hip_joint_name(int leg) { return fmt::format("hip_{}", leg); }
+
+std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& environment) {
+  const double contact_time = 2.0 * settings.time_step;
+  return fmt::format(R"(<mujoco model="rhex">
+<compiler angle="radian" inertiafromgeom="false"/>
+<option timestep="{:.17g}" gravity="0 0 -9.81" integrator="Euler" cone="pyramidal"/>
+<size njmax="{}" nconmax="{}"/>
+<default>
+<geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{:.17g} 1" solimp="0.99 0.999 0.001"/>
+<default class="robot"><geom contype="1" conaffinity="0"/></default>
+<default class="terrain"><geom contype="0" conaffinity="1"/></default>
+</default>
+<worldbody>
+{}{}</worldbody>
+</mujoco>
+)",
+                     settings.time_step, 4 * kMaxContacts, kMaxContacts, kFriction, contact_time, terrain(environment.course), robot(settings, environment));
+}
+
+}  // namespace qdmeta::rhex
