@@ -46,7 +46,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/tools/report.py ${PROJECT_SOURCE_DIR}/tools/
               ${PROJECT_SOURCE_DIR}/tools/claim_rules.py ${PROJECT_SOURCE_DIR}/tools/experiment_files.py
               ${PROJECT_SOURCE_DIR}/tools/run_files.py ${PROJECT_SOURCE_DIR}/tools/output_files.py
               ${PROJECT_SOURCE_DIR}/tools/archive_plots.py ${PROJECT_SOURCE_DIR}/tools/runs.py
-              ${PROJECT_SOURCE_DIR}/tools/run_summary.py
+              ${PROJECT_SOURCE_DIR}/tools/run_summary.py ${PROJECT_SOURCE_DIR}/tools/script_exit.py
         DESTINATION ${QDMETA_INSTALL_TOOLSDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/qdmetaConfig.cmake.in
