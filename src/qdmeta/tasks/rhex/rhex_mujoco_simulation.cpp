@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -41,13 +42,18 @@ void quiet(const char*) {}
 // (printed, and appended to MUJOCO_LOG.TXT in the working directory) are silenced: the one that
 // matters, a diverged state, is read from the episode's mjData (diverged()).
 const mjModel* model_for(const std::string& xml) {
+  // Owned, so that the models are freed when the program ends (a raw pointer left in the map
+  // after its destruction is what LeakSanitizer reports as a leak).
+  struct DeleteModel {
+    void operator()(mjModel* m) const { mj_deleteModel(m); }
+  };
   static std::mutex mutex;
-  static std::map<std::string, mjModel*> models;
+  static std::map<std::string, std::unique_ptr<mjModel, DeleteModel>> models;
   const std::lock_guard lock(mutex);
   mju_user_warning = quiet;
   auto it = models.find(xml);
-  if (it == models.end()) it = models.emplace(xml, compile(xml)).first;
-  return it->second;
+  if (it == models.end()) it = models.emplace(xml, std::unique_ptr<mjModel, DeleteModel>(compile(xml))).first;
+  return it->second.get();
 }
 
 class MujocoSimulation final : public Simulation {
