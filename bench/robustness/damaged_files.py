@@ -18,7 +18,6 @@ machine), several lines, another exit status. Prints one line per defect, then
 --quick: a reduced matrix for the test suite (ctest robustness_damaged_files_report runs it for
 report). Plain python3, no third-party package.
 """
-import argparse
 import os
 import resource
 import shutil
@@ -206,12 +205,8 @@ def files_of(directory):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--qdmeta", required=True, help="the qdmeta binary")
+    parser = matrix.argument_parser(__doc__, "a reduced matrix (the test suite's)", timeout=30)
     parser.add_argument("--commands", default="report,resume,adapt", help="of report, resume, adapt")
-    parser.add_argument("--quick", action="store_true", help="a reduced matrix (the test suite's)")
-    parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
-    parser.add_argument("--timeout", type=float, default=30, help="seconds per command")
     parser.add_argument("--tools", help="QDMETA_TOOLS_DIR for the report (default: the binary's own)")
     args = parser.parse_args(argv[1:])
     commands = args.commands.split(",")

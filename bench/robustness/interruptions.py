@@ -20,7 +20,6 @@ by its own test hook, QDMETA_TEST_SIGNAL_AT_CHECKPOINT, or by the file size limi
 Prints one line per defect, then `N cases, M defects`; exits 1 when there is a defect. --quick: a
 reduced matrix for the test suite (ctest robustness_interruptions). Plain python3.
 """
-import argparse
 import filecmp
 import os
 import re
@@ -209,12 +208,7 @@ def fsize_cases(binary, work, timeout, quick):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--qdmeta", required=True, help="the qdmeta binary")
-    parser.add_argument("--quick", action="store_true", help="a reduced matrix (the test suite's)")
-    parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
-    parser.add_argument("--timeout", type=float, default=120, help="seconds per command")
-    args = parser.parse_args(argv[1:])
+    args = matrix.argument_parser(__doc__, "a reduced matrix (the test suite's)", timeout=120).parse_args(argv[1:])
     binary = os.path.abspath(args.qdmeta)
     with matrix.work_folder(args.work, "qdmeta-interruptions-") as work:
         cases = defects = 0

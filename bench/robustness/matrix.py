@@ -1,9 +1,20 @@
-"""What the robustness matrices (damaged_files.py, interruptions.py) share: their scratch folder
-and their verdict line."""
+"""What the robustness matrices (damaged_files.py, interruptions.py, report_vs_adapt.py) share:
+their common options, their scratch folder and their verdict line."""
+import argparse
 import contextlib
 import os
 import shutil
 import tempfile
+
+
+def argument_parser(doc, quick_help, timeout):
+    """A parser with the options every matrix takes: --qdmeta, --quick, --work, --timeout."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--qdmeta", required=True, help="the qdmeta binary")
+    parser.add_argument("--quick", action="store_true", help=quick_help)
+    parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
+    parser.add_argument("--timeout", type=float, default=timeout, help="seconds per command")
+    return parser
 
 
 @contextlib.contextmanager

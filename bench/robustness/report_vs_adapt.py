@@ -15,13 +15,13 @@ then `N cases, M defects`; exits 1 when there is a defect. --quick: a reduced se
 robustness_report_vs_adapt). $QDMETA_TOOLS_DIR, when set, picks the report script. Plain
 python3, no third-party package.
 """
-import argparse
 import contextlib
 import os
 import shutil
 import sys
 import tempfile
 
+import matrix
 from damaged_files import classify, command_line, make_experiment, run
 
 
@@ -106,12 +106,7 @@ def verdicts(binary, base, scratch, cases, timeout, env):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--qdmeta", required=True, help="the qdmeta binary")
-    parser.add_argument("--quick", action="store_true", help="a reduced set (the test suite's)")
-    parser.add_argument("--work", help="scratch folder (default: a new temporary one, removed at the end)")
-    parser.add_argument("--timeout", type=float, default=60, help="seconds per command")
-    args = parser.parse_args(argv[1:])
+    args = matrix.argument_parser(__doc__, "a reduced set (the test suite's)", timeout=60).parse_args(argv[1:])
     cases = [c for c in VERDICT_CASES if not args.quick or c[0] in QUICK_VERDICTS]
     scratch = contextlib.nullcontext(args.work) if args.work else tempfile.TemporaryDirectory(prefix="qdmeta-verdicts-")
     binary = os.path.abspath(args.qdmeta)
