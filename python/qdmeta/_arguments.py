@@ -46,8 +46,50 @@ def _typed_parameters(message):
         declared = parameter.partition(" = ")[0]
         name, _, annotation = declared.partition(":")
         if name.strip() != "self":
-            out.append((name.strip(), annotation.strip()))
+            out.append((name.strip(), _plain(annotation.strip())))
     return out
+
+
+# pybind11 3 writes an int parameter as "typing.SupportsInt | typing.SupportsIndex", a float one as
+# "typing.SupportsFloat | typing.SupportsIndex", a list one as collections.abc.Sequence[...] and an
+# optional one as "X | None"; pybind11 2 writes int, float, List[...] and Optional[...]. Both are
+# read as the latter.
+_PLAIN_NAMES = {"typing.SupportsInt": "int", "typing.SupportsIndex": "int", "typing.SupportsFloat": "float",
+                "collections.abc.Sequence": "List", "typing.Sequence": "List", "typing.List": "List",
+                "list": "List", "typing.Optional": "Optional"}
+
+
+def _split_top(text, separator):
+    """text split at each separator outside brackets."""
+    parts, depth, start = [], 0, 0
+    for i, c in enumerate(text):
+        depth += 1 if c in "[(" else -1 if c in "])" else 0
+        if depth == 0 and text.startswith(separator, i):
+            parts.append(text[start:i])
+            start = i + len(separator)
+    return [p.strip() for p in parts + [text[start:]]]
+
+
+def _plain(annotation):
+    """pybind11 3's annotation spelled as pybind11 2 spells it ('typing.SupportsInt |
+    typing.SupportsIndex | None' -> 'Optional[int]')."""
+    kinds = []
+    for part in _split_top(annotation, " | "):
+        head, bracket, rest = part.partition("[")
+        head = _PLAIN_NAMES.get(head, head)
+        if bracket:
+            inner = ", ".join(_plain(a) for a in _split_top(rest[:-1], ","))
+            part = f"{head}[{inner}]"
+        else:
+            part = head
+        if part not in kinds:
+            kinds.append(part)
+    optional = "None" in kinds and len(kinds) > 1
+    kinds = [k for k in kinds if k != "None"] if optional else kinds
+    if kinds == ["float", "int"] or kinds == ["int", "float"]:  # SupportsFloat | SupportsIndex
+        kinds = ["float"]
+    plain = " | ".join(kinds)
+    return f"Optional[{plain}]" if optional else plain
 
 
 def _fits(value, annotation):

@@ -206,3 +206,21 @@ def test_an_archive_refuses_a_non_finite_solution_naming_the_row():
         with pytest.raises(qdmeta.InputError, match=r"^grid archive: row 1 of the batch has solution value 1 = "):
             archive.add(np.array([[0.0, 0.0], [0.0, bad]]), np.ones(2), np.full((2, 2), 0.5))
     assert len(archive) == 0
+
+
+def test_pybind11_2_and_3_annotations_are_read_alike():
+    # pybind11 3 (the pip build) spells the signatures that _arguments reads otherwise than
+    # pybind11 2 (Debian's); the messages above must not depend on which built the module.
+    from qdmeta._arguments import _plain
+    spelled = {
+        "typing.SupportsInt | typing.SupportsIndex": "int",
+        "typing.SupportsFloat | typing.SupportsIndex": "float",
+        "collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]": "List[int]",
+        "qdmeta._qdmeta.Task | None": "Optional[qdmeta._qdmeta.Task]",
+        "collections.abc.Sequence[tuple[typing.SupportsFloat | typing.SupportsIndex, typing.SupportsFloat]] | None":
+            "Optional[List[tuple[float, float]]]",
+    }
+    for pybind11_3, pybind11_2 in spelled.items():
+        assert _plain(pybind11_3) == pybind11_2
+        assert _plain(pybind11_2) == pybind11_2
+    assert _plain("object") == "object" and _plain("Dict[str, int]") == "Dict[str, int]"
