@@ -16,14 +16,16 @@ A template is Markdown with:
                            digits, anything else as str()
   {{ EXPRESSION | SPEC }}  the value formatted with format(value, SPEC), e.g. ",.0f" or ".2g"
 
-Expressions see: study(PATH), a committed report directory under docs/results
+Expressions see: study(PATH), a committed report directory under docs/results (study_if_run(PATH):
+the same, or None while none is committed)
 (tools/study_data.py: S.mean(condition, measure), S.se, S.pm, S.median, S.u, S.holm, S.a12,
 S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXPERIMENT FILE,
 [(LABEL, study)]), ...) (tools/claims_summary.py) and verdict(EXPERIMENT FILE, CLAIM TEXT,
 [study, ...]) for one claim's verdict on the last study; claim_texts(EXPERIMENT FILE[, SOURCE]) the
 texts of its claims; ratio_stat(NUMERATOR VALUES, [DENOMINATOR VALUES, ...]) a ratio claim's
 (ratio, SE) as tools/claims.py computes it; table2(study) (the report's Table 2 from
-data/generalisation.csv); config(PATH) (a committed TOML file, parsed); and Python's builtins
+data/generalisation.csv); scorecard(ROWS, COLUMNS) (tools/scorecard.py: each claim's verdict
+under each setting and variant, and the cause of a miss); config(PATH) (a committed TOML file, parsed); and Python's builtins
 (min, max, sorted, ...).
 """
 import glob
@@ -38,6 +40,7 @@ RESULTS = os.path.join(ROOT, "docs", "results")
 sys.path.insert(0, TOOLS)
 import claims  # noqa: E402
 import claims_summary  # noqa: E402
+import scorecard as scorecards  # noqa: E402
 from study_data import Study  # noqa: E402
 
 _STATEMENT = re.compile(r"^\{%(.*)%\}$")
@@ -53,6 +56,10 @@ def namespace():
         if path not in studies:
             studies[path] = Study(os.path.join(RESULTS, path))
         return studies[path]
+
+    def study_if_run(path):
+        """study(path), or None while its report is not committed (a study not run yet)."""
+        return study(path) if os.path.exists(os.path.join(RESULTS, path, "report.md")) else None
 
     def claims_table(source, *experiments):
         return claims_summary.table([(name, os.path.join(ROOT, file), labelled)
@@ -78,11 +85,15 @@ def namespace():
         """The texts of an experiment file's claims of `source`, in the file's order."""
         return [c["text"] for c in claims_summary.claims_of(os.path.join(ROOT, experiment_file), source)]
 
+    def scorecard(rows, columns):
+        return scorecards.table([(label, {c: (os.path.join(ROOT, f), t, s) for c, (f, t, s) in cells.items()})
+                                 for label, cells in rows], columns)
+
     def config(path):
         with open(os.path.join(ROOT, path), "rb") as f:
             return tomllib.load(f)
-    return {"study": study, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
-            "claim_texts": claim_texts, "ratio_stat": claims.ratio_stat}
+    return {"study": study, "study_if_run": study_if_run, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
+            "claim_texts": claim_texts, "ratio_stat": claims.ratio_stat, "scorecard": scorecard}
 
 
 def value_text(value, spec):
