@@ -45,6 +45,10 @@ def test_each_committed_runs_csv_holds_what_its_report_printed(directory):
     columns = [("num_elites", 5), ("coverage", 3), ("obj_mean", 4), ("obj_max", 4), ("qd_score", 4), ("evals", 9),
                ("wall_seconds", 3)]
     table = text.split("## Final archives", 1)[1].split("\n\n")[2].splitlines()[2:]
+    # A report of a study under way lists the conditions without a finished run as n = 0, n/a.
+    not_run = [row for row in table if row.split(" | ")[1] == "0"]
+    assert all(set(c.strip() for c in row.strip("|").split("|")[2:]) == {"n/a"} for row in not_run)
+    table = [row for row in table if row not in not_run]
     assert [row.split(" | ")[0].lstrip("| ") for row in table] == study.conditions
     for row in table:
         cells = [c.strip() for c in row.strip("|").split("|")]
