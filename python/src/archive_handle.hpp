@@ -2,6 +2,8 @@
 // An archive as Python holds it: the archive and the random streams of its sample_elites().
 // Call k of sample_elites() draws from the stream (seed, k), so a copy or an unpickled archive
 // samples exactly as the original would have from there on.
+#include <pybind11/pybind11.h>
+
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -34,6 +36,19 @@ inline std::vector<double> bounds_of(const GridArchiveParams& p, bool upper) {
   std::vector<double> out;
   for (std::size_t d = 0; d < p.bins.size(); ++d) out.push_back(upper ? p.upper_of(d) : p.lower_of(d));
   return out;
+}
+
+// GridArchive.lower / .upper: the one bound every measure shares; a grid made with ranges= of
+// differing bounds has none, and says which property to read instead.
+inline double common_bound(const GridArchiveParams& p, bool upper) {
+  const std::vector<double> all = bounds_of(p, upper);
+  for (double b : all) {
+    if (b != all.front()) {
+      throw pybind11::value_error(upper ? "GridArchive.upper: the measures have different ranges; read upper_bounds"
+                                        : "GridArchive.lower: the measures have different ranges; read lower_bounds");
+    }
+  }
+  return all.empty() ? (upper ? p.upper : p.lower) : all.front();
 }
 
 }  // namespace qdmeta::python

@@ -222,8 +222,8 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
            py::arg("ranges") = py::none());
   bind_elite_archive<GridArchive>(grid);
   grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
-      .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().lower; })
-      .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().upper; })
+      .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return common_bound(h.archive.params(), false); })
+      .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return common_bound(h.archive.params(), true); })
       // pyribs's names: one bound per measure (qdmeta.visualize draws from them).
       .def_property_readonly("lower_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), false); })
       .def_property_readonly("upper_bounds", [](const ArchiveHandle<GridArchive>& h) { return bounds_of(h.archive.params(), true); });

@@ -88,6 +88,13 @@ def test_an_algorithms_archive_has_the_names_too():
 def test_a_grid_takes_pyribs_ranges_one_pair_per_measure():
     archive = qdmeta.GridArchive(solution_dim=1, dims=[4, 10], ranges=[(-2.0, 2.0), (0.0, 100.0)])
     assert archive.lower_bounds == [-2.0, 0.0] and archive.upper_bounds == [2.0, 100.0]
+    # No one bound is shared: lower/upper say which property to read, rather than the default 0/1.
+    with pytest.raises(ValueError, match=r"^GridArchive\.lower: the measures have different ranges; read lower_bounds$"):
+        archive.lower
+    with pytest.raises(ValueError, match=r"^GridArchive\.upper: .* read upper_bounds$"):
+        archive.upper
+    shared = qdmeta.GridArchive(solution_dim=1, dims=[4, 4], ranges=[(-3.0, 5.0), (-3.0, 5.0)])
+    assert (shared.lower, shared.upper) == (-3.0, 5.0)
     assert archive.interval_size.tolist() == [4.0, 100.0]
     measures = np.array([[-1.5, 95.0], [1.5, 5.0], [3.0, -7.0]])
     assert archive.index_of(measures).tolist() == [0 * 10 + 9, 3 * 10 + 0, 3 * 10 + 0]  # outside: edge bins
