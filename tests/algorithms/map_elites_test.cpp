@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <map>
 
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
@@ -211,6 +212,31 @@ TEST(MapElites, ACheckpointedRunContinuesBitIdentically) {
   EXPECT_EQ(second.counters(), straight.counters());
   EXPECT_EQ(second.generation(), straight.generation());
   expect_same_elites(second.elites(), straight.elites());
+}
+
+// A warm start: the given archive's elites are the first generation's parents (a batch of
+// mutants, no random initial population), none of them is lost, and an archive can be given only
+// before the first step.
+TEST(MapElites, StartFromGivenArchiveMutatesItsElitesFirst) {
+  SerialEvaluator evaluator;
+  MapElites donor = make_rastrigin(5);
+  for (int g = 0; g < 10; ++g) donor.step(evaluator);
+  const EliteTable given = donor.elites();
+  MapElites warm = make_rastrigin(6);
+  warm.start_from(donor.archive());
+  expect_same_elites(warm.elites(), given);
+  warm.step(evaluator);
+  EXPECT_EQ(warm.counters().bottom, 400);  // one batch of mutants, not the 2,000 random genotypes
+  EXPECT_GE(warm.archive().size(), donor.archive().size());
+  // Every cell of the given archive is still filled, at least as well as it was given.
+  const EliteTable after = warm.elites();
+  std::map<std::int64_t, Real> best_after;
+  for (std::size_t i = 0; i < after.index.size(); ++i) best_after[after.index[i]] = after.objective[i];
+  for (std::size_t i = 0; i < given.index.size(); ++i) {
+    ASSERT_TRUE(best_after.count(given.index[i])) << given.index[i];
+    EXPECT_GE(best_after[given.index[i]], given.objective[i]) << given.index[i];
+  }
+  EXPECT_THROW(warm.start_from(donor.archive()), Error);
 }
 
 TEST(MapElites, ACheckpointOfAnotherTaskSizeIsRefused) {

@@ -89,6 +89,40 @@ TEST(GridArchive, NonUnitRange) {
   EXPECT_EQ(bin1(a, -3.0f), 0);
 }
 
+// pyribs's `ranges`: each measure binned over its own [lower_bounds[d], upper_bounds[d]], the
+// scalar lower/upper unused; the cell index computed by hand for each measure.
+TEST(GridArchive, PerMeasureRangesBinEachMeasureOverItsOwnRange) {
+  GridArchiveParams p = params({4, 10}, 1, 7.0, 9.0);  // scalar bounds that must not be used
+  p.lower_bounds = {-2.0, 0.0};
+  p.upper_bounds = {2.0, 100.0};
+  const GridArchive a(p);
+  const auto cell = [&](Real m0, Real m1) {
+    const Real m[2] = {m0, m1};
+    return a.index_of(m);
+  };
+  EXPECT_EQ(cell(-1.5f, 95.0f), 0 * 10 + 9);  // floor(0.5 / 4 * 4) = 0, floor(95 / 100 * 10) = 9
+  EXPECT_EQ(cell(1.5f, 5.0f), 3 * 10 + 0);
+  EXPECT_EQ(cell(0.0f, 50.0f), 2 * 10 + 5);   // on inner edges: the upper bin, as pyribs
+  EXPECT_EQ(cell(3.0f, -7.0f), 3 * 10 + 0);   // outside: the edge bins
+  EXPECT_EQ(p.lower_of(1), 0.0);
+  EXPECT_EQ(p.upper_of(0), 2.0);
+}
+
+TEST(GridArchive, PerMeasureRangesAreChecked) {
+  GridArchiveParams p = params({4, 10});
+  p.lower_bounds = {-2.0};
+  p.upper_bounds = {2.0};
+  EXPECT_EQ(message_of(p), "archive ranges: 1 lower and 1 upper bounds for 2 target features: give one "
+                          "(lower, upper) pair per feature");
+  p.lower_bounds = {-2.0, 5.0};
+  p.upper_bounds = {2.0, 5.0};
+  EXPECT_TRUE(contains(message_of(p), "lower must be below upper")) << message_of(p);
+  p.upper_bounds = {2.0};
+  EXPECT_TRUE(contains(message_of(p), "archive ranges: 2 lower and 1 upper bounds")) << message_of(p);
+  p.upper_bounds = {2.0, 6.0};
+  EXPECT_EQ(message_of(p), "(no exception)");
+}
+
 TEST(GridArchive, RowMajorCellIndex) {
   const GridArchive a(params({2, 3, 4}));
   EXPECT_EQ(a.cells(), 24);
