@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "qdmeta/archive/elite_checks.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
 
@@ -74,12 +75,7 @@ void check_state_checksum(py::handle stored, std::uint64_t expected, std::string
 }
 
 void check_run_elites(const EliteTable& elites, std::string_view who) {
-  // Genes in [0, 1]; stored base features in [-1, 1] (QD-Meta's 2g - 1 database inputs store 2g - 1).
-  const auto within = [](const RowMatrix& m, Real low) { return ((m.array() >= low) && (m.array() <= 1)).all(); };
-  if (!within(elites.solutions, 0) || !within(elites.base_features, -1))
-    throw InputError(fmt::format("{}: an elite's gene is outside [0, 1] or base feature outside [-1, 1] (or NaN): the "
-                                 "state is damaged",
-                                 who));
+  check_restored_elites(elites, fmt::format("{}: the state", who));
 }
 
 }  // namespace qdmeta::python

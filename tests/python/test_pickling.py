@@ -299,7 +299,7 @@ def with_bytes(state, old, new):
 
 
 @pytest.mark.parametrize("what, rule", [("objective", "non-finite objective or measure"),
-                                        ("gene", "gene is outside \\[0, 1\\] or base feature outside \\[-1, 1\\]")])
+                                        ("gene", "the state is damaged: elite 0 \\(cell \\d+\\) has a gene nan, where every gene must lie in \\[0, 1\\]")])
 def test_an_algorithm_state_with_a_nan_value_is_refused_on_load(what, rule):
     algo = qdmeta.Algorithm(ME, task=sphere_task())
     algo.step(threads=1)

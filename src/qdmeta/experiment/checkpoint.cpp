@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "qdmeta/archive/elite_checks.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/io/atomic_file.hpp"
@@ -33,28 +34,6 @@ void check_version(std::string_view version, const std::string& source) {
   throw InputError(fmt::format("{} was written by qdmeta {}, whose runs this qdmeta ({}) is not known to continue to the "
                                "same bits: finish it with qdmeta {}, or start it over",
                                source, version, kVersion, version));
-}
-
-// A restored archive holds what a run writes, nothing adapt would refuse in its archive.csv.
-void check_elite_values(const Algorithm& algorithm, const std::string& source) {
-  const EliteTable t = algorithm.elites();
-  const auto refuse = [&](Index row, const char* what, Real value, const char* rule) {
-    throw InputError(fmt::format("{} is damaged: elite {} (cell {}) has {} {}, where {}", source, row,
-                                 t.index[static_cast<std::size_t>(row)], what, value, rule));
-  };
-  const auto unit = [](Real v) { return v >= 0 && v <= 1; };
-  const auto signed_unit = [](Real v) { return v >= -1 && v <= 1; };  // 2g - 1 (qd_meta.database_inputs)
-  for (Index i = 0; i < t.size(); ++i) {
-    if (!std::isfinite(t.objective[static_cast<std::size_t>(i)]))
-      refuse(i, "objective", t.objective[static_cast<std::size_t>(i)], "every value must be finite");
-    for (Index j = 0; j < t.measures.cols(); ++j)
-      if (!std::isfinite(t.measures(i, j))) refuse(i, "a measure", t.measures(i, j), "every value must be finite");
-    for (Index j = 0; j < t.solutions.cols(); ++j)
-      if (!unit(t.solutions(i, j))) refuse(i, "a gene", t.solutions(i, j), "every gene must lie in [0, 1]");
-    for (Index j = 0; j < t.base_features.cols(); ++j)
-      if (!signed_unit(t.base_features(i, j)))
-        refuse(i, "a base feature", t.base_features(i, j), "every stored base feature must lie in [-1, 1]");
-  }
 }
 
 }  // namespace
@@ -162,7 +141,7 @@ RunCursor read_checkpoint(const std::filesystem::path& dir, std::uint64_t finger
   algorithm.load(p);
   p.expect_tag("end");
   p.finish();
-  check_elite_values(algorithm, source);
+  check_restored_elites(algorithm.elites(), source);
   return c;
 }
 
