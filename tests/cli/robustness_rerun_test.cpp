@@ -263,6 +263,18 @@ TEST(RobustnessRerun, CtrlCDuringTheReportEndsTheExperimentAsInterrupted) {
   EXPECT_NE(o.output.find("interrupted: run the same command again to continue\n"), std::string::npos) << o.output;
 }
 
+TEST(RobustnessRerun, CtrlCDuringAPlainReportEndsAsInterrupted) {
+  const fs::path dir = fresh_dir("interrupted-plain-report");
+  fs::create_directories(dir);
+  std::ofstream(dir / "experiment.toml") << "name = \"x\"\n";
+  const fs::path python = write_file("ctrl-c-report-python.sh",
+                                     "#!/bin/sh\nkill -INT $PPID\necho 'report.py: interrupted' >&2\nexit 130\n");
+  fs::permissions(python, fs::perms::owner_exec, fs::perm_options::add);
+  const Outcome o = shell("QDMETA_PYTHON=" + quote(python.string()) + " " + kBinary + " report " + quote(dir.string()));
+  EXPECT_EQ(o.status, 130) << o.output;
+  EXPECT_EQ(o.output, "interrupted: run the same command again to make the report\n");
+}
+
 // --- Every message one line, of bounded length, whatever the values quoted in it hold.
 
 TEST(RobustnessRerun, EveryMessageIsOneBoundedLine) {

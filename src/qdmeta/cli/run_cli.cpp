@@ -315,6 +315,19 @@ int command_report(const std::string& dir, const std::optional<std::string>& out
   return 0;
 }
 
+// `qdmeta report` on its own: Ctrl-C reaches the script too, and the command ends as experiment's
+// does, in one line with status 130, not with the script's failure.
+int command_report_alone(const std::string& dir, const std::optional<std::string>& out, bool quiet) {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  try {
+    return command_report(dir, out, quiet);
+  } catch (const ToolInterrupted&) {
+    if (!quiet) fmt::print("interrupted: run the same command again to make the report\n");
+    return kExitInterrupted;
+  }
+}
+
 int command_experiment(const ExperimentArgs& a) {
   const ExperimentSpec spec = load_experiment(a.config, a.replicates, a.evals);
   ExperimentOptions options;
@@ -554,7 +567,7 @@ int parse_and_run(int argc, char** argv) {
     if (*resume_cmd) return command_resume(resume);
     if (*adapt_cmd) return command_adapt(adapt);
     if (*experiment_cmd) return command_experiment(experiment);
-    if (*report_cmd) return command_report(report_dir, report_out, report_quiet);
+    if (*report_cmd) return command_report_alone(report_dir, report_out, report_quiet);
   } catch (const std::bad_alloc&) {
     // The config's memory is estimated before a run starts; this is what the estimate missed.
     fmt::print(stderr, "qdmeta: error: out of memory (std::bad_alloc): the config asks for more memory than this "
