@@ -49,6 +49,7 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 
 constexpr int kExitBadInput = 2;
 constexpr int kExitRankFailed = 3;  // an MPI rank died mid-run; a checkpoint was written
+constexpr int kExitEvaluationFailed = 4;  // a task's own code threw; the last checkpoint stands
 constexpr int kExitInterrupted = 130;
 
 Distribution* g_distribution = nullptr;  // set by run_cli_with_tools for its lifetime
@@ -84,6 +85,32 @@ ProgressCallback make_progress(bool quiet) {
   };
 }
 
+// A write that failed (the file size limit, a full disk): the last checkpoint still stands.
+Error write_failed(const Error& e, const fs::path& out, bool end_progress_line) {
+  if (end_progress_line) fmt::print("\n");
+  if (!fs::exists(out / kCheckpointFile)) return e;
+  return Error(fmt::format("{}: continue the run from its last checkpoint with: qdmeta resume --out {}", e.what(),
+                           out.string()));
+}
+
+// A task's own code threw during a step: one line naming the tasks, the generation and what the
+// run kept, and its own exit status, so that a script can tell it from a config error (2).
+int task_failed(const std::exception& e, const BuiltRun& built, const fs::path& out, bool end_progress_line) {
+  if (end_progress_line) fmt::print("\n");
+  std::fflush(stdout);
+  std::vector<std::string> names;
+  for (const Task& t : built.evaluation_tasks) names.push_back(fmt::format("'{}'", t.name()));
+  const std::string kept =
+      fs::exists(out / kCheckpointFile)
+          ? fmt::format("its last checkpoint is kept: fix the task, then continue with: qdmeta resume --out {}",
+                        out.string())
+          : fmt::format("no checkpoint was written yet: fix the task, then run it again into {}", out.string());
+  fmt::print(stderr, "qdmeta: error: {}\n",
+             one_line(fmt::format("evaluation failed in generation {} of the run (task {}): {}; {}",
+                                  built.algorithm->generation() + 1, fmt::join(names, ", "), e.what(), kept)));
+  return kExitEvaluationFailed;
+}
+
 // Runs (or continues) a built run to its budget with progress and a closing summary.
 int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const RunCursor* resume) {
   std::signal(SIGINT, on_signal);
@@ -114,11 +141,14 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
     d.release_survivors();
     return who.empty() ? kExitInterrupted : kExitRankFailed;
   } catch (const Error& e) {
-    // A write that failed (the file size limit, a full disk): the last checkpoint still stands.
-    if (tty && !quiet) fmt::print("\n");
-    if (!fs::exists(out / kCheckpointFile)) throw;
-    throw Error(fmt::format("{}: continue the run from its last checkpoint with: qdmeta resume --out {}", e.what(),
-                            out.string()));
+    throw write_failed(e, out, tty && !quiet);
+  } catch (const std::bad_alloc&) {
+    throw;  // main names the memory the config asks for
+  } catch (const std::exception& e) {
+    // Not qdmeta's own: a task's code threw (the step was undone, its files are as before it).
+    const int status = task_failed(e, built, out, tty && !quiet);
+    d.release_survivors();
+    return status;
   }
   if (r.reason == StopReason::kInterrupted) {
     if (const std::string who = d.silent_ranks(); !who.empty()) {
@@ -141,6 +171,10 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
     if (r.reason == StopReason::kInterrupted && built.algorithm->checkpointable())
       fmt::print("continue it with: qdmeta resume --out {}\n", out.string());
   }
+  if (r.stats.num_elites == 0 && r.counters.total() > 0)
+    fmt::print(stderr, "qdmeta: warning: no solution was valid in {} evaluations, so the archive is empty (its best "
+                       "and mean are not defined): a task marks a solution valid by setting its row's valid flag\n",
+               r.counters.total());
   d.release_survivors();
   return r.reason == StopReason::kInterrupted ? kExitInterrupted : 0;
 }

@@ -1,0 +1,66 @@
+// A user's task that fails: one that throws ends the run in one line naming the task, the
+// generation and what was kept, with its own exit status (4, not a config error's 2); one that
+// never marks a solution valid says so instead of reporting an empty archive as zeros.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_helpers.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+using cli_test::Outcome;
+using cli_test::shell;
+
+const std::string kFaulty = QDMETA_FAULTY_BINARY;
+
+// A MAP-Elites config of the task `task`: 500 random genotypes, then batches of 100.
+fs::path config_of(const std::string& name, const std::string& task_table) {
+  const fs::path file = cli_test::process_scratch("task_failure") / (name + ".toml");
+  std::ofstream(file) << "algorithm = \"map-elites\"\nseed = 1\n[budget]\nevaluations = 5000\n" << task_table
+                      << "\n[map_elites]\nbatch_size = 100\ninitial_population = 500\n[archive]\nbins = [8, 8]\n"
+                         "measures = [0, 1]\n";
+  return file;
+}
+
+Outcome run(const std::string& name, const std::string& task_table) {
+  const fs::path out = cli_test::process_scratch("task_failure") / name;
+  fs::remove_all(out);
+  return shell(kFaulty + " run --quiet --threads 1 --config " + config_of(name, task_table).string() + " --out " +
+               out.string());
+}
+
+std::string out_dir(const std::string& name) { return (cli_test::process_scratch("task_failure") / name).string(); }
+
+TEST(TaskFailure, ATaskThatThrowsEndsTheRunInOneLineNamingTheGenerationAndTheCheckpoint) {
+  // Rows 0-499 are generation 1, then 100 a generation: row 1,000 is the first of generation 7.
+  const Outcome o = run("throws-later", "[task]\nname = \"throws\"\nthrow_after = 1000");
+  EXPECT_EQ(o.status, 4) << o.output;
+  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in generation 7 of the run (task 'throws'): simulator "
+                      "diverged; its last checkpoint is kept: fix the task, then continue with: qdmeta resume --out " +
+                          out_dir("throws-later") + "\n");
+  EXPECT_TRUE(fs::exists(fs::path(out_dir("throws-later")) / "checkpoint.bin"));
+}
+
+TEST(TaskFailure, ATaskThatThrowsBeforeTheFirstCheckpointSaysToRunAgain) {
+  const Outcome o = run("throws-first", "[task]\nname = \"throws\"\nthrow_after = 0");
+  EXPECT_EQ(o.status, 4) << o.output;
+  EXPECT_NE(o.output.find("evaluation failed in generation 1 of the run (task 'throws'): simulator diverged; no "
+                          "checkpoint was written yet: fix the task, then run it again into " + out_dir("throws-first")),
+            std::string::npos)
+      << o.output;
+}
+
+TEST(TaskFailure, ARunWithNoValidSolutionSaysSoInWords) {
+  const Outcome o = run("never-valid", "[task]\nname = \"never-valid\"");
+  EXPECT_EQ(o.status, 0) << o.output;
+  EXPECT_EQ(o.output, "qdmeta: warning: no solution was valid in 5000 evaluations, so the archive is empty (its best "
+                      "and mean are not defined): a task marks a solution valid by setting its row's valid flag\n");
+}
+
+}  // namespace
+}  // namespace qdmeta
