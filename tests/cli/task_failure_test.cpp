@@ -62,5 +62,19 @@ TEST(TaskFailure, ARunWithNoValidSolutionSaysSoInWords) {
                       "and mean are not defined): a task marks a solution valid by setting its row's valid flag\n");
 }
 
+TEST(TaskFailure, AnExperimentNamesTheConditionAndSeedOfTheFailingRun) {
+  const fs::path dir = cli_test::process_scratch("task_failure");
+  const fs::path config = config_of("throws-in-experiment", "[task]\nname = \"throws\"\nthrow_after = 1000");
+  std::ofstream(dir / "experiment.toml") << "name = \"faulty\"\nreplicates = 1\n[[condition]]\nname = \"throwing\"\n"
+                                           "config = \"" << config.string() << "\"\n";
+  fs::remove_all(dir / "experiment-out");
+  const Outcome o = shell(kFaulty + " experiment --quiet --threads 1 --no-report --config " +
+                          (dir / "experiment.toml").string() + " --out " + (dir / "experiment-out").string());
+  EXPECT_EQ(o.status, 4) << o.output;
+  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in condition 'throwing' seed 1 (run): simulator diverged; the "
+                      "finished runs and this run's last checkpoint are kept: fix the task, then run the same command "
+                      "again to continue\n");
+}
+
 }  // namespace
 }  // namespace qdmeta

@@ -403,7 +403,9 @@ int command_experiment(const ExperimentArgs& a) {
   auto last = std::make_shared<double>(-1.0);
   auto last_line = std::make_shared<std::string>();
   auto last_decile = std::make_shared<int>(0);
-  const ExperimentCallback progress = [&a, tty, last, last_line, last_decile](const ExperimentProgress& p) {
+  auto current = std::make_shared<ExperimentProgress>();  // where a failing task is named
+  const ExperimentCallback progress = [&a, tty, last, last_line, last_decile, current](const ExperimentProgress& p) {
+    *current = p;
     if (a.quiet) return;
     const double overall = (p.run - 1 + p.run_fraction) / p.runs;
     const std::string head = fmt::format("[{}/{}] {} seed {}: {}", p.run, p.runs, p.condition, p.replicate, p.phase);
@@ -431,6 +433,20 @@ int command_experiment(const ExperimentArgs& a) {
     r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
   } catch (const ToolInterrupted&) {
     return interrupted();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    // Not qdmeta's own: a task's code threw. Finished runs stand; this one resumes from its last checkpoint.
+    if (tty && !a.quiet) fmt::print("\n");
+    std::fflush(stdout);
+    fmt::print(stderr, "qdmeta: error: {}\n",
+               one_line(fmt::format("evaluation failed in condition '{}' seed {} ({}): {}; the finished runs and this "
+                                    "run's last checkpoint are kept: fix the task, then run the same command again "
+                                    "to continue",
+                                    current->condition, current->replicate, current->phase, e.what())));
+    return kExitEvaluationFailed;
   }
   if (!a.quiet) {
     if (tty) fmt::print("\n");
