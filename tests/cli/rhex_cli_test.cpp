@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -146,5 +147,38 @@ TEST(RhexCli, AdaptWritesTheDamageCurveAndTheGeneralisationTable) {
   EXPECT_EQ(run_cli("adapt --run " + out.string() + " --test generalisation --budget 3", &output), 2) << output;
 }
 
+// The cluster path (scripts/slurm-experiment.sh): `qdmeta run` of planned runs, seed by seed,
+// then the experiment again. RHex draws its damage types from the seed, so a run's config at its
+// own seed differs from its condition at seed 1; what it records must still be the condition's
+// fingerprint, or the experiment refuses its own planned runs.
+TEST(RhexCli, PlannedRunsOfSeedDrawnDamageTypesAreTheConditionsOwn) {
+  const fs::path config = tiny_config("planned");
+  const fs::path dir = fs::temp_directory_path() / "qdmeta_rhex_cli_planned";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "experiment.toml") << "name = \"planned\"\nreplicates = 3\n[[condition]]\nname = \"damage\"\n"
+                                            "config = \"" << config.string() << "\"\n";
+  const std::string plan = "experiment --plan --quiet --config " + (dir / "experiment.toml").string() + " --out " +
+                           (dir / "out").string();
+  std::string output;
+  ASSERT_EQ(run_cli(plan, &output), 0) << output;
+  std::set<std::string> draws;
+  for (int seed = 1; seed <= 3; ++seed) {
+    const fs::path run = dir / "out" / "damage" / ("seed-" + std::to_string(seed));
+    ASSERT_EQ(run_cli("run --quiet --threads 1 --config " + (dir / "out" / "damage" / "condition.toml").string() +
+                          " --seed " + std::to_string(seed) + " --out " + run.string(),
+                      &output),
+              0)
+        << output;
+    const std::string resolved = slurp(run / "config.toml");
+    const auto at = resolved.find("damage_types = ");
+    ASSERT_NE(at, std::string::npos);
+    draws.insert(resolved.substr(at, resolved.find('\n', at) - at));
+  }
+  ASSERT_GT(draws.size(), 1u) << "the seeds drew the same damage types: the test would not cover the case";
+  EXPECT_EQ(run_cli(plan, &output), 0) << output;  // refused as "run with another config" before
+}
+
 }  // namespace
 }  // namespace qdmeta
+

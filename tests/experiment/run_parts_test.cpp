@@ -90,6 +90,15 @@ TEST(RunParts, AConfigNamingAnotherTaskOrGivingTaskKeysIsRefused) {
                      "x.toml: unknown key 'task.dimensions' in [task] (valid keys: name)");
 }
 
+// A run made with a part, resumed (or rebuilt) without it: the message says how to pass it.
+TEST(RunParts, ATaskNameNothingRegisteredNamesHowToHandThePartAgain) {
+  ensure_core_plugins();
+  EXPECT_INPUT_ERROR(build_run(toml::parse("[task]\nname = \"plane\"\n"), "run/config.toml"),
+                     "run/config.toml: task.name = \"plane\" is not a valid choice: use one of \"rastrigin\" (no task "
+                     "of that name is registered here: a task handed over as a part (RunParts::task) must be handed "
+                     "again, e.g. open_for_resume(dir, parts), or registered with register_task_plugin before run_cli)");
+}
+
 // Parts are values, not registrations: builds from different parts of one name, at once, each
 // get their own (a registry swapped for the length of a build would mix them up).
 TEST(RunParts, ThreadsBuildFromDifferentPartsOfOneNameAtOnce) {

@@ -28,6 +28,7 @@
 #include "qdmeta/experiment/build.hpp"
 #include "qdmeta/experiment/core_plugins.hpp"
 #include "qdmeta/experiment/experiment.hpp"
+#include "qdmeta/experiment/kept_runs.hpp"
 #include "qdmeta/experiment/run.hpp"
 #include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/experiment/standard_tables.hpp"
@@ -190,9 +191,12 @@ struct RunArgs {
 };
 
 int command_run(const RunArgs& a) {
-  BuiltRun built = build_run(load_toml(a.config), a.config, {a.seed, a.evals});
+  const toml::table config = load_toml(a.config);
+  BuiltRun built = build_run(config, a.config, {a.seed, a.evals});
+  // The condition's fingerprint, as an experiment's plan.tsv holds it (not this seed's resolution).
+  const std::string fingerprint = resolve_condition(config, a.config, a.evals).fingerprint;
   const RunLock lock(a.out, RunLock::Mode::kExclusive, RunLock::Missing::kCreate);
-  start_run_directory(a.out, built, a.config, a.threads, a.overwrite);
+  start_run_directory(a.out, built, a.config, a.threads, a.overwrite, fingerprint);
   return execute(built, a.out, a.threads, a.quiet, nullptr);
 }
 

@@ -71,14 +71,18 @@ bool RerunScope::covers(const ExperimentCondition& c, int replicate) const {
          std::find(selected.begin(), selected.end(), &c) != selected.end();
 }
 
+ResolvedCondition resolve_condition(const toml::table& config, const std::string& source,
+                                    std::optional<std::int64_t> evaluations) {
+  BuiltRun built = build_run(config, source, {1, evaluations}, BuildScope::kTasksOnly);
+  ResolvedCondition r{std::move(built.resolved), built.settings.budget, ""};
+  r.fingerprint = resolved_config_fingerprint(r.resolved);
+  return r;
+}
+
 std::vector<ResolvedCondition> resolve_conditions(const ExperimentSpec& spec) {
   std::vector<ResolvedCondition> out;
-  for (const auto& c : spec.conditions) {
-    BuiltRun built = build_run(c.effective_config(), c.config.string(), {1, spec.evaluations}, BuildScope::kTasksOnly);
-    ResolvedCondition r{std::move(built.resolved), built.settings.budget, ""};
-    r.fingerprint = resolved_config_fingerprint(r.resolved);
-    out.push_back(std::move(r));
-  }
+  for (const auto& c : spec.conditions)
+    out.push_back(resolve_condition(c.effective_config(), c.config.string(), spec.evaluations));
   return out;
 }
 

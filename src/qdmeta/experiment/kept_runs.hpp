@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -28,6 +29,11 @@ struct ResolvedCondition {
   std::string fingerprint;
 };
 std::vector<ResolvedCondition> resolve_conditions(const ExperimentSpec& spec);
+// A config resolved as a condition is: at seed 1, with `evaluations` when given. Its fingerprint
+// is the condition's, whatever seed a run of it has (a task may draw keys from the seed, as RHex's
+// damage types), so `qdmeta run --seed S` of a planned run records what plan.tsv holds.
+ResolvedCondition resolve_condition(const toml::table& config, const std::string& source,
+                                    std::optional<std::int64_t> evaluations);
 
 // The runs this call makes (its replicates and conditions), and whether it may start changed
 // runs over.

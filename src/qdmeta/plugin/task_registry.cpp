@@ -89,8 +89,13 @@ Task read_registered_task(ConfigReader& t) {
   const std::string fallback = std::find(names.begin(), names.end(), "rastrigin") != names.end() ? "rastrigin" : names.front();
   const std::string name = t.string("name", fallback, quoted_names(documented));
   if (const auto plugin = find_task_plugin(name)) return plugin->read_task(t);
-  const std::string why = tasks().why_unavailable(name);
-  t.not_a_valid_choice("name", name, quoted_names(names), why.empty() ? "" : fmt::format(" ({})", why));
+  std::string why = tasks().why_unavailable(name);
+  // A name this build never had: most often a run made by a program that handed its task over as
+  // a part (RunParts::task) and is now resumed or rebuilt without it.
+  if (why.empty())
+    why = "no task of that name is registered here: a task handed over as a part (RunParts::task) must be handed "
+          "again, e.g. open_for_resume(dir, parts), or registered with register_task_plugin before run_cli";
+  t.not_a_valid_choice("name", name, quoted_names(names), fmt::format(" ({})", why));
 }
 
 std::unique_ptr<MetaObjective> read_registered_meta_objective(ConfigReader& m, const Task& task, std::uint64_t seed) {
