@@ -4,9 +4,11 @@
 # slurm.conf, state and sockets in a temporary directory; no systemd needed), submits a small
 # RHex-on-MuJoCo experiment (2 conditions x 2 replicates, 2 MPI ranks per array task), cancels
 # one array task in the middle of its run (scancel, as a time limit or a node failure would) with
-# the report job, submits the same command again, and checks that the finished report equals a
-# local `qdmeta experiment` of the same file. Stops exactly the daemons it started, also on
-# failure. Needs root (or sudo) for apt-get only; the daemons and jobs run as the calling user.
+# the report job, submits the same command again, and checks that the finished report (less its
+# wall time column) and every run's files equal a local `qdmeta experiment` of the same file,
+# byte for byte. Stops exactly the daemons it started, also on failure (its jobs first: they
+# would outlive slurmd). Run it as root, as CI does (slurmd and the jobs then run as root; another
+# user is untried).
 #
 #   scripts/test-slurm.sh [BUILD_DIR]   (default build; the qdmeta target is built there)
 #   QDMETA=path/to/qdmeta scripts/test-slurm.sh   (that program, already built, instead)
@@ -44,8 +46,18 @@ grep -q '^QDMETA_WITH_MPI:BOOL=ON' "$build/CMakeCache.txt" || fail "$build is co
 # --- A one-node cluster ---------------------------------------------------------------------
 tmp=$(mktemp -d /tmp/qdmeta-slurm.XXXXXX)
 pids=()
-stop_daemons() {  # the daemons this script started, newest first, then their files
+stop_daemons() {  # this cluster's jobs, then the daemons this script started, newest first
   local status=$?
+  if (( ${#pids[@]} == 3 )) && kill -0 "${pids[1]}" 2>/dev/null; then
+    # Jobs outlive slurmd (slurmstepd runs them): end them first. Every job here is this script's.
+    local jobs
+    jobs=$(squeue -h -o %i 2>/dev/null || true)
+    if [[ -n $jobs ]]; then
+      # shellcheck disable=SC2086  # a list of job ids
+      scancel $jobs 2>/dev/null || true
+      for _ in $(seq 600); do [[ -z $(squeue -h -o %i 2>/dev/null) ]] && break; sleep 0.1; done
+    fi
+  fi
   for (( i = ${#pids[@]} - 1; i >= 0; i-- )); do
     kill "${pids[i]}" 2>/dev/null || true
     wait "${pids[i]}" 2>/dev/null || true
