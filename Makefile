@@ -6,7 +6,7 @@ ASAN_BUILD ?= build-asan
 DEMO_OUT ?= results/demo
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build run test test-sanitize test-pip bench clean
+.PHONY: all deps build run test test-sanitize test-pip test-slurm bench clean
 
 all: build
 
@@ -38,6 +38,12 @@ test: build
 test-pip: build
 	bash scripts/test-pip-install.sh
 	bash scripts/test-numpy2.sh $(BUILD)
+
+# scripts/slurm-experiment.sh on a real SLURM started on this machine (installs Debian's slurmd,
+# slurmctld and munge, stops the daemons it started): a small RHex-on-MuJoCo experiment, one array
+# task cancelled mid-run and resubmitted, its report compared with a local qdmeta experiment's.
+test-slurm: deps $(BUILD)/build.ninja
+	JOBS=$(JOBS) bash scripts/test-slurm.sh $(BUILD)
 
 $(ASAN_BUILD)/build.ninja:
 	cmake -S . -B $(ASAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DQDMETA_SANITIZE=ON -DQDMETA_BUILD_BENCH=OFF $(CMAKE_FLAGS)

@@ -9,7 +9,8 @@
 # unfinished one is resumed or run on that job's own cores, then the tests and the report).
 # Submit the same command again after a time limit, a node failure or a cancelled job: finished
 # runs are skipped and the others resume from their checkpoints, to the bits of an uninterrupted
-# run. Every task and job logs to OUT/slurm/.
+# run. Every task and job logs to OUT/slurm/ (task-ARRAYJOB_INDEX.log, finish-JOB.log: a
+# resubmission keeps the earlier logs).
 #
 # The #SBATCH lines below are each array task's defaults (the paper's robot study: 40 cores per
 # run); override them with SBATCH_ARRAY_ARGS (e.g. "--ntasks=8 --time=12:00:00 --partition=x"),
@@ -56,11 +57,11 @@ case $mode in
     limit=${MAX_PARALLEL:+%$MAX_PARALLEL}
     # shellcheck disable=SC2086  # the ARGS variables are lists of options
     array=$(sbatch --parsable --job-name="qdmeta-$(basename "$out")" --array="1-$runs$limit" \
-      --output="$out/slurm/task-%a.log" ${SBATCH_ARRAY_ARGS:-} "$0" task "$out")
+      --output="$out/slurm/task-%A_%a.log" ${SBATCH_ARRAY_ARGS:-} "$0" task "$out")
     array=${array%%;*}
     # shellcheck disable=SC2086
     finish=$(sbatch --parsable --job-name="qdmeta-$(basename "$out")-report" --dependency="afterany:$array" \
-      --output="$out/slurm/finish.log" ${SBATCH_FINISH_ARGS:---ntasks=1 --cpus-per-task=8 --time=12:00:00} \
+      --output="$out/slurm/finish-%j.log" ${SBATCH_FINISH_ARGS:---ntasks=1 --cpus-per-task=8 --time=12:00:00} \
       "$0" finish "$experiment" "$out" "$@")
     echo "slurm-experiment: $runs runs as array job $array, then job ${finish%%;*} for the tests and the report"
     ;;
