@@ -127,10 +127,9 @@ say "SLURM $(sinfo -V | cut -d' ' -f2) up: node $node, 2 CPUs"
 
 # --- The experiment -------------------------------------------------------------------------
 # A checkpoint after every generation makes the cancelled run's progress visible at once;
-# checkpoints never change results (docs/config.md). The damage type is fixed: drawn from the
-# seed (the config's damage_type_count), a run that `qdmeta run` made from plan.tsv records a
-# config fingerprint of its own seed's draw, and the experiment refuses it as another config for
-# any seed whose draw differs from seed 1's (qdmeta run cannot carry plan.tsv's fingerprint yet).
+# checkpoints never change results (docs/config.md). The damage types stay drawn from the seed
+# (damage_type_count, as the study's configs): a planned run's config differs from seed to seed,
+# while its fingerprint is the condition's (README, "Experiments").
 cat > "$tmp/work/experiment.toml" <<TOML
 name = "RHex on MuJoCo under SLURM"
 replicates = 2
@@ -139,7 +138,7 @@ tests = ["damage"]
 [[condition]]
 name = "QD-Meta Damage Feature-sets"
 config = "$src/configs/rhex/smoke-damage.toml"
-set = { task = { engine = "mujoco" }, checkpoint = { every_seconds = 0 }, meta_fitness = { damage_types = [1] } }
+set = { task = { engine = "mujoco" }, checkpoint = { every_seconds = 0 } }
 [[condition]]
 name = "CVT-MAP-Elites"
 config = "$src/configs/rhex/smoke-cvt.toml"
