@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include "qdmeta/algorithms/aurora.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
 namespace {

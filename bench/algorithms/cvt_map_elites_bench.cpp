@@ -12,9 +12,23 @@
 #include <tbb/task_arena.h>
 
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
+#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/experiment/cvt_centroids.hpp"
+#include "qdmeta/io/centroid_cache.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
 namespace {
+
+// The paper's centroids from the centroid cache, as a run takes them; false when not there yet.
+bool use_cached_centroids(qdmeta::CvtMapElitesParams& p) {
+  qdmeta::CvtCentroidSettings cached;
+  cached.cache_dir = qdmeta::default_centroid_cache_dir();
+  if (cached.cache_dir.empty() ||
+      !std::filesystem::exists(cached.cache_dir / (qdmeta::centroid_cache_key(20, p.kmeans) + ".bin")))
+    return false;
+  p.make_centroids = qdmeta::cvt_centroid_source(cached, p.kmeans, qdmeta::Task{qdmeta::RastriginTask{}});
+  return true;
+}
 
 // Times runs of `budget` evaluations from an empty archive (its centroids made before the
 // timing): items_per_second is evaluations per second.
@@ -39,8 +53,7 @@ void BM_CvtMapElitesRastrigin(benchmark::State& state) {
   const std::int64_t budget = 500'000;
   qdmeta::CvtMapElitesParams p;
   p.search = search;
-  p.cache_dir = qdmeta::default_centroid_cache_dir();
-  if (p.cache_dir.empty() || !std::filesystem::exists(p.cache_dir / (qdmeta::centroid_cache_key(20, p.kmeans) + ".bin"))) {
+  if (!use_cached_centroids(p)) {
     state.SkipWithError("no cached centroids: run configs/rastrigin/cvt-map-elites.toml once");
     return;
   }
@@ -89,8 +102,7 @@ void BM_CvtLookups(benchmark::State& state) {
   const auto search = static_cast<qdmeta::CvtSearch>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   qdmeta::CvtMapElitesParams p;
-  p.cache_dir = qdmeta::default_centroid_cache_dir();
-  if (p.cache_dir.empty() || !std::filesystem::exists(p.cache_dir / (qdmeta::centroid_cache_key(20, p.kmeans) + ".bin"))) {
+  if (!use_cached_centroids(p)) {
     state.SkipWithError("no cached centroids: run configs/rastrigin/cvt-map-elites.toml once");
     return;
   }

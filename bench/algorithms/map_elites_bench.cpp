@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 

@@ -9,6 +9,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 
 namespace py = pybind11;
 

@@ -20,6 +20,7 @@
 #include "qdmeta/control/controller.hpp"
 #include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 

@@ -4,13 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
-#include <filesystem>
 
 #include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
@@ -281,32 +279,6 @@ TEST(CvtMapElites, RandomDescriptorPointsAreTheValidGenotypesFeatures) {
   EXPECT_TRUE(feasible_random_descriptors(task, 500, 3, *threads, 100'000, 64).points == d.points);
   EXPECT_THROW(feasible_random_descriptors(task, 500, 3, serial, 300, 64), Error);  // too few valid
 
-  const auto dir = std::filesystem::temp_directory_path() / ("qdmeta_cvt_desc_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  CvtMapElitesParams p;
-  p.points = CvtPoints::kRandomDescriptors;
-  p.task_key = "half-dead";
-  p.kmeans.centroids = 20;
-  p.kmeans.samples = 400;
-  p.kmeans.init_samples = 400;
-  p.kmeans.iterations = 3;
-  p.neighbours = 8;
-  p.cache_dir = dir;
-  CvtMapElites first(p, task, {}, 1);
-  first.prepare(serial);
-  EXPECT_EQ(first.cache_outcome(), CacheOutcome::kMiss);
-  const RowMatrix& c = first.archive().centroids();
-  for (Index i = 0; i < c.rows(); ++i) EXPECT_GE(c(i, 0), 0.3f);  // means of valid points
-  CvtMapElites second(p, task, {}, 2);
-  second.prepare(*threads);
-  EXPECT_EQ(second.cache_outcome(), CacheOutcome::kHit);
-  EXPECT_TRUE(second.archive().centroids() == c);
-  p.points = CvtPoints::kUniform;  // the uniform points reach below 0.3, under another key
-  CvtMapElites uniform(p, task, {}, 1);
-  uniform.prepare(serial);
-  EXPECT_EQ(uniform.cache_outcome(), CacheOutcome::kMiss);
-  EXPECT_LT(uniform.archive().centroids().col(0).minCoeff(), 0.3f);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

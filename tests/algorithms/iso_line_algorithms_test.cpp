@@ -12,6 +12,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"

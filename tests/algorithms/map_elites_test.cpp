@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"

@@ -15,6 +15,7 @@
 
 #include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "qdmeta/algorithms/qd_meta.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "small_qd_meta.hpp"
 
 namespace qdmeta {

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "../expect_input_error.hpp"
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rastrigin/test_functions.hpp"
 
 namespace qdmeta {

@@ -33,7 +33,6 @@ TEST(CentroidsFile, TheRunsArchiveHasTheFilesCentroids) {
   RowMatrix expected(3, 2);
   expected << 0.1f, 0.2f, 0.5f, 0.5f, 0.9f, 0.75f;
   EXPECT_TRUE(cvt->archive().centroids() == expected);
-  EXPECT_EQ(cvt->cache_outcome(), CacheOutcome::kDisabled);
   EXPECT_EQ(run.resolved["cvt"]["centroids_file"].value<std::string>(), file.string());
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/plugin/config.hpp"
 

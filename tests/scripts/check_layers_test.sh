@@ -43,6 +43,8 @@ expect_refusal src/qdmeta/io/csv.cpp '#include <qdmeta/algorithms/algorithm.hpp>
   'src/qdmeta/io/csv.cpp:@LINE@: io includes qdmeta/algorithms/algorithm.hpp, a higher layer (layer 4 >= 2)'
 expect_refusal src/qdmeta/tasks/rastrigin/rastrigin.cpp '  #  include "qdmeta/algorithms/map_elites.hpp"' \
   'src/qdmeta/tasks/rastrigin/rastrigin.cpp:@LINE@: tasks includes qdmeta/algorithms/map_elites.hpp, the same layer (layer 4 >= 4)'
+expect_refusal src/qdmeta/algorithms/algorithm.hpp '#include "qdmeta/eval/evaluator.hpp"' \
+  'src/qdmeta/algorithms/algorithm.hpp:@LINE@: algorithms includes qdmeta/eval/evaluator.hpp, the same layer (layer 4 >= 4)'
 expect_refusal src/qdmeta/plugin/config.hpp '#include "qdmeta/tasks/rastrigin/rastrigin.hpp"' \
   'src/qdmeta/plugin/config.hpp:@LINE@: plugin includes qdmeta/tasks/rastrigin/rastrigin.hpp, a higher layer (layer 4 >= 3)'
 expect_refusal src/qdmeta/experiment/run.cpp '#include "qdmeta/nowhere/x.hpp"' \

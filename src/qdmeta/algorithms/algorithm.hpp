@@ -26,9 +26,9 @@
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/elite_table.hpp"
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/core/types.hpp"
-#include "qdmeta/eval/evaluator.hpp"
 
 namespace qdmeta {
 

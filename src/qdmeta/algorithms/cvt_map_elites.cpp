@@ -4,9 +4,7 @@
 
 #include <functional>
 
-#include "qdmeta/algorithms/descriptor_points.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/parallel.hpp"
 #include "qdmeta/core/params.hpp"
 
@@ -17,7 +15,6 @@ void CvtMapElitesParams::validate() const {
   kmeans.validate();
   require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
   require_range("cvt.neighbours", neighbours, Index{1}, Index{100'000});
-  require_range("cvt.max_attempts", max_attempts, Index{0}, Index{1'000'000'000'000});
 }
 
 CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions) {
@@ -60,44 +57,23 @@ void CvtMapElites::give_centroids(std::shared_ptr<const RowMatrix> centroids) {
   params_.centroids = std::move(centroids);
 }
 
-void CvtMapElites::prepare(Evaluator& evaluator) {
+void CvtMapElites::prepare(Evaluator& evaluator) { make_archive(&evaluator); }
+
+void CvtMapElites::make_archive(Evaluator* workers) {
   if (archive_) return;
   const Index lists = search_ == CvtSearch::kParentBound ? params_.neighbours : 0;
-  if (params_.centroids) {
-    archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, RowMatrix(*params_.centroids));
-    return;
+  if (!params_.centroids) {
+    RowMatrix made;
+    if (params_.make_centroids) {
+      made = params_.make_centroids(workers);
+    } else {
+      const auto uniform = [&] { made = cvt_centroids(task_.base_feature_size(), params_.kmeans).centroids; };
+      if (workers != nullptr) workers->within_workers(uniform);
+      else uniform();
+    }
+    give_centroids(std::make_shared<const RowMatrix>(std::move(made)));
   }
-  CachedCentroids made;
-  // k-means on a cache miss can take minutes (about 140 CPU-seconds with the paper's settings).
-  const auto announce = [](const std::string& line) {
-    notice(NoticeKind::kInformation, fmt::format("{}: this can take minutes", line));
-  };
-  if (params_.points == CvtPoints::kUniform) {
-    evaluator.within_workers([&] {
-      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, nullptr, announce);
-    });
-  } else {
-    // Drawn only on a cache miss; the attempts say how many random genotypes were not valid.
-    const Index samples = params_.kmeans.samples;
-    const Index max_attempts = params_.max_attempts > 0 ? params_.max_attempts : 10 * samples;
-    const std::string task_key = params_.task_key.empty() ? task_.name() : params_.task_key;
-    const CentroidPoints points{fmt::format("desc-{}", task_key), [&] {
-                                  const DescriptorPoints d = feasible_random_descriptors(
-                                      task_, samples, params_.kmeans.seed, evaluator, max_attempts);
-                                  notice(NoticeKind::kInformation,
-                                         fmt::format("CVT points: {} valid of {} random genotypes ({:.2f}% invalid)",
-                                                     samples, d.attempts,
-                                                     100.0 * static_cast<double>(d.attempts - samples) /
-                                                         static_cast<double>(d.attempts)));
-                                  return d.points;
-                                }};
-    evaluator.within_workers([&] {
-      made = load_or_make_centroids(task_.base_feature_size(), params_.kmeans, params_.cache_dir, &points, announce);
-    });
-  }
-  if (!made.warning.empty()) notice(NoticeKind::kWarning, made.warning);
-  cache_outcome_ = made.outcome;
-  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, std::move(made.centroids));
+  archive_.emplace(CvtArchiveParams{task_.genotype_size(), task_.qd_offset(), lists}, RowMatrix(*params_.centroids));
 }
 
 const CvtArchive& CvtMapElites::archive() const {
@@ -109,10 +85,7 @@ void CvtMapElites::before_step(Evaluator& evaluator) { prepare(evaluator); }
 
 void CvtMapElites::next_request(std::vector<EvaluationJob>& jobs) {
   // Driven by hand without prepare(), the centroids are made on one thread (the same bits).
-  if (!archive_) {
-    SerialEvaluator serial;
-    prepare(serial);
-  }
+  if (!archive_) make_archive(nullptr);
   const Index n = task_.genotype_size();
   next_genotypes(*archive_, params_.map_elites, mutation_, seed_, generation_, n, genotypes_, &parents_);
   evaluations_.resize(genotypes_.rows(), task_.base_feature_size());
@@ -206,8 +179,7 @@ void CvtMapElites::load(BinaryReader& in) {
   searched_ = in.value<std::int64_t>("searched count");
   restore_counters(load_counters(in));
   if (in.boolean("archive flag")) {
-    SerialEvaluator serial;
-    prepare(serial);
+    make_archive(nullptr);
     archive_->load(in);
   }
 }

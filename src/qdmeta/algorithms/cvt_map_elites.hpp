@@ -2,9 +2,10 @@
 // CVT-MAP-Elites (Vassiliades et al.; docs/specification.md, CVT-MAP-Elites): MAP-Elites whose cells are the
 // Voronoi cells of k-means centroids in the base-feature space. Same loop as MapElites (random
 // initial population, then batches of mutated elites drawn uniformly); a solution's descriptor is
-// its base features, its cell the nearest centroid. The centroids are made (or read from the
-// cache) by the first step, on the evaluator's workers.
-#include <filesystem>
+// its base features, its cell the nearest centroid. The centroids are a value the algorithm is
+// given, or makes by its source at the first step, on the evaluator's workers; it reads no file
+// (the centroid cache is assembly's: experiment/cvt_centroids.hpp).
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -14,8 +15,8 @@
 #include "qdmeta/archive/kmeans.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/task.hpp"
-#include "qdmeta/io/centroid_cache.hpp"
 
 namespace qdmeta {
 
@@ -30,27 +31,22 @@ inline constexpr EnumNames<CvtSearch, 3> kCvtSearchNames{
 // The search `search` means for descriptors of `dimensions` (auto resolved).
 CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions);
 
-// Where k-means takes its points: uniform in [0,1]^d, or the base features of feasible random
-// genotypes of the task (docs/specification.md, CVT-MAP-Elites, for RHex).
-enum class CvtPoints { kUniform, kRandomDescriptors };
-inline constexpr EnumNames<CvtPoints, 2> kCvtPointsNames{
-    {{CvtPoints::kUniform, "uniform"}, {CvtPoints::kRandomDescriptors, "random-descriptors"}}};
+// Makes the centroids (kmeans.centroids x base features) when the first step needs them, on the
+// workers of `workers`, or on the calling thread when it is null (the same bits either way).
+using CentroidSource = std::function<RowMatrix(Evaluator* workers)>;
 
 struct CvtMapElitesParams {
   MapElitesParams map_elites;        // batch size and initial population
-  KMeansParams kmeans;               // how the centroids are made
-  std::filesystem::path cache_dir;   // centroid cache directory; empty: no cache
+  KMeansParams kmeans;               // the centroid count, and how `make_centroids` makes them
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1
   CvtSearch search = CvtSearch::kAuto;  // settle offspring from the parent's neighbours, or always search
   Index neighbours = 256;            // parent-bound: neighbour list length per elite, >= 1
-  CvtPoints points = CvtPoints::kUniform;  // k-means over kmeans.samples points of this kind
-  Index max_attempts = 0;            // random-descriptors: give up after this many genotypes (0: 10 x samples)
-  // random-descriptors: names the task settings that determine its descriptors, in the cache key
-  // (the config reader uses a hash of the resolved [task] table); empty: the task's name only.
-  std::string task_key;
-  // Centroids given instead of made by k-means (cvt.centroids_file; e.g. the authors' file): then
-  // kmeans.centroids x base-features in [0, 1], and neither k-means nor its cache runs.
+  // Centroids given instead of made (cvt.centroids_file; e.g. the authors' file): then
+  // kmeans.centroids x base-features in [0, 1], and `make_centroids` never runs.
   std::shared_ptr<const RowMatrix> centroids;
+  // Where the centroids come from otherwise (a run's: experiment/cvt_centroids.hpp, the cache or
+  // k-means over the points [cvt] names); empty: k-means over kmeans.samples uniform points.
+  CentroidSource make_centroids;
   void validate() const;
 };
 
@@ -67,21 +63,20 @@ class CvtMapElites final : public Algorithm {
   // index = centroid index, measures = descriptor (base features), solutions = genotypes.
   EliteTable elites() const override;
 
-  // Makes or loads the centroids and the empty archive (step() calls it; a first ask() without
-  // it makes them on one thread). k-means runs on the evaluator's workers; a regenerated cache
-  // file is reported on stderr.
+  // Takes the centroids from the params' source and makes the empty archive (step() calls it; a
+  // first ask() without it makes them on the calling thread). The source runs on the
+  // evaluator's workers.
   void prepare(Evaluator& evaluator);
   bool prepared() const { return archive_.has_value(); }
   // Centroids to use instead of making them, before the archive is made (a pickled Python
   // Algorithm brings its own: k-means at the paper's size takes minutes).
   void give_centroids(std::shared_ptr<const RowMatrix> centroids);
   const CvtArchive& archive() const;
-  CacheOutcome cache_outcome() const { return cache_outcome_; }
   // Offspring whose cell needed the full search (the rest were settled by the parent bound).
   std::int64_t searched() const { return searched_; }
   bool checkpointable() const override { return true; }
   void save(BinaryWriter& out) const override;
-  // Makes or loads the centroids first (on one thread; from the cache when they are there).
+  // Takes the centroids first (their source on the calling thread).
   void load(BinaryReader& in) override;
 
  protected:
@@ -89,6 +84,7 @@ class CvtMapElites final : public Algorithm {
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
   void before_step(Evaluator& evaluator) override;
+  void make_archive(Evaluator* workers);
   // A step changes the state only in its one tell(): undoing it is dropping its request.
   void save_undo(BinaryWriter& out) const override { save_generation_undo(out); }
   void load_undo(BinaryReader& in) override { load_generation_undo(in); }
@@ -101,7 +97,6 @@ class CvtMapElites final : public Algorithm {
   std::uint64_t seed_;
   CvtSearch search_;  // params_.search resolved for the task's base features
   std::optional<CvtArchive> archive_;
-  CacheOutcome cache_outcome_ = CacheOutcome::kDisabled;
   std::int64_t generation_ = 0;
   std::int64_t searched_ = 0;
   RowMatrix genotypes_;

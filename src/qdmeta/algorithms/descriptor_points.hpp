@@ -5,8 +5,8 @@
 // actually produce instead of filling [0,1]^d uniformly.
 #include <cstdint>
 
+#include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/task.hpp"
-#include "qdmeta/eval/evaluator.hpp"
 
 namespace qdmeta {
 

@@ -1,6 +1,9 @@
 #pragma once
-// The one exception type of the library. Library code throws it (never aborts or exits);
-// the CLI turns it into a one-line message and exit status 2.
+// The one exception type of the library. Library code throws it (never aborts, and never exits
+// but in one place: an MPI worker rank, whose program handed its process to the worker loop,
+// leaves by std::quick_exit when rank 0 is gone or a signal comes while its compute thread runs,
+// since neither MPI_Finalize nor joining that thread would return); the CLI turns it into a
+// one-line message and exit status 2.
 #include <stdexcept>
 #include <string>
 

@@ -1,6 +1,7 @@
 #pragma once
-// From a config file to a ready algorithm: the one place that knows every config key.
-// docs/config.md lists them; keep the two in step.
+// From a config file to a ready algorithm: reads the run's own keys and hands each other table
+// to its reader (the task registry, standard_tables, the algorithm's builder), then refuses any
+// key none of them took. docs/config.md lists the keys; keep the two in step.
 #include <cstdint>
 #include <memory>
 #include <optional>

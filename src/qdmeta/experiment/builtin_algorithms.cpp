@@ -12,6 +12,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/experiment/cvt_centroids.hpp"
 #include "qdmeta/experiment/memory_estimate.hpp"
 #include "qdmeta/experiment/run_parts.hpp"
 #include "qdmeta/experiment/standard_tables.hpp"
@@ -67,17 +68,19 @@ AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
 AlgorithmMaker build_cvt_map_elites(AlgorithmBuild& b) {
   ConfigReader me = b.root.table("map_elites");
   ConfigReader cvt = b.root.table("cvt");
-  CvtMapElitesParams p = read_cvt_table(cvt);
+  CvtTable table = read_cvt_table(cvt);
+  CvtMapElitesParams& p = table.algorithm;
   p.map_elites = read_map_elites_table(me);
   refuse_table(b.root, "archive", "cvt-map-elites", "its archive has one cell per [cvt] centroid");
   refuse_table(b.root, "feature_map", "cvt-map-elites", "its measures are the task's base features");
   // The descriptors' centroids depend on every task setting (episode length, features ...).
   if (const auto* task_resolved = b.built.resolved["task"].as_table())
-    p.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
+    table.centroids.task_key = fmt::format("{}-{:016x}", b.task.name(), config_fingerprint(*task_resolved));
   // Read only where written, so that the resolved config (and the checkpoint fingerprint) of
   // every run made before this key existed stays what it was.
   const std::string centroids_file = cvt.has("centroids_file") ? cvt.string("centroids_file", "") : "";
   add_cvt_map_elites_memory(b.built.memory, p, b.task);
+  p.make_centroids = cvt_centroid_source(std::move(table.centroids), p.kmeans, b.task);
   return [p = std::move(p), task = std::move(b.task), mutation = b.mutation, seed = b.settings.seed, centroids_file,
           source = cvt.source()]() mutable -> std::unique_ptr<Algorithm> {
     if (!centroids_file.empty()) p.centroids = read_given_centroids(centroids_file, source, p, task);

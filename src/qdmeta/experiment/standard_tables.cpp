@@ -9,6 +9,7 @@
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
+#include "qdmeta/io/centroid_cache.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/part_registries.hpp"
 
@@ -211,8 +212,10 @@ std::unique_ptr<GenerationController> read_control_table(ConfigReader& c) {
 }
 
 // The [cvt] table: how the centroids are made and cached.
-CvtMapElitesParams read_cvt_table(ConfigReader& c) {
-  CvtMapElitesParams p;
+CvtTable read_cvt_table(ConfigReader& c) {
+  CvtTable table;
+  CvtMapElitesParams& p = table.algorithm;
+  CvtCentroidSettings& made = table.centroids;
   KMeansParams& k = p.kmeans;
   k.centroids = c.integer("centroids", k.centroids, 1, 10'000'000);
   k.samples = c.integer("samples", k.samples, 1, 1'000'000'000);
@@ -225,23 +228,23 @@ CvtMapElitesParams read_cvt_table(ConfigReader& c) {
   const bool cache = c.boolean("cache", true);
   const std::string dir = c.string("cache_dir", "");
   if (cache) {
-    p.cache_dir = dir.empty() ? default_centroid_cache_dir() : std::filesystem::path(dir);
-    if (p.cache_dir.empty())
+    made.cache_dir = dir.empty() ? default_centroid_cache_dir() : std::filesystem::path(dir);
+    if (made.cache_dir.empty())
       throw InputError(fmt::format("{}: cvt.cache_dir is empty and neither XDG_CACHE_HOME nor HOME is set: "
                                    "give cvt.cache_dir or set cvt.cache = false", c.source()));
   }
   p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
   p.search = c.choice("search", p.search, kCvtSearchNames);
   p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
-  p.points = c.choice("points", p.points, kCvtPointsNames);
-  if (p.points == CvtPoints::kRandomDescriptors)
-    p.max_attempts = c.integer("max_attempts", p.max_attempts, 0, 1'000'000'000'000);
+  made.points = c.choice("points", made.points, kCvtPointsNames);
+  if (made.points == CvtPoints::kRandomDescriptors)
+    made.max_attempts = c.integer("max_attempts", made.max_attempts, 0, 1'000'000'000'000);
   try {
     p.kmeans.validate();
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", c.source(), e.what()));
   }
-  return p;
+  return table;
 }
 
 // The [aurora] table (docs/specification.md, AURORA).

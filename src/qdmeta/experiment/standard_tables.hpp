@@ -15,6 +15,7 @@
 #include "qdmeta/control/sarsa_control.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
+#include "qdmeta/experiment/cvt_centroids.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
 
 namespace qdmeta {
@@ -50,8 +51,13 @@ SarsaParams read_sarsa_table(ConfigReader& control);
 std::unique_ptr<GenerationController> read_sarsa_control(ConfigReader& control);
 std::unique_ptr<GenerationController> read_static_control(ConfigReader& control);
 
-// [cvt]: the centroids and how they are found ([map_elites] is read separately).
-CvtMapElitesParams read_cvt_table(ConfigReader& cvt);
+// [cvt]: the centroids, how they are made and cached, how offspring find their cells
+// ([map_elites] is read separately).
+struct CvtTable {
+  CvtMapElitesParams algorithm;
+  CvtCentroidSettings centroids;
+};
+CvtTable read_cvt_table(ConfigReader& cvt);
 // [aurora].
 AuroraParams read_aurora_table(ConfigReader& aurora);
 

@@ -4,7 +4,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/plugin/config.hpp"
@@ -36,7 +35,7 @@ void register_meta_objective(std::string_view task, const std::string& kind, Met
     return true;
   });
   if (!registered)
-    throw std::logic_error(fmt::format("register_meta_objective: task '{}' is not registered", task));
+    throw Error(fmt::format("register_meta_objective: task '{}' is not registered", task));
 }
 
 bool unregister_task_plugin(std::string_view name) { return tasks().remove(name); }

@@ -51,8 +51,8 @@ struct TaskPlugin {
 // Registers (or replaces) the plugin for `name`. Thread-safe. The built-in plugins are
 // registered the same way (experiment/core_plugins.hpp).
 void register_task_plugin(const std::string& name, TaskPlugin plugin);
-// Adds (or replaces) meta-objective `kind` of the registered task `task`; std::logic_error when
-// `task` is not registered.
+// Adds (or replaces) meta-objective `kind` of the registered task `task`; Error when `task` is
+// not registered.
 void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader);
 // Remove a plugin, or one meta-objective kind of a registered task; false when there was none.
 // Lookups already made keep their snapshots. (A part used for one run only needs no

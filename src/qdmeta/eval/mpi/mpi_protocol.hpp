@@ -6,10 +6,11 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "qdmeta/core/error.hpp"
 
 namespace qdmeta::mpi {
 
@@ -64,11 +65,11 @@ class Packer {
 class Unpacker {
  public:
   explicit Unpacker(std::string_view bytes) : bytes_(bytes) {}
-  // Throws std::runtime_error on a short message (a protocol bug, not user input).
+  // Throws Error on a short message (a protocol bug, not user input).
   template <class T>
   void get(T* out, std::size_t count) {
     const std::size_t n = count * sizeof(T);
-    if (pos_ + n > bytes_.size()) throw std::runtime_error("MPI message shorter than its header says");
+    if (pos_ + n > bytes_.size()) throw Error("MPI message shorter than its header says");
     std::memcpy(out, bytes_.data() + pos_, n);
     pos_ += n;
   }

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/eval/evaluator.hpp"
+#include "qdmeta/core/evaluator.hpp"
 
 namespace qdmeta {
 

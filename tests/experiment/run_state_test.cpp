@@ -1,0 +1,97 @@
+// RunState: what a run directory holds, read once. An empty or missing directory holds no run;
+// config.toml makes a run and gives its budget; summary.json says whether it finished (only a
+// `budget` stop is finished); checkpoint.bin is seen; a damaged file is an InputError naming it.
+#include "qdmeta/experiment/run_state.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/experiment/summary.hpp"
+
+namespace qdmeta {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RunStateTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("qdmeta_run_state_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+  void write_summary_saying(StopReason reason) const {
+    RunResult result;
+    result.reason = reason;
+    const RunSettings settings;
+    write_summary(dir_ / "summary.json", SummaryRecord{result, settings, "map-elites", 1, {}});
+  }
+  fs::path dir_;
+};
+
+TEST_F(RunStateTest, AMissingOrEmptyDirectoryHoldsNoRun) {
+  for (const fs::path& dir : {dir_, dir_ / "missing"}) {
+    const RunState state(dir);
+    EXPECT_FALSE(state.has_run());
+    EXPECT_FALSE(state.stop_reason().has_value());
+    EXPECT_FALSE(state.finished());
+    EXPECT_FALSE(state.has_checkpoint());
+    EXPECT_THROW((void)state.config(), InputError);
+  }
+}
+
+TEST_F(RunStateTest, ConfigMakesARunAndGivesItsBudget) {
+  write("config.toml", "[budget]\nevaluations = 1234\n");
+  const RunState state(dir_);
+  EXPECT_TRUE(state.has_run());
+  EXPECT_FALSE(state.finished());  // no summary yet: still going, or killed
+  EXPECT_EQ(state.budget(), 1234);
+  write("config.toml", "seed = 3\n");
+  EXPECT_EQ(RunState(dir_).budget(), -1);
+  EXPECT_EQ(state.budget(), 1234);  // parsed once and kept
+}
+
+TEST_F(RunStateTest, OnlyABudgetStopIsFinished) {
+  write("config.toml", "seed = 1\n");
+  write_summary_saying(StopReason::kInterrupted);
+  EXPECT_EQ(RunState(dir_).stop_reason(), StopReason::kInterrupted);
+  EXPECT_FALSE(RunState(dir_).finished());
+  write_summary_saying(StopReason::kBudget);
+  EXPECT_EQ(RunState(dir_).stop_reason(), StopReason::kBudget);
+  EXPECT_TRUE(RunState(dir_).finished());
+}
+
+TEST_F(RunStateTest, SeesACheckpoint) {
+  write(kCheckpointFile, "x");
+  EXPECT_TRUE(RunState(dir_).has_checkpoint());
+}
+
+TEST_F(RunStateTest, ADamagedFileIsAnInputErrorNamingIt) {
+  write("config.toml", "[budget\n");
+  const RunState state(dir_);
+  try {
+    (void)state.config();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("config.toml"), std::string::npos) << e.what();
+  }
+  write("summary.json", "{\"stop_reason\": ");
+  try {
+    (void)RunState(dir_);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("summary.json"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace qdmeta
