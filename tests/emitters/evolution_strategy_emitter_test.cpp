@@ -35,12 +35,13 @@ bool quarter(Rng&, std::vector<double>& mean) {
 void tell_with(EvolutionStrategyEmitter& e, const RowMatrix& batch, int added) {
   std::vector<Real> objectives(kBatch);
   std::vector<ThresholdOutcome> outcomes(kBatch);
+  const RowMatrix measures = batch.leftCols(2);  // for the random-direction rankers
   for (int r = 0; r < kBatch; ++r) {
     objectives[static_cast<std::size_t>(r)] = batch(r, 0) + 2.0f * batch(r, 1);
     outcomes[static_cast<std::size_t>(r)] = {r < added ? AddStatus::kNew : AddStatus::kNotAdded,
                                              static_cast<double>(objectives[static_cast<std::size_t>(r)])};
   }
-  e.tell({batch, objectives, {}, outcomes});
+  e.tell({batch, objectives, measures, outcomes});
 }
 
 TEST(EvolutionStrategyEmitter, FilterTakesTheAddedRowsAsParentsAndMuHalf) {
@@ -142,6 +143,39 @@ TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
   e.ask(rng);
   EXPECT_INPUT_ERROR(e.ask(rng),
                      "EvolutionStrategyEmitter::ask: called twice without tell; tell the last batch's outcomes first");
+}
+
+TEST(EvolutionStrategyEmitter, RandomDirectionIsDrawnAtTheFirstAskAndAtEachRestart) {
+  auto p = params(EmitterRestart::kEveryN, 2);
+  p.ranker = EmitterRanker::kTwoStageRandomDirection;
+  p.measure_ranges = {2.0, 0.5};
+  EvolutionStrategyEmitter e(p, quarter);
+  EXPECT_TRUE(e.direction().empty());
+  Rng rng(12);
+  Rng draws = rng;  // the direction takes the stream's first two normals
+  const double z0 = draws.normal(), z1 = draws.normal();
+  const RowMatrix batch = e.ask(rng);
+  EXPECT_EQ(e.direction(), (std::vector<double>{z0 * 2.0, z1 * 0.5}));
+  RowMatrix measures = RowMatrix::Zero(kBatch, 2);
+  const std::vector<Real> objectives(kBatch, 0.0f);
+  const std::vector<ThresholdOutcome> outcomes(kBatch, {AddStatus::kNew, 0.0});
+  const RowMatrix three = RowMatrix::Zero(kBatch, 3);
+  EXPECT_INPUT_ERROR(e.tell({batch, objectives, three, outcomes}),
+                     "rank_keys: the two-stage-random-direction ranker has a direction of 2 values for 3 measures");
+  for (Index r = 0; r < kBatch; ++r) measures(r, 0) = static_cast<Real>(r);
+  e.tell({batch, objectives, measures, outcomes});
+  const std::vector<double> first = e.direction();
+  tell_with(e, e.ask(rng), 1);  // the second tell: every-2 fires
+  EXPECT_TRUE(e.restart_pending());
+  e.ask(rng);
+  EXPECT_EQ(e.restarts(), 1);
+  EXPECT_NE(e.direction(), first);
+
+  p.measure_ranges.clear();
+  EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.measure_ranges is empty: the "
+                                   "two-stage-random-direction ranker needs the extent of each measure");
+  p.measure_ranges = {1.0, 0.0};
+  EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.measure_ranges[1] = 0 is invalid: must be finite and > 0");
 }
 
 // Runs `tells` ask/tell rounds with outcomes that vary (including empty batches, so restarts happen).

@@ -20,11 +20,14 @@ struct HandBatch {
                                             {AddStatus::kNew, 0.5},
                                             {AddStatus::kImproved, 3.0},
                                             {AddStatus::kNew, 4.0}};
-  EmitterResults results() const { return {solutions, objectives, {}, outcomes}; }
+  // Projections on the direction (1, -2): 1, -3, 2, 0, -1.
+  RowMatrix measures = (RowMatrix(5, 2) << 1.0f, 0.0f, 1.0f, 2.0f, 0.0f, -1.0f, 2.0f, 1.0f, 1.0f, 1.0f).finished();
+  EmitterResults results() const { return {solutions, objectives, measures, outcomes}; }
 };
 
 std::vector<int> ranked(EmitterRanker ranker, const EmitterResults& results) {
-  return rank_order(rank_keys(ranker, results));
+  const std::vector<double> direction = {1.0, -2.0};
+  return rank_order(rank_keys(ranker, results, direction));
 }
 
 TEST(EmitterRanking, EachRankerOrdersAHandBuiltBatch) {
@@ -35,6 +38,16 @@ TEST(EmitterRanking, EachRankerOrdersAHandBuiltBatch) {
   EXPECT_EQ(ranked(EmitterRanker::kObjective, b.results()), (std::vector<int>{0, 2, 4, 1, 3}));
   // Added rows (1..4) by objective, then row 0 despite its best objective.
   EXPECT_EQ(ranked(EmitterRanker::kTwoStageObjective, b.results()), (std::vector<int>{2, 4, 1, 3, 0}));
+  EXPECT_EQ(ranked(EmitterRanker::kRandomDirection, b.results()), (std::vector<int>{2, 0, 3, 4, 1}));
+  // New (2: 2, 4: -1), improved (3: 0, 1: -3), then row 0.
+  EXPECT_EQ(ranked(EmitterRanker::kTwoStageRandomDirection, b.results()), (std::vector<int>{2, 4, 3, 1, 0}));
+}
+
+TEST(EmitterRanking, ADirectionOfTheWrongSizeIsRefused) {
+  const HandBatch b;
+  const std::vector<double> direction = {1.0, 0.0, 0.0};
+  EXPECT_INPUT_ERROR(rank_keys(EmitterRanker::kRandomDirection, b.results(), direction),
+                     "rank_keys: the random-direction ranker has a direction of 3 values for 2 measures");
 }
 
 TEST(EmitterRanking, TiesKeepAskOrder) {
@@ -55,7 +68,8 @@ TEST(EmitterRanking, NamesRoundTripAndUnknownNamesAreRefused) {
   }
   EXPECT_INPUT_ERROR(emitter_ranker_from_string("imp"),
                      "emitter ranker = \"imp\" is not a valid choice: use one of \"improvement\", "
-                     "\"two-stage-improvement\", \"objective\", \"two-stage-objective\"");
+                     "\"two-stage-improvement\", \"objective\", \"two-stage-objective\", \"random-direction\", "
+                     "\"two-stage-random-direction\"");
 }
 
 }  // namespace

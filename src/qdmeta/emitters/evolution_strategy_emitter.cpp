@@ -45,6 +45,18 @@ void EvolutionStrategyEmitterParams::validate() const {
   if (restart == EmitterRestart::kEveryN) {
     require_at_least("EvolutionStrategyEmitterParams.restart_every", restart_every, 1);
   }
+  if (needs_direction(ranker) && measure_ranges.empty()) {
+    throw InputError(fmt::format("EvolutionStrategyEmitterParams.measure_ranges is empty: the {} ranker needs the "
+                                 "extent of each measure",
+                                 to_string(ranker)));
+  }
+  for (std::size_t j = 0; j < measure_ranges.size(); ++j) {
+    if (!std::isfinite(measure_ranges[j]) || measure_ranges[j] <= 0.0) {
+      throw InputError(fmt::format("EvolutionStrategyEmitterParams.measure_ranges[{}] = {} is invalid: must be "
+                                   "finite and > 0",
+                                   j, measure_ranges[j]));
+    }
+  }
   if (enum_to_string(kEmitterRankerNames, ranker) == "?" || enum_to_string(kEmitterSelectionNames, selection) == "?" ||
       enum_to_string(kEmitterRestartNames, restart) == "?") {
     throw InputError("EvolutionStrategyEmitterParams: ranker, selection or restart is not one of its names");
@@ -78,15 +90,26 @@ void EvolutionStrategyEmitter::restart(Rng& rng) {
     p.x0 = std::move(mean);
   }
   cma_.set_state(CmaEs::initial_state(p));
+  draw_direction(rng);
   restarts_ += 1;
   restart_pending_ = false;
+}
+
+void EvolutionStrategyEmitter::draw_direction(Rng& rng) {
+  if (!needs_direction(params_.ranker)) return;
+  direction_.resize(params_.measure_ranges.size());
+  for (std::size_t j = 0; j < direction_.size(); ++j) direction_[j] = rng.normal() * params_.measure_ranges[j];
 }
 
 const RowMatrix& EvolutionStrategyEmitter::ask(Rng& rng) {
   if (awaiting_tell_) {
     throw InputError("EvolutionStrategyEmitter::ask: called twice without tell; tell the last batch's outcomes first");
   }
-  if (restart_pending_) restart(rng);
+  if (restart_pending_) {
+    restart(rng);
+  } else if (direction_.empty()) {
+    draw_direction(rng);
+  }
   const Eigen::MatrixXd& samples = cma_.ask(rng);  // one candidate per column
   for (Index r = 0; r < batch_.rows(); ++r) {
     for (Index j = 0; j < batch_.cols(); ++j) batch_(r, j) = static_cast<Real>(samples(j, r));
@@ -102,10 +125,10 @@ void EvolutionStrategyEmitter::tell(const EmitterResults& results) {
     throw InputError(fmt::format("EvolutionStrategyEmitter::tell: expected {} rows, objectives and outcomes; got {}, {}, {}",
                                  rows, results.rows(), results.objectives.size(), results.outcomes.size()));
   }
+  const std::vector<RankKey> keys = rank_keys(params_.ranker, results, direction_);  // may refuse the measures
+  const std::vector<int> order = rank_order(keys);
   awaiting_tell_ = false;
   tells_ += 1;
-  const std::vector<RankKey> keys = rank_keys(params_.ranker, results);
-  const std::vector<int> order = rank_order(keys);
   const auto added = static_cast<int>(std::count_if(results.outcomes.begin(), results.outcomes.end(),
                                                      [](const ThresholdOutcome& o) { return o.status != AddStatus::kNotAdded; }));
   last_parents_ = params_.selection == EmitterSelection::kFilter ? added : std::max(1, params_.batch_size / 2);
@@ -131,6 +154,7 @@ void EvolutionStrategyEmitter::save(BinaryWriter& out) const {
   out.boolean(restart_pending_);
   out.boolean(awaiting_tell_);
   out.value(last_parents_);
+  out.values(direction_);
 }
 
 void EvolutionStrategyEmitter::load(BinaryReader& in) {
@@ -148,6 +172,11 @@ void EvolutionStrategyEmitter::load(BinaryReader& in) {
   restart_pending_ = in.boolean("emitter restart flag");
   awaiting_tell_ = in.boolean("emitter pending flag");
   last_parents_ = in.value<int>("emitter parents");
+  direction_ = in.values<double>("emitter direction");
+  if (!direction_.empty() && direction_.size() != params_.measure_ranges.size()) {
+    in.fail(fmt::format("the emitter direction has {} values, expected {}", direction_.size(),
+                        params_.measure_ranges.size()));
+  }
 }
 
 }  // namespace qdmeta

@@ -52,6 +52,9 @@ struct EvolutionStrategyEmitterParams {
   CmaBoundsHandling bounds = CmaBoundsHandling::kNone;
   double lower_bound = 0.0;
   double upper_bound = 1.0;
+  // The random-direction rankers: the extent of each measure (upper - lower bound, > 0). A
+  // direction is N(0, I) scaled by these, drawn at the first ask() and at each restart.
+  std::vector<double> measure_ranges;
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };
@@ -84,9 +87,12 @@ class EvolutionStrategyEmitter : public Emitter {
   bool restart_pending() const { return restart_pending_; }
   // The parents of the last tell (the "filter" rule's mu when it is the rule).
   int last_parents() const { return last_parents_; }
+  // The random-direction rankers' direction in measure space (empty before the first ask()).
+  const std::vector<double>& direction() const { return direction_; }
 
  private:
   void restart(Rng& rng);
+  void draw_direction(Rng& rng);
 
   EvolutionStrategyEmitterParams params_;
   ElitePicker pick_elite_;
@@ -97,6 +103,7 @@ class EvolutionStrategyEmitter : public Emitter {
   bool restart_pending_ = false;
   bool awaiting_tell_ = false;
   int last_parents_ = 0;
+  std::vector<double> direction_;
 };
 
 }  // namespace qdmeta

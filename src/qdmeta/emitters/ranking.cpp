@@ -1,7 +1,11 @@
 #include "qdmeta/emitters/ranking.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
+
+#include "qdmeta/core/error.hpp"
 
 namespace qdmeta {
 
@@ -11,7 +15,17 @@ EmitterRanker emitter_ranker_from_string(std::string_view text) {
   return enum_from_string(kEmitterRankerNames, "emitter ranker", text);
 }
 
-std::vector<RankKey> rank_keys(EmitterRanker ranker, const EmitterResults& results) {
+std::vector<RankKey> rank_keys(EmitterRanker ranker, const EmitterResults& results, std::span<const double> direction) {
+  if (needs_direction(ranker) && static_cast<Index>(direction.size()) != results.measures.cols) {
+    throw InputError(fmt::format("rank_keys: the {} ranker has a direction of {} values for {} measures",
+                                 to_string(ranker), direction.size(), results.measures.cols));
+  }
+  const auto projection = [&](std::size_t r) {
+    const Real* m = results.measures.row(static_cast<Index>(r));
+    double sum = 0.0;
+    for (std::size_t j = 0; j < direction.size(); ++j) sum += m[j] * direction[j];
+    return sum;
+  };
   std::vector<RankKey> keys(static_cast<std::size_t>(results.rows()));
   for (std::size_t r = 0; r < keys.size(); ++r) {
     const ThresholdOutcome& outcome = results.outcomes[r];
@@ -22,6 +36,8 @@ std::vector<RankKey> rank_keys(EmitterRanker ranker, const EmitterResults& resul
       case EmitterRanker::kTwoStageImprovement: keys[r] = {status, outcome.improvement}; break;
       case EmitterRanker::kObjective: keys[r] = {0, objective}; break;
       case EmitterRanker::kTwoStageObjective: keys[r] = {status > 0 ? 1 : 0, objective}; break;
+      case EmitterRanker::kRandomDirection: keys[r] = {0, projection(r)}; break;
+      case EmitterRanker::kTwoStageRandomDirection: keys[r] = {status, projection(r)}; break;
     }
   }
   return keys;
