@@ -5,10 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <limits>
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "qdmeta/emitters/gaussian_emitter.hpp"
 #include "sphere_problem.hpp"
 
 namespace qdmeta {
@@ -57,11 +59,10 @@ double emitter_qd_score(ThresholdParams t, EmitterRanker ranker, std::uint64_t s
   return archive.stats().qd_score;
 }
 
-// Gaussian MAP-Elites with the same evaluations: one batch drawn from CMA-ES's first distribution
-// (N(0, 0.5^2) in every gene), then batches of uniformly drawn elites with N(0, 0.5^2) added to
-// every gene (the MAP-Elites baseline of the CMA-ME paper).
-double map_elites_qd_score(std::uint64_t seed) {
-  GridArchive archive(sphere_grid());
+// Gaussian MAP-Elites with the same evaluations, written out: one batch drawn from CMA-ES's first
+// distribution (N(0, 0.5^2) in every gene), then batches of uniformly drawn elites with
+// N(0, 0.5^2) added to every gene (the MAP-Elites baseline of the CMA-ME paper).
+void run_map_elites(GridArchive& archive, std::uint64_t seed) {
   Rng rng(seed);
   RowMatrix x(kEmitters * kEmitterBatch, kSphereGenes);
   std::vector<Real> objectives;
@@ -76,7 +77,31 @@ double map_elites_qd_score(std::uint64_t seed) {
     evaluate_sphere(x, objectives, measures);
     archive.add_batch(EliteBatch{x, objectives, measures, {}, {}});
   }
+}
+
+double map_elites_qd_score(std::uint64_t seed) {
+  GridArchive archive(sphere_grid());
+  run_map_elites(archive, seed);
   return archive.stats().qd_score;
+}
+
+TEST(Scheduler, GaussianEmittersAtAlphaOneAreMapElitesBitForBit) {
+  GridArchive written_out(sphere_grid()), scheduled(sphere_grid());
+  run_map_elites(written_out, 4);
+  GaussianEmitterParams p;
+  p.x0.assign(kSphereGenes, 0.0);
+  p.sigma = 0.5;
+  p.batch_size = kEmitters * kEmitterBatch;
+  std::vector<std::unique_ptr<Emitter>> emitters;
+  emitters.push_back(std::make_unique<GaussianEmitter>(p, elite_picker(scheduled)));
+  Scheduler scheduler(scheduled, thresholds(1.0, kMinusInf), std::move(emitters));
+  Rng rng(4);
+  for (int i = 0; i < kIterations; ++i) step(scheduler, rng);
+  BinaryWriter a, b;
+  written_out.save(a);
+  scheduled.save(b);
+  EXPECT_EQ(a.bytes(), b.bytes());
+  EXPECT_GT(scheduled.size(), 100);
 }
 
 TEST(Scheduler, CmaMeAndCmaMaeBeatGaussianMapElitesAtEqualEvaluations) {

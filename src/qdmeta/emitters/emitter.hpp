@@ -4,7 +4,11 @@
 // (scheduler.hpp) asks each emitter in turn, adds every row to the archive under the thresholds
 // (thresholded_add.hpp) and tells each emitter the outcomes of its own rows.
 #include <cstdint>
+#include <functional>
 #include <span>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "qdmeta/archive/elite_batch.hpp"
 #include "qdmeta/core/binary_io.hpp"
@@ -23,6 +27,10 @@ struct EmitterResults {
   Index rows() const { return solutions.rows; }
 };
 
+// Writes a uniformly drawn elite's genes into `genes` (solution_size values) and returns true,
+// or returns false when the archive is empty (scheduler.hpp's elite_picker).
+using ElitePicker = std::function<bool(Rng& rng, std::vector<double>& genes)>;
+
 class Emitter {
  public:
   virtual ~Emitter() = default;
@@ -35,6 +43,29 @@ class Emitter {
   // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
   virtual void save(BinaryWriter& out) const = 0;
   virtual void load(BinaryReader& in) = 0;
+};
+
+// What every emitter here shares: its batch, the ask/tell protocol and the batch's checkpoint.
+class BatchEmitter : public Emitter {
+ public:
+  Index batch_size() const override { return batch_.rows(); }
+  Index solution_size() const override { return batch_.cols(); }
+
+ protected:
+  // `name` starts the protocol's messages ("GaussianEmitter::ask: ...").
+  BatchEmitter(Index rows, Index genes, std::string_view name) : batch_(rows, genes), name_(name) {}
+  // Throws InputError while a batch awaits its tell (ask() sets awaiting_tell_ once it has its batch).
+  void check_ask() const;
+  // Throws InputError unless a batch is pending and `results` has its rows, objectives and outcomes.
+  void check_tell(const EmitterResults& results) const;
+  void save_batch(BinaryWriter& out) const;
+  void load_batch(BinaryReader& in);
+
+  RowMatrix batch_;
+  bool awaiting_tell_ = false;
+
+ private:
+  std::string name_;
 };
 
 }  // namespace qdmeta

@@ -75,9 +75,10 @@ bool cma_converged(const CmaEsState& state, const std::vector<RankKey>& ranked_k
 }
 
 EvolutionStrategyEmitter::EvolutionStrategyEmitter(EvolutionStrategyEmitterParams params, ElitePicker pick_elite)
-    : params_(std::move(params)), pick_elite_(std::move(pick_elite)), cma_(cma_params(params_)) {
-  batch_.resize(params_.batch_size, solution_size());
-}
+    : BatchEmitter(cma_params(params).population_size, static_cast<Index>(params.x0.size()), "EvolutionStrategyEmitter"),
+      params_(std::move(params)),
+      pick_elite_(std::move(pick_elite)),
+      cma_(cma_params(params_)) {}
 
 void EvolutionStrategyEmitter::restart(Rng& rng) {
   CmaEsParams p = cma_.params();
@@ -102,9 +103,7 @@ void EvolutionStrategyEmitter::draw_direction(Rng& rng) {
 }
 
 const RowMatrix& EvolutionStrategyEmitter::ask(Rng& rng) {
-  if (awaiting_tell_) {
-    throw InputError("EvolutionStrategyEmitter::ask: called twice without tell; tell the last batch's outcomes first");
-  }
+  check_ask();
   if (restart_pending_) {
     restart(rng);
   } else if (direction_.empty()) {
@@ -119,12 +118,7 @@ const RowMatrix& EvolutionStrategyEmitter::ask(Rng& rng) {
 }
 
 void EvolutionStrategyEmitter::tell(const EmitterResults& results) {
-  if (!awaiting_tell_) throw InputError("EvolutionStrategyEmitter::tell: called without a pending ask; call ask() first");
-  const auto rows = static_cast<std::size_t>(batch_size());
-  if (results.rows() != batch_size() || results.objectives.size() != rows || results.outcomes.size() != rows) {
-    throw InputError(fmt::format("EvolutionStrategyEmitter::tell: expected {} rows, objectives and outcomes; got {}, {}, {}",
-                                 rows, results.rows(), results.objectives.size(), results.outcomes.size()));
-  }
+  check_tell(results);
   const std::vector<RankKey> keys = rank_keys(params_.ranker, results, direction_);  // may refuse the measures
   const std::vector<int> order = rank_order(keys);
   awaiting_tell_ = false;
@@ -148,11 +142,10 @@ void EvolutionStrategyEmitter::tell(const EmitterResults& results) {
 void EvolutionStrategyEmitter::save(BinaryWriter& out) const {
   out.tag("evolution strategy emitter");
   cma_.save(out);
-  out.matrix(batch_);
+  save_batch(out);
   out.value(tells_);
   out.value(restarts_);
   out.boolean(restart_pending_);
-  out.boolean(awaiting_tell_);
   out.value(last_parents_);
   out.values(direction_);
 }
@@ -160,17 +153,10 @@ void EvolutionStrategyEmitter::save(BinaryWriter& out) const {
 void EvolutionStrategyEmitter::load(BinaryReader& in) {
   in.expect_tag("evolution strategy emitter");
   cma_.load(in);
-  RowMatrix batch;
-  in.matrix(batch, "emitter batch");
-  if (batch.rows() != batch_.rows() || batch.cols() != batch_.cols()) {
-    in.fail(fmt::format("the emitter batch is {}x{}, expected {}x{}", batch.rows(), batch.cols(), batch_.rows(),
-                        batch_.cols()));
-  }
-  batch_ = std::move(batch);
+  load_batch(in);
   tells_ = in.value<std::int64_t>("emitter tells");
   restarts_ = in.value<std::int64_t>("emitter restarts");
   restart_pending_ = in.boolean("emitter restart flag");
-  awaiting_tell_ = in.boolean("emitter pending flag");
   last_parents_ = in.value<int>("emitter parents");
   direction_ = in.values<double>("emitter direction");
   if (!direction_.empty() && direction_.size() != params_.measure_ranges.size()) {

@@ -6,7 +6,6 @@
 // CMA-ES from a uniformly drawn elite when its restart rule fires or CMA-ES has converged; the
 // draw needs a random stream, so the restart happens at the next ask().
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -64,17 +63,12 @@ struct EvolutionStrategyEmitterParams {
 // of the batch within 1e-12 (flat).
 bool cma_converged(const CmaEsState& state, const std::vector<RankKey>& ranked_keys);
 
-class EvolutionStrategyEmitter : public Emitter {
+class EvolutionStrategyEmitter : public BatchEmitter {
  public:
-  // Writes a restart's new mean (solution_size values) from a uniformly drawn elite and returns
-  // true, or returns false when there is none (then the restart is from x0).
-  using ElitePicker = std::function<bool(Rng& rng, std::vector<double>& mean)>;
-
+  // `pick_elite` gives a restart's new mean (from x0 when the archive is empty).
   EvolutionStrategyEmitter(EvolutionStrategyEmitterParams params, ElitePicker pick_elite);
 
   const EvolutionStrategyEmitterParams& params() const { return params_; }
-  Index batch_size() const override { return params_.batch_size; }
-  Index solution_size() const override { return static_cast<Index>(params_.x0.size()); }
   const RowMatrix& ask(Rng& rng) override;
   void tell(const EmitterResults& results) override;
   void save(BinaryWriter& out) const override;
@@ -97,11 +91,9 @@ class EvolutionStrategyEmitter : public Emitter {
   EvolutionStrategyEmitterParams params_;
   ElitePicker pick_elite_;
   CmaEs cma_;
-  RowMatrix batch_;
   std::int64_t tells_ = 0;
   std::int64_t restarts_ = 0;
   bool restart_pending_ = false;
-  bool awaiting_tell_ = false;
   int last_parents_ = 0;
   std::vector<double> direction_;
 };

@@ -25,9 +25,9 @@
 
 namespace qdmeta {
 
-// A restart's mean for the emitters: a uniformly drawn elite of `archive` (which must outlive them).
+// The emitters' draw of an elite (a restart's mean, a Gaussian emitter's parent): a uniformly drawn elite of `archive` (which must outlive them).
 template <CellIndexedArchive A>
-EvolutionStrategyEmitter::ElitePicker elite_picker(const A& archive) {
+ElitePicker elite_picker(const A& archive) {
   return [&archive](Rng& rng, std::vector<double>& mean) {
     if (archive.empty()) return false;
     const Real* elite = archive.solution(archive.sample_cell(rng));
