@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "qdmeta/archive/cvt_archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/emitters/thresholded_add.hpp"
@@ -17,6 +18,10 @@ namespace qdmeta {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The thresholds key on the cells of the fixed-cell archives; AURORA's unstructured archive has none.
+static_assert(CellIndexedArchive<GridArchive>);
+static_assert(CellIndexedArchive<CvtArchive>);
 
 ThresholdParams mae(double alpha, double threshold_min) {
   ThresholdParams p;

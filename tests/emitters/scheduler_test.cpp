@@ -152,6 +152,16 @@ TEST(Scheduler, RefusesBadSettingsNamingTheKey) {
                      "Scheduler emitters[0] proposes 3 genes; the archive holds 10");
   Scheduler scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 1));
   EXPECT_INPUT_ERROR(scheduler.tell({}, RowsView()), "Scheduler::tell: called without a pending ask; call ask() first");
+  // A tell of the wrong size changes nothing: the same batch can then be told in full.
+  Rng rng(2);
+  std::vector<Real> objectives;
+  RowMatrix measures;
+  evaluate_sphere(scheduler.ask(rng), objectives, measures);
+  const std::vector<Real> short_objectives(objectives.begin(), objectives.begin() + 3);
+  EXPECT_INPUT_ERROR(scheduler.tell(short_objectives, measures), "grid archive: the batch has 3 objectives for 20 rows");
+  EXPECT_TRUE(archive.empty());
+  scheduler.tell(objectives, measures);
+  EXPECT_FALSE(archive.empty());
 }
 
 // The archive's elites and the scheduler's checkpoint, as bytes.
