@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "qdmeta/core/fused.hpp"
 
 namespace qdmeta {
 namespace {
@@ -29,12 +30,12 @@ TEST(GaussianEmitter, AddsNoiseToTheDrawnEliteOrToX0) {
   Rng rng(3), expected(3);
   const RowMatrix batch = from_elites.ask(rng);
   for (Index r = 0; r < 3; ++r) {
-    EXPECT_EQ(batch(r, 0), static_cast<Real>(10.0 + 0.25 * expected.normal()));
-    EXPECT_EQ(batch(r, 1), static_cast<Real>(20.0 + 0.25 * expected.normal()));
+    EXPECT_EQ(batch(r, 0), static_cast<Real>(fused(0.25, expected.normal(), 10.0)));
+    EXPECT_EQ(batch(r, 1), static_cast<Real>(fused(0.25, expected.normal(), 20.0)));
   }
   GaussianEmitter empty_archive(params(), [](Rng&, std::vector<double>&) { return false; });
   Rng again(3), normals(3);
-  EXPECT_EQ(empty_archive.ask(again)(0, 0), static_cast<Real>(0.5 + 0.25 * normals.normal()));
+  EXPECT_EQ(empty_archive.ask(again)(0, 0), static_cast<Real>(fused(0.25, normals.normal(), 0.5)));
 }
 
 TEST(GaussianEmitter, ClampsToFiniteBounds) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/emitters/gaussian_emitter.hpp"
 #include "sphere_problem.hpp"
 
@@ -71,7 +72,7 @@ void run_map_elites(GridArchive& archive, std::uint64_t seed) {
     for (Index r = 0; r < x.rows(); ++r) {
       const Real* parent = i == 0 ? nullptr : archive.solution(archive.sample_cell(rng));
       for (Index j = 0; j < kSphereGenes; ++j) {
-        x(r, j) = static_cast<Real>((parent ? parent[j] : 0.0) + 0.5 * rng.normal());
+        x(r, j) = static_cast<Real>(fused(0.5, rng.normal(), parent ? parent[j] : 0.0));
       }
     }
     evaluate_sphere(x, objectives, measures);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -45,8 +46,9 @@ ThresholdOutcome CellThresholds::offer(Index cell, double objective) {
   if (!(objective > t)) return outcome;
   outcome.status = reached_[e] ? AddStatus::kImproved : AddStatus::kNew;
   reached_[e] = 1;
-  // alpha = 1 sets t_e = f exactly (and never forms 0 * -inf).
-  t = params_.alpha == 1.0 ? objective : (1.0 - params_.alpha) * t + params_.alpha * objective;
+  // alpha = 1 sets t_e = f exactly (and never forms 0 * -inf). The multiply-add is written out
+  // (core/fused.hpp), so that the compiler's contraction does not decide its rounding.
+  t = params_.alpha == 1.0 ? objective : fused(params_.alpha, objective, (1.0 - params_.alpha) * t);
   return outcome;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
@@ -43,7 +44,7 @@ const RowMatrix& GaussianEmitter::ask(Rng& rng) {
   for (Index r = 0; r < batch_.rows(); ++r) {
     if (!(pick_elite_ && pick_elite_(rng, parent_))) parent_ = params_.x0;
     for (Index j = 0; j < batch_.cols(); ++j) {
-      const double gene = parent_[static_cast<std::size_t>(j)] + params_.sigma * rng.normal();
+      const double gene = fused(params_.sigma, rng.normal(), parent_[static_cast<std::size_t>(j)]);
       batch_(r, j) = static_cast<Real>(std::clamp(gene, params_.lower_bound, params_.upper_bound));
     }
   }

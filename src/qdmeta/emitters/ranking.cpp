@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 
 namespace qdmeta {
 
@@ -23,7 +24,7 @@ std::vector<RankKey> rank_keys(EmitterRanker ranker, const EmitterResults& resul
   const auto projection = [&](std::size_t r) {
     const Real* m = results.measures.row(static_cast<Index>(r));
     double sum = 0.0;
-    for (std::size_t j = 0; j < direction.size(); ++j) sum += m[j] * direction[j];
+    for (std::size_t j = 0; j < direction.size(); ++j) sum = fused(static_cast<double>(m[j]), direction[j], sum);
     return sum;
   };
   std::vector<RankKey> keys(static_cast<std::size_t>(results.rows()));
