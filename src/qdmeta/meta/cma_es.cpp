@@ -67,19 +67,12 @@ bool authors_realisation(const CmaEsParams& p) {
   return p.population_size < 2 && p.small_population == CmaSmallPopulation::kAuthors;
 }
 
-CmaEsStrategy make_strategy(const CmaEsParams& p) {
-  const int n = p.dimension;
-  const int lambda = CmaEs::sampled_population(p);
-  CmaEsStrategy s;
-  s.n = n;
-  s.lambda = lambda;
-  s.evaluated = p.population_size;
-  s.library_ranking = authors_realisation(p);
-  s.mu = std::max(1, lambda / 2);
-  const double dn = n;
+// The recombination weights, top - ln i normalised, and the learning rates that follow from
+// them (the tutorial's Table 1) for s.mu parents of s.lambda samples in dimension s.n.
+void set_weights_and_rates(CmaEsStrategy& s, double top) {
+  const double dn = s.n;
+  const int lambda = s.lambda;
   s.weights.resize(s.mu);
-  // c-cmaes's default weights, ln(mu + 1) - ln i, where its realisation of lambda = 1 is asked for.
-  const double top = s.library_ranking ? std::log(s.mu + 1.0) : std::log((lambda + 1.0) / 2.0);
   for (int i = 0; i < s.mu; ++i) s.weights(i) = top - std::log(i + 1.0);
   // lambda = 1 (the paper's smallest meta-population): the one parent takes all the weight
   // (the formula gives 0 / 0 there).
@@ -98,6 +91,19 @@ CmaEsStrategy make_strategy(const CmaEsParams& p) {
                                     ((dn + 2.0) * (dn + 2.0) + alpha_cov * mu_eff / 2.0));
   s.chi_n = std::sqrt(dn) * (1.0 - 1.0 / (4.0 * dn) + 1.0 / (21.0 * dn * dn));
   s.eigen_interval = lambda / ((s.c1 + s.c_mu) * dn * 10.0);
+}
+
+CmaEsStrategy make_strategy(const CmaEsParams& p) {
+  const int lambda = CmaEs::sampled_population(p);
+  CmaEsStrategy s;
+  s.n = p.dimension;
+  s.lambda = lambda;
+  s.evaluated = p.population_size;
+  s.library_ranking = authors_realisation(p);
+  s.mu = std::max(1, lambda / 2);
+  // c-cmaes's default weights, ln(mu + 1) - ln i, where its realisation of lambda = 1 is asked for.
+  const double top = s.library_ranking ? std::log(s.mu + 1.0) : std::log((lambda + 1.0) / 2.0);
+  set_weights_and_rates(s, top);
   return s;
 }
 
@@ -201,7 +207,7 @@ CmaEs::CmaEs(CmaEsParams params) : params_(std::move(params)) {
   state_ = initial_state(params_);
   initial_ = state_;
   z_.resize(params_.dimension, strategy_.lambda);
-  y_.resize(params_.dimension, strategy_.mu);
+  y_.resize(params_.dimension, strategy_.lambda);  // tell_ranked may take every candidate as a parent
   order_.resize(static_cast<std::size_t>(strategy_.lambda));
 }
 
@@ -291,9 +297,43 @@ void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
   state_.evaluations += lambda;
   if (params_.frozen) return;
 
-  const CmaEsStrategy& s = strategy_;
-  CmaEsState& st = state_;
   rank(fitness, objective);
+  update(strategy_);
+}
+
+void CmaEs::tell_ranked(std::span<const int> order, int parents) {
+  const int lambda = strategy_.lambda;
+  if (!state_.awaiting_tell) {
+    throw InputError("CmaEs::tell_ranked: called without a pending ask; call ask() first");
+  }
+  if (strategy_.library_ranking) {
+    throw InputError("CmaEs::tell_ranked: not available with small_population = authors; use tell()");
+  }
+  if (order.size() != static_cast<std::size_t>(lambda)) {
+    throw InputError(fmt::format("CmaEs::tell_ranked: expected an order of {} candidates, got {}", lambda, order.size()));
+  }
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(lambda), 0);
+  for (const int k : order) {
+    if (k < 0 || k >= lambda || seen[static_cast<std::size_t>(k)]) {
+      throw InputError(fmt::format("CmaEs::tell_ranked: the order is not a permutation of 0..{} (candidate {})",
+                                   lambda - 1, k));
+    }
+    seen[static_cast<std::size_t>(k)] = 1;
+  }
+  require_range("CmaEs::tell_ranked parents", parents, 0, lambda);
+  state_.awaiting_tell = false;
+  state_.generation += 1;
+  state_.evaluations += lambda;
+  if (params_.frozen || parents == 0) return;
+  std::copy(order.begin(), order.end(), order_.begin());
+  CmaEsStrategy s = strategy_;
+  s.mu = parents;
+  set_weights_and_rates(s, std::log(parents + 0.5));
+  update(s);
+}
+
+void CmaEs::update(const CmaEsStrategy& s) {
+  CmaEsState& st = state_;
   const int n = s.n;
   // Steps of the mu best, recomputed from the returned (possibly clamped) points.
   for (int k = 0; k < s.mu; ++k) {

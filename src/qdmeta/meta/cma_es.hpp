@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -143,6 +144,14 @@ class CmaEs {
   // first strategy().evaluated of them (all but in the authors' realisation of lambda = 1).
   void tell(const Eigen::VectorXd& fitness, CmaObjective objective);
 
+  // Updates from the caller's ranking of the pending candidates (`order`: their indices, best
+  // first, a permutation of 0..lambda-1) with the first `parents` of them as parents, weighted
+  // ln(parents + 1/2) - ln i and with the learning rates recomputed for that many, as the
+  // emitters of CMA-ME need (emitters/evolution_strategy_emitter.hpp: parents may be the
+  // candidates an archive took). parents = 0 closes the pending ask without an update. Refused
+  // (InputError) under the authors' small-population realisation.
+  void tell_ranked(std::span<const int> order, int parents);
+
   const CmaEsParams& params() const { return params_; }
   const CmaEsStrategy& strategy() const { return strategy_; }
   const CmaEsState& state() const { return state_; }
@@ -165,6 +174,8 @@ class CmaEs {
   template <class FillNormals>
   const Eigen::MatrixXd& ask_with(FillNormals&& fill_normals);
   void decompose();
+  // The update of the mean, paths, covariance and step size from the parents order_[0..s.mu).
+  void update(const CmaEsStrategy& s);
   // Fills order_ with the candidates best first.
   void rank(const Eigen::VectorXd& fitness, CmaObjective objective);
 

@@ -1,0 +1,71 @@
+#pragma once
+// An emitter of CMA-ME / CMA-MAE (Fontaine et al. 2020; Fontaine & Nikolaidis 2023): asked, it
+// proposes a batch of solutions; told, it learns from how the archive took them. The scheduler
+// (scheduler.hpp) asks each emitter in turn, adds every row to the archive under the thresholds
+// (thresholded_add.hpp) and tells each emitter the outcomes of its own rows.
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qdmeta/archive/elite_batch.hpp"
+#include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/rng.hpp"
+#include "qdmeta/core/types.hpp"
+#include "qdmeta/emitters/cell_thresholds.hpp"
+
+namespace qdmeta {
+
+// What became of the rows of one ask(), in ask() order.
+struct EmitterResults {
+  RowsView solutions;                            // the rows ask() returned
+  std::span<const Real> objectives;              // one per row
+  RowsView measures;                             // one row of measures per row
+  std::span<const ThresholdOutcome> outcomes;    // status and improvement value per row
+  Index rows() const { return solutions.rows; }
+};
+
+// Writes a uniformly drawn elite's genes into `genes` (solution_size values) and returns true,
+// or returns false when the archive is empty (scheduler.hpp's elite_picker).
+using ElitePicker = std::function<bool(Rng& rng, std::vector<double>& genes)>;
+
+class Emitter {
+ public:
+  virtual ~Emitter() = default;
+  virtual Index batch_size() const = 0;
+  virtual Index solution_size() const = 0;
+  // A batch of batch_size() rows of solution_size() genes; valid until the next ask() or load().
+  virtual const RowMatrix& ask(Rng& rng) = 0;
+  // The outcomes of the last ask()'s rows; InputError when no ask() is pending or the sizes differ.
+  virtual void tell(const EmitterResults& results) = 0;
+  // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
+  virtual void save(BinaryWriter& out) const = 0;
+  virtual void load(BinaryReader& in) = 0;
+};
+
+// What every emitter here shares: its batch, the ask/tell protocol and the batch's checkpoint.
+class BatchEmitter : public Emitter {
+ public:
+  Index batch_size() const override { return batch_.rows(); }
+  Index solution_size() const override { return batch_.cols(); }
+
+ protected:
+  // `name` starts the protocol's messages ("GaussianEmitter::ask: ...").
+  BatchEmitter(Index rows, Index genes, std::string_view name) : batch_(rows, genes), name_(name) {}
+  // Throws InputError while a batch awaits its tell (ask() sets awaiting_tell_ once it has its batch).
+  void check_ask() const;
+  // Throws InputError unless a batch is pending and `results` has its rows, objectives and outcomes.
+  void check_tell(const EmitterResults& results) const;
+  void save_batch(BinaryWriter& out) const;
+  void load_batch(BinaryReader& in);
+
+  RowMatrix batch_;
+  bool awaiting_tell_ = false;
+
+ private:
+  std::string name_;
+};
+
+}  // namespace qdmeta

@@ -1,0 +1,70 @@
+#include "qdmeta/emitters/gaussian_emitter.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
+#include "qdmeta/core/params.hpp"
+
+namespace qdmeta {
+
+void GaussianEmitterParams::validate() const {
+  if (x0.empty()) throw InputError("GaussianEmitterParams.x0 is empty: give the first parent, one value per gene");
+  for (std::size_t j = 0; j < x0.size(); ++j) {
+    if (!std::isfinite(x0[j])) throw InputError(fmt::format("GaussianEmitterParams.x0[{}] = {} is invalid: must be finite", j, x0[j]));
+  }
+  if (!std::isfinite(sigma) || sigma <= 0.0) {
+    throw InputError(fmt::format("GaussianEmitterParams.sigma = {} is invalid: must be finite and > 0", sigma));
+  }
+  require_at_least("GaussianEmitterParams.batch_size", batch_size, 1);
+  if (std::isnan(lower_bound) || std::isnan(upper_bound) || !(upper_bound > lower_bound)) {
+    throw InputError(fmt::format("GaussianEmitterParams.upper_bound = {} is invalid: must be > lower_bound = {}",
+                                 upper_bound, lower_bound));
+  }
+}
+
+namespace {
+const GaussianEmitterParams& checked(const GaussianEmitterParams& p) {
+  p.validate();
+  return p;
+}
+}  // namespace
+
+GaussianEmitter::GaussianEmitter(GaussianEmitterParams params, ElitePicker pick_elite)
+    : BatchEmitter(checked(params).batch_size, static_cast<Index>(params.x0.size()), "GaussianEmitter"),
+      params_(std::move(params)),
+      pick_elite_(std::move(pick_elite)),
+      parent_(params_.x0.size()) {}
+
+const RowMatrix& GaussianEmitter::ask(Rng& rng) {
+  check_ask();
+  for (Index r = 0; r < batch_.rows(); ++r) {
+    if (!(pick_elite_ && pick_elite_(rng, parent_))) parent_ = params_.x0;
+    for (Index j = 0; j < batch_.cols(); ++j) {
+      const double gene = fused(params_.sigma, rng.normal(), parent_[static_cast<std::size_t>(j)]);
+      batch_(r, j) = static_cast<Real>(std::clamp(gene, params_.lower_bound, params_.upper_bound));
+    }
+  }
+  awaiting_tell_ = true;
+  return batch_;
+}
+
+void GaussianEmitter::tell(const EmitterResults& results) {
+  check_tell(results);
+  awaiting_tell_ = false;
+}
+
+void GaussianEmitter::save(BinaryWriter& out) const {
+  out.tag("gaussian emitter");
+  save_batch(out);
+}
+
+void GaussianEmitter::load(BinaryReader& in) {
+  in.expect_tag("gaussian emitter");
+  load_batch(in);
+}
+
+}  // namespace qdmeta

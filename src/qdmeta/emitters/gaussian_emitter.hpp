@@ -1,0 +1,40 @@
+#pragma once
+// MAP-Elites as an emitter (pyribs's GaussianEmitter): each row is a uniformly drawn elite plus
+// N(0, sigma^2) in every gene (x0 plus that noise while the archive is empty), clamped to the
+// bounds when they are finite. It learns nothing from tell(). A scheduler of Gaussian emitters
+// at alpha = 1 is MAP-Elites with Gaussian variation.
+#include <limits>
+#include <vector>
+
+#include "qdmeta/emitters/emitter.hpp"
+
+namespace qdmeta {
+
+struct GaussianEmitterParams {
+  std::vector<double> x0;  // the parent while the archive is empty, one value per gene (required)
+  double sigma = 0.1;      // SD of the noise on every gene (> 0)
+  int batch_size = 36;     // rows per ask (>= 1)
+  double lower_bound = -std::numeric_limits<double>::infinity();  // genes are clamped to these
+  double upper_bound = std::numeric_limits<double>::infinity();   // (> lower_bound)
+  // Throws InputError naming the field, its value and the rule it breaks.
+  void validate() const;
+};
+
+class GaussianEmitter : public BatchEmitter {
+ public:
+  GaussianEmitter(GaussianEmitterParams params, ElitePicker pick_elite);
+
+  const GaussianEmitterParams& params() const { return params_; }
+  // Per row: the elite draw, then solution_size() normals in gene order.
+  const RowMatrix& ask(Rng& rng) override;
+  void tell(const EmitterResults& results) override;
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
+
+ private:
+  GaussianEmitterParams params_;
+  ElitePicker pick_elite_;
+  std::vector<double> parent_;
+};
+
+}  // namespace qdmeta

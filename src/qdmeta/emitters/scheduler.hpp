@@ -1,0 +1,138 @@
+#pragma once
+// CMA-ME and CMA-MAE as one ask/tell loop (Fontaine et al. 2020; Fontaine & Nikolaidis 2023):
+// ask() stacks each emitter's batch in emitter order; tell() takes the rows' objectives and
+// measures, adds every row to the archive under the thresholds (thresholded_add.hpp), and tells
+// each emitter the outcomes of its own rows. ThresholdParams{alpha = 1, threshold_min = -inf} is
+// CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
+// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it.
+//
+//   GridArchive archive(grid_params);
+//   Scheduler scheduler(archive, ThresholdParams{0.01, 0.0},
+//                       make_evolution_strategy_emitters(archive, emitter_params, 5));
+//   const RowMatrix& x = scheduler.ask(rng);   // evaluate each row...
+//   scheduler.tell(objectives, measures);
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/emitters/emitter.hpp"
+#include "qdmeta/emitters/evolution_strategy_emitter.hpp"
+#include "qdmeta/emitters/thresholded_add.hpp"
+
+namespace qdmeta {
+
+// The emitters' draw of an elite (a restart's mean, a Gaussian emitter's parent): a uniformly drawn elite of `archive` (which must outlive them).
+template <CellIndexedArchive A>
+ElitePicker elite_picker(const A& archive) {
+  return [&archive](Rng& rng, std::vector<double>& mean) {
+    if (archive.empty()) return false;
+    const Real* elite = archive.solution(archive.sample_cell(rng));
+    for (std::size_t j = 0; j < mean.size(); ++j) mean[j] = elite[j];
+    return true;
+  };
+}
+
+// `count` emitters of the same params that restart from elites of `archive`.
+template <CellIndexedArchive A>
+std::vector<std::unique_ptr<Emitter>> make_evolution_strategy_emitters(const A& archive,
+                                                                       const EvolutionStrategyEmitterParams& params,
+                                                                       int count) {
+  std::vector<std::unique_ptr<Emitter>> emitters;
+  for (int i = 0; i < count; ++i) emitters.push_back(std::make_unique<EvolutionStrategyEmitter>(params, elite_picker(archive)));
+  return emitters;
+}
+
+template <CellIndexedArchive A>
+class Scheduler {
+ public:
+  Scheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> emitters)
+      : archive_(archive), thresholds_(archive.cells(), thresholds), emitters_(std::move(emitters)) {
+    if (emitters_.empty()) throw InputError("Scheduler emitters is empty: give at least one emitter");
+    Index rows = 0;
+    for (std::size_t i = 0; i < emitters_.size(); ++i) {
+      if (!emitters_[i]) throw InputError(fmt::format("Scheduler emitters[{}] is null", i));
+      if (emitters_[i]->solution_size() != archive.solution_size()) {
+        throw InputError(fmt::format("Scheduler emitters[{}] proposes {} genes; the archive holds {}", i,
+                                     emitters_[i]->solution_size(), archive.solution_size()));
+      }
+      rows += emitters_[i]->batch_size();
+    }
+    solutions_.resize(rows, archive.solution_size());
+    outcomes_.resize(static_cast<std::size_t>(rows));
+  }
+
+  Index batch_size() const { return solutions_.rows(); }
+  std::size_t emitter_count() const { return emitters_.size(); }
+  const Emitter& emitter(std::size_t i) const { return *emitters_[i]; }
+  A& archive() { return archive_; }
+  const CellThresholds& thresholds() const { return thresholds_; }
+  // The last tell's outcomes, one per row.
+  std::span<const ThresholdOutcome> outcomes() const { return outcomes_; }
+
+  // Every emitter's batch, stacked in emitter order; valid until the next ask() or load().
+  const RowMatrix& ask(Rng& rng) {
+    if (awaiting_tell_) throw InputError("Scheduler::ask: called twice without tell; tell the last batch's results first");
+    Index row = 0;
+    for (auto& emitter : emitters_) {
+      const RowMatrix& batch = emitter->ask(rng);
+      solutions_.middleRows(row, batch.rows()) = batch;
+      row += batch.rows();
+    }
+    awaiting_tell_ = true;
+    return solutions_;
+  }
+
+  // The objectives and measures of the last ask()'s rows, in its order.
+  void tell(std::span<const Real> objectives, RowsView measures) {
+    if (!awaiting_tell_) throw InputError("Scheduler::tell: called without a pending ask; call ask() first");
+    add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, {}}, outcomes_);
+    awaiting_tell_ = false;
+    Index row = 0;
+    for (auto& emitter : emitters_) {
+      const Index rows = emitter->batch_size();
+      const auto first = static_cast<std::size_t>(row);
+      const auto count = static_cast<std::size_t>(rows);
+      emitter->tell({RowsView(solutions_.row(row).data(), rows, solutions_.cols()), objectives.subspan(first, count),
+                     RowsView(measures.row(row), rows, measures.cols, measures.stride),
+                     std::span<const ThresholdOutcome>(outcomes_).subspan(first, count)});
+      row += rows;
+    }
+  }
+
+  // Checkpoints of the thresholds and emitters (the caller saves the archive); load() into a
+  // scheduler built alike.
+  void save(BinaryWriter& out) const {
+    out.tag("emitter scheduler");
+    thresholds_.save(out);
+    for (const auto& emitter : emitters_) emitter->save(out);
+    out.boolean(awaiting_tell_);
+    out.matrix(solutions_);
+  }
+  void load(BinaryReader& in) {
+    in.expect_tag("emitter scheduler");
+    thresholds_.load(in);
+    for (auto& emitter : emitters_) emitter->load(in);
+    awaiting_tell_ = in.boolean("scheduler pending flag");
+    RowMatrix solutions;
+    in.matrix(solutions, "scheduler batch");
+    if (solutions.rows() != solutions_.rows() || solutions.cols() != solutions_.cols()) {
+      in.fail(fmt::format("the scheduler batch is {}x{}, expected {}x{}", solutions.rows(), solutions.cols(),
+                          solutions_.rows(), solutions_.cols()));
+    }
+    solutions_ = std::move(solutions);
+  }
+
+ private:
+  A& archive_;
+  CellThresholds thresholds_;
+  std::vector<std::unique_ptr<Emitter>> emitters_;
+  RowMatrix solutions_;
+  std::vector<ThresholdOutcome> outcomes_;
+  bool awaiting_tell_ = false;
+};
+
+}  // namespace qdmeta
