@@ -3,13 +3,16 @@
 // courses) on DART with rigid legs (the reference), MuJoCo with rigid legs, and DART with
 // compliant legs on the first `compliant` controllers (each ~1.5 s). Per environment and model:
 // mean distance (dead = 0), deaths, the tripod's distance, and against DART-rigid over the same
-// controllers Pearson's r and Spearman's rank correlation, and how many die on one engine only.
+// controllers Pearson's r and Spearman's rank correlation, and how many die on one engine only;
+// deaths by cause: turned over (during the walk), never settled (after it), diverged (MuJoCo).
 // MuJoCo's compliant legs are not modelled yet (rhex_episode.cpp refuses them). Not a
 // micro-benchmark: a plain program.
-//   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [seconds=5]
+//   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [seconds=5] [only=NAME]
+// only: the environments whose name contains NAME.
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,6 +36,8 @@ struct Model {
 struct Outcome {
   std::vector<double> distance;  // 0 when dead
   std::vector<int> dead;
+  int turned_over = 0, unsettled = 0, diverged = 0;  // the deaths by cause
+  double drift = 0.0, turn = 0.0;  // mean |y| (m) and |yaw| (rad) at the end, dead or alive
   double tripod = 0.0;
   double seconds_per_episode = 0.0;
 };
@@ -43,12 +48,13 @@ std::vector<double> head(const std::vector<double>& v, std::size_t n) { return {
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args{{"count", "200"}, {"seed", "3"},      {"threads", "1"},
-                                          {"leg", "1"},     {"compliant", "0"}, {"seconds", "5"}};
+                                          {"leg", "1"},     {"compliant", "0"}, {"seconds", "5"},
+                                          {"only", ""}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto eq = a.find('=');
     if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
-      fmt::print(stderr, "rhex_engines: bad argument '{}' (key=value, keys: count seed threads leg compliant seconds)\n", a);
+      fmt::print(stderr, "rhex_engines: bad argument '{}' (key=value, keys: count seed threads leg compliant seconds only)\n", a);
       return 2;
     }
     args[a.substr(0, eq)] = a.substr(eq + 1);
@@ -76,6 +82,7 @@ int main(int argc, char** argv) {
     fmt::print("{} random controllers (seed {}), DART compliant on the first {}, {} threads; distance in m (dead = 0)\n",
                count, args["seed"], subset, threads);
     for (const auto& [env_name, env] : envs) {
+      if (!args["only"].empty() && env_name.find(args["only"]) == std::string::npos) continue;
       std::vector<Outcome> outcomes;
       for (const auto& m : models) {
         RhexParams p;
@@ -88,11 +95,26 @@ int main(int argc, char** argv) {
         o.distance.resize(static_cast<std::size_t>(n));
         o.dead.resize(static_cast<std::size_t>(n));
         const auto start = std::chrono::steady_clock::now();
+        std::vector<int> cause(static_cast<std::size_t>(n));  // 1 turned over, 2 never settled, 3 diverged
+        std::vector<double> drift(cause.size()), turn(cause.size());
         evaluator->parallel_for(n, [&](Index i) {
           const rhex::EpisodeResult r = task.episode(g.row(i).data(), env);
-          o.distance[static_cast<std::size_t>(i)] = r.dead ? 0.0 : r.fitness;
-          o.dead[static_cast<std::size_t>(i)] = r.dead;
+          const auto j = static_cast<std::size_t>(i);
+          o.distance[j] = r.dead ? 0.0 : r.fitness;
+          o.dead[j] = r.dead;
+          if (r.dead) cause[j] = r.turned_over ? 1 : r.settle_steps == p.episode.settle_steps ? 2 : 3;
+          drift[j] = std::abs(r.final_pose.y);
+          turn[j] = std::abs(r.final_pose.yaw);
         });
+        for (std::size_t j = 0; j < drift.size(); ++j) {
+          o.drift += drift[j] / static_cast<double>(n);
+          o.turn += turn[j] / static_cast<double>(n);
+        }
+        for (const int c : cause) {
+          o.turned_over += c == 1;
+          o.unsettled += c == 2;
+          o.diverged += c == 3;
+        }
         o.seconds_per_episode =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() * threads / static_cast<double>(n);
         const rhex::EpisodeResult t = task.episode(tripod.data(), env);
@@ -110,8 +132,10 @@ int main(int argc, char** argv) {
           dead += o.dead[j];
           dead_disagree += o.dead[j] != outcomes[0].dead[j];
         }
-        fmt::print("  {:15s} n {:3d}, mean {:6.3f}, dead {:3d}, tripod {:6.3f}, {:.3f} s/episode/core", models[k].name, n,
-                   mean, dead, o.tripod, o.seconds_per_episode);
+        fmt::print("  {:15s} n {:3d}, mean {:6.3f}, dead {:3d} (turned over {}, never settled {}, diverged {}), "
+                   "|y| {:.2f}, |yaw| {:.2f}, tripod {:6.3f}, {:.3f} s/episode/core",
+                   models[k].name, n, mean, dead, o.turned_over, o.unsettled, o.diverged, o.drift, o.turn, o.tripod,
+                   o.seconds_per_episode);
         if (k > 0) {
           const auto ref = head(outcomes[0].distance, n);
           fmt::print("; vs DART rigid: r = {:.3f}, rank r = {:.3f}, dead on one only {}", bench::correlation(o.distance, ref),

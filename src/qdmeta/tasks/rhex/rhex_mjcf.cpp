@@ -1,9 +1,12 @@
 // The RHex MJCF. Robot geoms collide only with the terrain (contype 1 / conaffinity 0 against the
 // terrain's 0 / 1), as DART's robot has no self-collision. Contacts: friction 1 (sliding only,
-// condim 3, pyramidal cone as DART's boxed LCP), no restitution: MuJoCo's soft contact, critically
-// damped, with the stiffest time constant its solver accepts at this step (2 steps) and an
-// impedance near 1 (solimp 0.99-0.999: contacts nearly as hard as DART's; the default 0.9-0.95
-// let the robot bounce, pitching 0.4 rad against DART's 0.07 on the tripod gait).
+// condim 3, pyramidal cone as DART's boxed LCP), no restitution. MuJoCo's soft contact is given
+// DART's contact law at the same step (direct solref: stiffness, damping): damping 1 / dt stops
+// the approach within a step as DART's inelastic LCP row does, and stiffness ERP / dt^2 (ERP =
+// 0.01, DART's error reduction) pushes a penetration out at 2 x depth per second as DART does. The
+// earlier time constant of 2 steps (stiffness 1 / (2 dt)^2, 25 x DART's) threw a robot that met a
+// stone or a bar edge at speed (docs/fidelity.md, "RHex on MuJoCo"). Impedance near 1 (solimp
+// 0.99-0.999: contacts nearly as hard as DART's; 0.9-0.95 let the robot bounce).
 #include "qdmeta/tasks/rhex/rhex_mjcf.hpp"
 
 #include <fmt/format.h>
@@ -17,6 +20,9 @@ namespace {
 // Contact buffers: sized for the worst course (rubble) with room to spare; mjData's arena, allocated
 // and cleared once per episode, grows with them (4,000 rows cost ~0.1 s an episode in page faults).
 constexpr int kMaxContacts = 250;
+
+// DART's contact error reduction per step (its ContactConstraint's default ERP).
+constexpr double kDartErrorReduction = 0.01;
 
 std::string vec(const Eigen::Vector3d& v) { return fmt::format("{:.17g} {:.17g} {:.17g}", v.x(), v.y(), v.z()); }
 
@@ -118,13 +124,14 @@ std::string leg_body_name(int leg, int plate) { return fmt::format("leg_{}_plate
 std::string hip_joint_name(int leg) { return fmt::format("hip_{}", leg); }
 
 std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& environment) {
-  const double contact_time = 2.0 * settings.time_step;
+  const double dt = settings.time_step;
+  const double stiffness = kDartErrorReduction / (dt * dt), damping = 1.0 / dt;
   return fmt::format(R"(<mujoco model="rhex">
 <compiler angle="radian" inertiafromgeom="false"/>
 <option timestep="{:.17g}" gravity="0 0 -9.81" integrator="Euler" cone="pyramidal"/>
 <size njmax="{}" nconmax="{}"/>
 <default>
-<geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{:.17g} 1" solimp="0.99 0.999 0.001"/>
+<geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{:.17g} {:.17g}" solimp="0.99 0.999 0.001"/>
 <default class="robot"><geom contype="1" conaffinity="0"/></default>
 <default class="terrain"><geom contype="0" conaffinity="1"/></default>
 </default>
@@ -132,7 +139,7 @@ std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& en
 {}{}</worldbody>
 </mujoco>
 )",
-                     settings.time_step, 4 * kMaxContacts, kMaxContacts, kFriction, contact_time, terrain(environment.course), robot(settings, environment));
+                     settings.time_step, 4 * kMaxContacts, kMaxContacts, kFriction, -stiffness, -damping, terrain(environment.course), robot(settings, environment));
 }
 
 }  // namespace qdmeta::rhex
