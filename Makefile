@@ -24,7 +24,10 @@ build: deps $(BUILD)/build.ninja
 # its report (figures and report.md). Run it again to reuse the finished runs.
 DEMO_REPLICATES ?= 2
 DEMO_EVALS ?= 1000000
-run: build
+# Builds only what the demo runs: the qdmeta command line (the report is tools/report.py, read from
+# the source tree), not the tests, benchmarks or examples.
+run: deps $(BUILD)/build.ninja
+	cmake --build $(BUILD) -j $(JOBS) --target qdmeta_cli
 	$(BUILD)/qdmeta experiment --config configs/rastrigin/experiment.toml --out $(DEMO_OUT) --replicates $(DEMO_REPLICATES) --evals $(DEMO_EVALS)
 	@echo "Report: $(DEMO_OUT)/report.md (figures in $(DEMO_OUT)/figures); runs in $(DEMO_OUT)/<condition>/seed-<r>/"
 

@@ -133,6 +133,26 @@ if [[ -e $package/qdmetaRhexTargets.cmake ]]; then
   [[ $message == *"found: rhex, directory definitions: []"* ]] || fail "finding rhex left definitions: $message"
 fi
 
+step "a program that asks for qdmeta 0.1 is refused: 0.2 broke its API (CHANGELOG.md)"
+versioned=$consumer/versioned
+mkdir -p "$versioned/source"
+cat > "$versioned/source/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(versioned LANGUAGES CXX)
+find_package(qdmeta ${WANT_VERSION} REQUIRED)
+message(STATUS "found qdmeta ${qdmeta_VERSION}")
+CMAKE
+# SameMinorVersion (cmake/install.cmake): 0.x accepts only its own minor version.
+asks_version() {
+  rm -rf "$versioned/build"
+  cmake -S "$versioned/source" -B "$versioned/build" -DWANT_VERSION="$1" -DCMAKE_PREFIX_PATH="$prefix" 2>&1 | tr -s ' \n' ' '
+  return "${PIPESTATUS[0]}"
+}
+message=$(asks_version 0.1) && fail "find_package(qdmeta 0.1) accepted this installation: $message"
+[[ $message == *"qdmetaConfig.cmake, version: 0.2."* ]] || fail "find_package(qdmeta 0.1): $message"
+message=$(asks_version 0.2) || fail "find_package(qdmeta 0.2): $message"
+[[ $message == *"found qdmeta 0.2."* ]] || fail "find_package(qdmeta 0.2): $message"
+
 step "building examples/own-task against it, for the x86-64 baseline"
 configure "$root/examples/own-task" "$example"
 cmake --build "$example" -j "$jobs" > "$example.build.log" 2>&1 || { cat "$example.build.log"; fail "building the example"; }

@@ -104,6 +104,17 @@ TEST(Checkpoint, OnlyThisProgramsVersionResumes) {
   EXPECT_NO_THROW(read_back(dir));
 }
 
+// 0.2.0 changed the API (CHANGELOG.md), not what a run draws: a 0.1.0 checkpoint resumes.
+TEST(Checkpoint, AVersionListedAsContinuedResumes) {
+  ASSERT_NE(std::string(kVersion), "0.1.0");
+  const fs::path dir = fresh_dir("listed-version");
+  checkpointed_run(dir);
+  forge_version(dir, "0.1.0");
+  EXPECT_NO_THROW(read_back(dir));
+  forge_version(dir, "0.1.1");
+  expect_input_error([&] { read_back(dir); }, "was written by qdmeta 0.1.1, whose runs this qdmeta");
+}
+
 // The checkpoint in `dir` with the first occurrence of `value`'s bytes replaced by `by`'s.
 void forge_value(const fs::path& dir, Real value, Real by) {
   std::string bytes = without_checksum(dir);
