@@ -14,6 +14,7 @@ The C++ library behind the `qdmeta` command line, from Python:
 Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
   writes them.
+- ``cqd_score(archive, ...)``: the CQD score of an archive, as pyribs's ``cqd_score``.
 - ``qdmeta.visualize`` (imported on its own, as it needs matplotlib): heatmaps and parallel-axes
   plots of an archive.
 
@@ -41,6 +42,8 @@ from ._qdmeta import (  # noqa: F401  (the public names)
 )
 
 import numpy as _numpy
+
+from ._cqd import CQDScoreResult, cqd_score  # noqa: F401
 
 from . import _arguments, _numpy_check, _pyribs_names, _qdmeta
 
