@@ -14,6 +14,7 @@ The C++ library behind the `qdmeta` command line, from Python:
 Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
   writes them.
+- ``ProximityArchive``: novelty search's archive, as pyribs's.
 - ``cqd_score(archive, ...)``: the CQD score of an archive, as pyribs's ``cqd_score``.
 - ``qdmeta.visualize`` (imported on its own, as it needs matplotlib): heatmaps and parallel-axes
   plots of an archive.
@@ -30,6 +31,7 @@ from ._qdmeta import (  # noqa: F401  (the public names)
     GridArchive,
     InputError,
     MetaObjective,
+    ProximityArchive,
     Task,
     UnstructuredArchive,
     __version__,
@@ -52,6 +54,7 @@ _pyribs_names.add_pyribs_names((GridArchive, CvtArchive, UnstructuredArchive), G
 
 for _archive in (GridArchive, CvtArchive, UnstructuredArchive):
     _arguments.shorten_argument_errors(_archive, "__init__", "add", "retrieve", "retrieve_single", "sample_elites")
+_arguments.shorten_argument_errors(ProximityArchive, "__init__", "add", "compute_novelty", "index_of", "data")
 _arguments.shorten_argument_errors(GridArchive, "index_of")
 _arguments.shorten_argument_errors(CvtArchive, "index_of")
 _arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "retrieve", "step", "run")

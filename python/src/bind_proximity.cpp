@@ -1,0 +1,148 @@
+// qdmeta.ProximityArchive: novelty search's archive, with pyribs's ProximityArchive's names,
+// arguments and add() result.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "bindings.hpp"
+#include "numpy_arrays.hpp"
+#include "qdmeta/archive/proximity_archive.hpp"
+#include "qdmeta/core/error.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+namespace {
+
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// `value` as (rows x cols) doubles (cols < 0: a vector), refused in one line naming `what`.
+DoubleArray rows_of(py::handle value, py::ssize_t rows, py::ssize_t cols, const std::string& what) {
+  DoubleArray a = DoubleArray::ensure(value);
+  if (!a) throw InputError(what + " must be a numeric array");
+  const bool vector = cols < 0;
+  const bool fits = vector ? a.ndim() == 1 && (rows < 0 || a.shape(0) == rows)
+                           : a.ndim() == 2 && a.shape(1) == cols && (rows < 0 || a.shape(0) == rows);
+  if (!fits) {
+    const std::string n = rows < 0 ? "n" : std::to_string(rows);
+    throw InputError(what + " must have shape " + (vector ? "(" + n + ",)" : "(" + n + ", " + std::to_string(cols) + ")") +
+                     ", not " + shape_of(a));
+  }
+  return a;
+}
+
+std::span<const double> values(const DoubleArray& a) { return {a.data(), static_cast<std::size_t>(a.size())}; }
+
+template <class T>
+py::array_t<T> to_numpy(const std::vector<T>& v) {
+  auto out = new_array<T>({static_cast<py::ssize_t>(v.size())});
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
+
+py::array_t<double> matrix(std::span<const double> v, Index cols) {
+  auto out = new_array<double>({static_cast<py::ssize_t>(v.size()) / cols, static_cast<py::ssize_t>(cols)});
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
+
+}  // namespace
+
+void bind_proximity_archive(py::module_& m) {
+  py::class_<ProximityArchive>(m, "ProximityArchive", R"doc(
+Novelty search's archive, as pyribs's ProximityArchive: a solution whose novelty (mean
+Euclidean distance to its k nearest elites, judged against the archive before the batch) is at
+least novelty_threshold is added; with local_competition, one that is not replaces its nearest
+elite when its objective is higher; with threshold_decay_rate, threshold_decay_itrs adds in a
+row with nothing novel multiply the threshold by it, down to threshold_decay_min.)doc")
+      .def(py::init([](Index solution_dim, Index measure_dim, Index k_neighbors, double novelty_threshold,
+                       bool local_competition, double qd_score_offset, std::optional<double> threshold_decay_rate,
+                       Index threshold_decay_itrs, double threshold_decay_min) {
+             ProximityArchiveParams p;
+             p.solution_size = solution_dim;
+             p.measure_size = measure_dim;
+             p.k_neighbors = k_neighbors;
+             p.novelty_threshold = novelty_threshold;
+             p.local_competition = local_competition;
+             p.qd_offset = qd_score_offset;
+             p.threshold_decay_rate = threshold_decay_rate;
+             p.threshold_decay_itrs = threshold_decay_itrs;
+             p.threshold_decay_min = threshold_decay_min;
+             return ProximityArchive(p);
+           }),
+           py::kw_only(), py::arg("solution_dim"), py::arg("measure_dim"), py::arg("k_neighbors"),
+           py::arg("novelty_threshold"), py::arg("local_competition") = false, py::arg("qd_score_offset") = 0.0,
+           py::arg("threshold_decay_rate") = py::none(), py::arg("threshold_decay_itrs") = 1,
+           py::arg("threshold_decay_min") = 0.0)
+      .def(
+          "add",
+          [](ProximityArchive& a, py::handle solution, py::handle objective, py::handle measures) {
+            const Index s = a.params().solution_size;
+            const Index d = a.params().measure_size;
+            if (objective.is_none() && a.params().local_competition)
+              throw InputError("objective must be given when local_competition is on");
+            const DoubleArray at = rows_of(measures, -1, d, "measures");
+            const py::ssize_t n = at.shape(0);
+            const DoubleArray x = rows_of(solution, n, s, "solution");
+            DoubleArray f = objective.is_none() ? new_array<double, py::array::c_style | py::array::forcecast>({n})
+                                                : rows_of(objective, n, -1, "objective");
+            if (objective.is_none()) std::fill(f.mutable_data(), f.mutable_data() + n, 0.0);  // pyribs: objective 0
+            const ProximityAddResult r = a.add(values(x), values(f), values(at));
+            py::dict out;
+            out["status"] = to_numpy(std::vector<std::int32_t>(r.status.begin(), r.status.end()));
+            out["novelty"] = to_numpy(r.novelty);
+            if (a.params().local_competition) {
+              out["local_competition"] = to_numpy(r.local_competition);
+              out["value"] = to_numpy(r.value);
+            }
+            return out;
+          },
+          py::arg("solution"), py::arg("objective"), py::arg("measures"),
+          "add(solution (n, solution_dim), objective (n,) or None, measures (n, measure_dim)) -> {status, novelty[, "
+          "local_competition, value]}: pyribs's codes, 0 not added, 1 replaced its nearest elite, 2 added as novel")
+      .def(
+          "compute_novelty",
+          [](const ProximityArchive& a, py::handle measures) {
+            return to_numpy(a.novelty(values(rows_of(measures, -1, a.params().measure_size, "measures"))));
+          },
+          py::arg("measures"))
+      .def(
+          "index_of",
+          [](const ProximityArchive& a, py::handle measures) {
+            const auto nearest = a.index_of(values(rows_of(measures, -1, a.params().measure_size, "measures")));
+            return to_numpy(std::vector<std::int32_t>(nearest.begin(), nearest.end()));
+          },
+          py::arg("measures"))
+      .def(
+          "data",
+          [](const ProximityArchive& a, std::optional<std::string> field) -> py::object {
+            py::dict all;
+            all["solution"] = matrix(a.solutions(), a.params().solution_size);
+            all["objective"] = to_numpy(std::vector<double>(a.objectives().begin(), a.objectives().end()));
+            all["measures"] = matrix(a.measures(), a.params().measure_size);
+            std::vector<std::int32_t> index(static_cast<std::size_t>(a.size()));
+            for (std::size_t i = 0; i < index.size(); ++i) index[i] = static_cast<std::int32_t>(i);
+            all["index"] = to_numpy(index);
+            if (!field) return all;
+            if (!all.contains(*field))
+              throw InputError("data(): unknown field '" + *field + "': use solution, objective, measures or index");
+            return all[py::str(*field)];
+          },
+          py::arg("fields") = py::none(), "data() -> dict of arrays; data(field) -> that array (pyribs's names)")
+      .def("__len__", &ProximityArchive::size)
+      .def_property_readonly("empty", [](const ProximityArchive& a) { return a.size() == 0; })
+      .def_property_readonly("stats", &ProximityArchive::stats)
+      .def_property_readonly("solution_dim", [](const ProximityArchive& a) { return a.params().solution_size; })
+      .def_property_readonly("measure_dim", [](const ProximityArchive& a) { return a.params().measure_size; })
+      .def_property_readonly("k_neighbors", [](const ProximityArchive& a) { return a.params().k_neighbors; })
+      .def_property_readonly("novelty_threshold", &ProximityArchive::novelty_threshold)
+      .def_property_readonly("local_competition", [](const ProximityArchive& a) { return a.params().local_competition; })
+      .def_property_readonly("qd_score_offset", [](const ProximityArchive& a) { return a.params().qd_offset; });
+}
+
+}  // namespace qdmeta::python
