@@ -14,7 +14,8 @@ The C++ library behind the `qdmeta` command line, from Python:
 Archives, tasks, meta-objectives and algorithms (between steps) pickle and deep-copy.
 - ``run(config, out_dir, ...)`` and ``resume(out_dir, ...)``: run directories as ``qdmeta run``
   writes them.
-- ``ProximityArchive``: novelty search's archive, as pyribs's.
+- ``ProximityArchive``, ``SlidingBoundariesArchive``: novelty search's archive and Fontaine et
+  al.'s sliding-boundaries grid, as pyribs's.
 - ``cqd_score(archive, ...)``: the CQD score of an archive, as pyribs's ``cqd_score``.
 - ``qdmeta.visualize`` (imported on its own, as it needs matplotlib): heatmaps and parallel-axes
   plots of an archive.
@@ -32,6 +33,7 @@ from ._qdmeta import (  # noqa: F401  (the public names)
     InputError,
     MetaObjective,
     ProximityArchive,
+    SlidingBoundariesArchive,
     Task,
     UnstructuredArchive,
     __version__,
@@ -55,6 +57,7 @@ _pyribs_names.add_pyribs_names((GridArchive, CvtArchive, UnstructuredArchive), G
 for _archive in (GridArchive, CvtArchive, UnstructuredArchive):
     _arguments.shorten_argument_errors(_archive, "__init__", "add", "retrieve", "retrieve_single", "sample_elites")
 _arguments.shorten_argument_errors(ProximityArchive, "__init__", "add", "compute_novelty", "index_of", "data")
+_arguments.shorten_argument_errors(SlidingBoundariesArchive, "__init__", "add", "index_of", "data")
 _arguments.shorten_argument_errors(GridArchive, "index_of")
 _arguments.shorten_argument_errors(CvtArchive, "index_of")
 _arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "retrieve", "step", "run")

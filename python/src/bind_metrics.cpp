@@ -9,20 +9,12 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "numpy_arrays.hpp"
+#include "double_arrays.hpp"
 #include "qdmeta/archive/cqd_score.hpp"
 
 namespace py = pybind11;
 
 namespace qdmeta::python {
-namespace {
-
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-std::span<const double> values(const DoubleArray& a) { return {a.data(), static_cast<std::size_t>(a.size())}; }
-
-}  // namespace
-
 void bind_metrics(py::module_& m) {
   m.def(
       "_cqd_score",

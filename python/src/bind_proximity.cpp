@@ -6,52 +6,17 @@
 
 #include <algorithm>
 #include <optional>
-#include <span>
 #include <string>
+#include <vector>
 
 #include "bindings.hpp"
-#include "numpy_arrays.hpp"
+#include "double_arrays.hpp"
 #include "qdmeta/archive/proximity_archive.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace py = pybind11;
 
 namespace qdmeta::python {
-namespace {
-
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-// `value` as (rows x cols) doubles (cols < 0: a vector), refused in one line naming `what`.
-DoubleArray rows_of(py::handle value, py::ssize_t rows, py::ssize_t cols, const std::string& what) {
-  DoubleArray a = DoubleArray::ensure(value);
-  if (!a) throw InputError(what + " must be a numeric array");
-  const bool vector = cols < 0;
-  const bool fits = vector ? a.ndim() == 1 && (rows < 0 || a.shape(0) == rows)
-                           : a.ndim() == 2 && a.shape(1) == cols && (rows < 0 || a.shape(0) == rows);
-  if (!fits) {
-    const std::string n = rows < 0 ? "n" : std::to_string(rows);
-    throw InputError(what + " must have shape " + (vector ? "(" + n + ",)" : "(" + n + ", " + std::to_string(cols) + ")") +
-                     ", not " + shape_of(a));
-  }
-  return a;
-}
-
-std::span<const double> values(const DoubleArray& a) { return {a.data(), static_cast<std::size_t>(a.size())}; }
-
-template <class T>
-py::array_t<T> to_numpy(const std::vector<T>& v) {
-  auto out = new_array<T>({static_cast<py::ssize_t>(v.size())});
-  std::copy(v.begin(), v.end(), out.mutable_data());
-  return out;
-}
-
-py::array_t<double> matrix(std::span<const double> v, Index cols) {
-  auto out = new_array<double>({static_cast<py::ssize_t>(v.size()) / cols, static_cast<py::ssize_t>(cols)});
-  std::copy(v.begin(), v.end(), out.mutable_data());
-  return out;
-}
-
-}  // namespace
 
 void bind_proximity_archive(py::module_& m) {
   py::class_<ProximityArchive>(m, "ProximityArchive", R"doc(
@@ -86,19 +51,19 @@ row with nothing novel multiply the threshold by it, down to threshold_decay_min
             const Index d = a.params().measure_size;
             if (objective.is_none() && a.params().local_competition)
               throw InputError("objective must be given when local_competition is on");
-            const DoubleArray at = rows_of(measures, -1, d, "measures");
+            const DoubleArray at = double_rows(measures, -1, d, "measures");
             const py::ssize_t n = at.shape(0);
-            const DoubleArray x = rows_of(solution, n, s, "solution");
+            const DoubleArray x = double_rows(solution, n, s, "solution");
             DoubleArray f = objective.is_none() ? new_array<double, py::array::c_style | py::array::forcecast>({n})
-                                                : rows_of(objective, n, -1, "objective");
+                                                : double_rows(objective, n, -1, "objective");
             if (objective.is_none()) std::fill(f.mutable_data(), f.mutable_data() + n, 0.0);  // pyribs: objective 0
             const ProximityAddResult r = a.add(values(x), values(f), values(at));
             py::dict out;
-            out["status"] = to_numpy(std::vector<std::int32_t>(r.status.begin(), r.status.end()));
-            out["novelty"] = to_numpy(r.novelty);
+            out["status"] = vector_array(std::vector<std::int32_t>(r.status.begin(), r.status.end()));
+            out["novelty"] = vector_array(r.novelty);
             if (a.params().local_competition) {
-              out["local_competition"] = to_numpy(r.local_competition);
-              out["value"] = to_numpy(r.value);
+              out["local_competition"] = vector_array(r.local_competition);
+              out["value"] = vector_array(r.value);
             }
             return out;
           },
@@ -108,26 +73,26 @@ row with nothing novel multiply the threshold by it, down to threshold_decay_min
       .def(
           "compute_novelty",
           [](const ProximityArchive& a, py::handle measures) {
-            return to_numpy(a.novelty(values(rows_of(measures, -1, a.params().measure_size, "measures"))));
+            return vector_array(a.novelty(values(double_rows(measures, -1, a.params().measure_size, "measures"))));
           },
           py::arg("measures"))
       .def(
           "index_of",
           [](const ProximityArchive& a, py::handle measures) {
-            const auto nearest = a.index_of(values(rows_of(measures, -1, a.params().measure_size, "measures")));
-            return to_numpy(std::vector<std::int32_t>(nearest.begin(), nearest.end()));
+            const auto nearest = a.index_of(values(double_rows(measures, -1, a.params().measure_size, "measures")));
+            return vector_array(std::vector<std::int32_t>(nearest.begin(), nearest.end()));
           },
           py::arg("measures"))
       .def(
           "data",
           [](const ProximityArchive& a, std::optional<std::string> field) -> py::object {
             py::dict all;
-            all["solution"] = matrix(a.solutions(), a.params().solution_size);
-            all["objective"] = to_numpy(std::vector<double>(a.objectives().begin(), a.objectives().end()));
-            all["measures"] = matrix(a.measures(), a.params().measure_size);
+            all["solution"] = matrix_array(a.solutions(), a.params().solution_size);
+            all["objective"] = vector_array(std::vector<double>(a.objectives().begin(), a.objectives().end()));
+            all["measures"] = matrix_array(a.measures(), a.params().measure_size);
             std::vector<std::int32_t> index(static_cast<std::size_t>(a.size()));
             for (std::size_t i = 0; i < index.size(); ++i) index[i] = static_cast<std::int32_t>(i);
-            all["index"] = to_numpy(index);
+            all["index"] = vector_array(index);
             if (!field) return all;
             if (!all.contains(*field))
               throw InputError("data(): unknown field '" + *field + "': use solution, objective, measures or index");

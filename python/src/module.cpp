@@ -61,6 +61,7 @@ PYBIND11_MODULE(_qdmeta, m) {
   qdmeta::python::bind_runs(m);
   qdmeta::python::bind_metrics(m);
   qdmeta::python::bind_proximity_archive(m);
+  qdmeta::python::bind_sliding_boundaries_archive(m);
 
   m.def("algorithms", &qdmeta::registered_algorithm_names, "The registered algorithms, the config's default first");
   m.def("tasks", &qdmeta::registered_task_names, "The registered tasks (built-in and registered from Python)");
