@@ -7,15 +7,15 @@ set -euo pipefail
 core=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libtbb-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libnanoflann-dev
   python3 python3-dev python3-matplotlib python3-numpy python3-pytest pybind11-dev
 )
-# Optional components (robot task in DART, MPI evaluator, AURORA's k-d tree). The RHex task needs
+# Optional components (robot task in DART, MPI evaluator). The RHex task needs
 # DART with its Bullet collision detector; ikfast's headers are needed or dart.hpp won't compile.
 # MuJoCo 2.2.2 is the RHex task's second engine ([task] engine = "mujoco", docs/fidelity.md).
 # OpenMPI (mpirun and the headers) builds the MPI evaluator and runs its 3-rank test. pandas gives
 # the Python archives their as_pandas(); python3-venv is for make test-pip and bench/peers.
-optional=(libnanoflann-dev libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev libmujoco-dev
+optional=(libdart-dev libdart-collision-bullet-dev libdart-external-ikfast-dev libmujoco-dev
           openmpi-bin libopenmpi-dev python3-pandas python3-venv)
 
 packages=("${core[@]}")

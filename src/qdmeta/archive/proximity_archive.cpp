@@ -43,15 +43,13 @@ ProximityArchive::ProximityArchive(const ProximityArchiveParams& params)
   params_.validate();
 }
 
-void ProximityArchive::distances_to(const double* point, std::vector<double>& out) const {
-  const auto d = static_cast<std::size_t>(params_.measure_size);
-  out.resize(objectives_.size());
-  for (std::size_t e = 0; e < out.size(); ++e) {
-    const double* elite = measures_.data() + e * d;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < d; ++i) sum += (point[i] - elite[i]) * (point[i] - elite[i]);
-    out[e] = std::sqrt(sum);
-  }
+std::size_t ProximityArchive::nearest(const double* point, std::size_t k, std::vector<std::size_t>& elites,
+                                      std::vector<double>& distances) const {
+  elites.resize(k);
+  distances.resize(k);
+  const std::size_t found = tree_ ? tree_->nearest(point, k, elites.data(), distances.data()) : 0;
+  for (std::size_t i = 0; i < found; ++i) distances[i] = std::sqrt(distances[i]);
+  return found;
 }
 
 std::vector<double> ProximityArchive::novelty(std::span<const double> measures) const {
@@ -61,10 +59,10 @@ std::vector<double> ProximityArchive::novelty(std::span<const double> measures) 
   std::vector<double> novelty(rows, threshold_);
   if (objectives_.empty()) return novelty;
   const auto k = std::min(static_cast<std::size_t>(params_.k_neighbors), objectives_.size());
+  std::vector<std::size_t> elites;
   std::vector<double> dist;
   for (std::size_t r = 0; r < rows; ++r) {
-    distances_to(measures.data() + r * d, dist);
-    std::partial_sort(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), dist.end());
+    nearest(measures.data() + r * d, k, elites, dist);
     double sum = 0.0;
     for (std::size_t i = 0; i < k; ++i) sum += dist[i];
     novelty[r] = sum / static_cast<double>(k);
@@ -76,13 +74,14 @@ std::vector<Index> ProximityArchive::index_of(std::span<const double> measures) 
   const auto d = static_cast<std::size_t>(params_.measure_size);
   require(measures.size() % d == 0, fmt::format("measures has {} values, not n x measure_dim ({})", measures.size(), d));
   require(!objectives_.empty(), "index_of needs at least one elite in the archive (the nearest one is the index)");
-  std::vector<Index> nearest(measures.size() / d);
+  std::vector<Index> cells(measures.size() / d);
+  std::vector<std::size_t> elites;
   std::vector<double> dist;
-  for (std::size_t r = 0; r < nearest.size(); ++r) {
-    distances_to(measures.data() + r * d, dist);
-    nearest[r] = std::min_element(dist.begin(), dist.end()) - dist.begin();
+  for (std::size_t r = 0; r < cells.size(); ++r) {
+    nearest(measures.data() + r * d, 1, elites, dist);
+    cells[r] = static_cast<Index>(elites[0]);
   }
-  return nearest;
+  return cells;
 }
 
 void ProximityArchive::replace(Index elite, const double* solution, double objective, const double* measures) {
@@ -135,26 +134,22 @@ ProximityAddResult ProximityArchive::add(std::span<const double> solutions, std:
     result.value.assign(rows, 0.0);
     const bool had_elites = !objectives_.empty();
     const auto k = std::min(static_cast<std::size_t>(params_.k_neighbors), objectives_.size());
+    std::vector<std::size_t> order;
     std::vector<double> dist;
-    std::vector<std::size_t> order(objectives_.size());
     // Per elite, the candidate that replaces it: the best improving one, the first on ties.
     std::vector<std::ptrdiff_t> winner(objectives_.size(), -1);
     for (std::size_t r = 0; r < rows && had_elites; ++r) {
-      distances_to(measures.data() + r * d, dist);
-      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-      // k nearest by distance (elite index breaking ties), the nearest first.
-      std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
-                        [&](std::size_t a, std::size_t b) { return dist[a] < dist[b] || (dist[a] == dist[b] && a < b); });
+      nearest(measures.data() + r * d, k, order, dist);
       for (std::size_t i = 0; i < k; ++i) result.local_competition[r] += objectives_[order[i]] < objectives[r] ? 1 : 0;
       if (result.novelty[r] >= threshold_) {
         result.value[r] = objectives[r];
         continue;
       }
-      const std::size_t nearest = order[0];
-      result.value[r] = objectives[r] - objectives_[nearest];
-      if (objectives[r] > objectives_[nearest]) {
+      const std::size_t closest = order[0];
+      result.value[r] = objectives[r] - objectives_[closest];
+      if (objectives[r] > objectives_[closest]) {
         result.status[r] = 1;
-        std::ptrdiff_t& w = winner[nearest];
+        std::ptrdiff_t& w = winner[closest];
         if (w < 0 || objectives[r] > objectives[static_cast<std::size_t>(w)]) w = static_cast<std::ptrdiff_t>(r);
       }
     }
@@ -170,6 +165,9 @@ ProximityAddResult ProximityArchive::add(std::span<const double> solutions, std:
     result.status[r] = 2;
     append(solutions.data() + r * s, objectives[r], measures.data() + r * d);
   }
+  const bool replaced = std::find(result.status.begin(), result.status.end(), 1) != result.status.end();
+  if (replaced || !novel.empty())
+    tree_ = std::make_shared<const KdTree>(measures_, static_cast<std::size_t>(params_.measure_size));
   update_threshold(static_cast<Index>(novel.size()));
   return result;
 }

@@ -9,11 +9,13 @@
 // `threshold_decay_rate`, down to `threshold_decay_min`.
 // Elites are kept in double, in the order they came (a replacement takes its elite's place).
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/archive/kd_tree.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
@@ -54,7 +56,7 @@ class ProximityArchive {
 
   // The novelty of each row of `measures` (n x measure_size) against the archive as it is.
   std::vector<double> novelty(std::span<const double> measures) const;
-  // The index of the nearest elite to each row of `measures` (the first on ties); the archive
+  // The index of the nearest elite to each row of `measures` (ties as the k-d tree meets them); the archive
   // must hold at least one elite.
   std::vector<Index> index_of(std::span<const double> measures) const;
 
@@ -68,8 +70,9 @@ class ProximityArchive {
   ArchiveStats stats() const;
 
  private:
-  // Distances from `point` to every elite.
-  void distances_to(const double* point, std::vector<double>& out) const;
+  // The min(k, size()) nearest elites to `point`, nearest first, with their distances.
+  std::size_t nearest(const double* point, std::size_t k, std::vector<std::size_t>& elites,
+                      std::vector<double>& distances) const;
   void replace(Index elite, const double* solution, double objective, const double* measures);
   void append(const double* solution, double objective, const double* measures);
   void update_threshold(Index novel_added);
@@ -80,6 +83,8 @@ class ProximityArchive {
   std::vector<double> solutions_;
   std::vector<double> objectives_;
   std::vector<double> measures_;
+  // Over measures_ as of the last change; shared by copies, rebuilt (never changed) on a change.
+  std::shared_ptr<const KdTree> tree_;
 };
 
 }  // namespace qdmeta
