@@ -34,6 +34,15 @@ def cma_mae(seed, learning_rate=0.01, emitters=3, batch_size=12):
         for i in range(emitters)])
 
 
+def cma_me(seed, emitters=3, batch_size=12):
+    """pyribs's CMA-ME: learning_rate 1, threshold_min -inf, the default 2imp / filter / no_improvement."""
+    archive = grid()
+    return qdmeta.Scheduler(archive, [
+        qdmeta.EvolutionStrategyEmitter(archive, x0=np.zeros(DIM), sigma0=0.5, batch_size=batch_size,
+                                        seed=seed * 100 + i)
+        for i in range(emitters)])
+
+
 def gaussian_map_elites(seed, emitters=3, batch_size=12):
     archive = grid()
     return qdmeta.Scheduler(archive, [
