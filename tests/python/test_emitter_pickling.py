@@ -70,6 +70,7 @@ def test_an_unpickled_scheduler_shares_one_archive_with_its_emitters():
     assert loaded.result_archive is not loaded.archive
     assert (loaded.archive.learning_rate, loaded.archive.threshold_min) == (0.02, 0.0)
     twin = copy.deepcopy(mixed_scheduler())
+    assert all(e.archive is twin.archive for e in twin.emitters)
     assert_same(fingerprint(twin, 3), fingerprint(mixed_scheduler(), 3))
 
 
