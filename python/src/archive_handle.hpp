@@ -34,6 +34,9 @@ struct ArchiveHandle {
   ThresholdParams thresholds;  // alpha = 1, threshold_min = -inf (CMA-ME) unless given
 };
 
+// A seed argument: any Python integer (numpy's too) in [0, 2^63 - 1], else a one-line error naming it.
+std::uint64_t seed_argument(pybind11::handle value);
+
 // learning_rate (pyribs's name for CMA-MAE's alpha; None is 1) and threshold_min checked, with
 // errors naming the argument.
 ThresholdParams threshold_arguments(pybind11::handle learning_rate, double threshold_min);

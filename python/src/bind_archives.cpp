@@ -74,23 +74,6 @@ py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
   return out;
 }
 
-// A seed argument: any Python integer (numpy's too) in the config's range [0, 2^63 - 1], else a
-// one-line error naming it (pybind11's own would list every overload).
-std::uint64_t seed_argument(py::handle value) {
-  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
-  if (!index) {
-    PyErr_Clear();
-    throw py::type_error(
-        fmt::format("seed must be an integer, got {}", py::str(py::type::handle_of(value)).cast<std::string>()));
-  }
-  int overflow = 0;
-  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
-  if (overflow != 0 || v < 0)
-    throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
-                                 std::numeric_limits<std::int64_t>::max()));
-  return static_cast<std::uint64_t>(v);
-}
-
 const char* kAddDoc =
     "add(solutions, objectives, measures, base_features=None, valid=None) -> statuses: a uint8 array, one per "
     "row: 0 not added, 1 improved an elite, 2 filled a new cell. Rows go in in order, as if added one by one.";
@@ -176,6 +159,23 @@ void bind_thresholds(Class& c) {
 }
 
 }  // namespace
+
+// A seed argument: any Python integer (numpy's too) in the config's range [0, 2^63 - 1], else a
+// one-line error naming it (pybind11's own would list every overload).
+std::uint64_t seed_argument(py::handle value) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(
+        fmt::format("seed must be an integer, got {}", py::str(py::type::handle_of(value)).cast<std::string>()));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < 0)
+    throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
+                                 std::numeric_limits<std::int64_t>::max()));
+  return static_cast<std::uint64_t>(v);
+}
 
 ThresholdParams threshold_arguments(py::handle learning_rate, double threshold_min) {
   ThresholdParams t;

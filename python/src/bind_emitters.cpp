@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>
@@ -43,11 +44,25 @@ Rng emitter_stream(py::handle seed) {
     std::random_device device;
     value = (std::uint64_t{device()} << 32 | device()) >> 1;
   } else {
-    const auto v = seed.cast<long long>();
-    if (v < 0) throw InputError(fmt::format("seed = {} is out of range: must be >= 0", v));
-    value = static_cast<std::uint64_t>(v);
+    value = seed_argument(seed);
   }
   return Rng::stream(value, {kEmitterStream});
+}
+
+// An integer argument (numpy's too) of at least `minimum`, else a one-line error naming it.
+int integer_argument(py::handle value, const char* name, int minimum) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(fmt::format("{} must be an integer, got {}", name,
+                                     py::str(py::type::handle_of(value)).cast<std::string>()));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < minimum || v > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("{} = {} is invalid: must be an integer in [{}, {}]", name,
+                                 py::str(index).cast<std::string>(), minimum, std::numeric_limits<int>::max()));
+  return static_cast<int>(v);
 }
 
 // pyribs's ranker names ("imp", "2imp", ... or the class names) and qdmeta's.
@@ -69,11 +84,8 @@ std::string ranker_name(const std::string& name) {
 
 // restart_rule: "no_improvement", "basic" or an integer n (restart every n iterations).
 std::pair<std::string, int> restart_rule(py::handle rule) {
-  if (py::isinstance<py::int_>(rule) && !py::isinstance<py::bool_>(rule)) {
-    const auto n = rule.cast<long long>();
-    if (n < 1) throw InputError(fmt::format("restart_rule = {} is invalid: an integer rule must be >= 1", n));
-    return {"every-n", static_cast<int>(n)};
-  }
+  if (!py::isinstance<py::str>(rule) && !py::isinstance<py::bool_>(rule) && PyIndex_Check(rule.ptr()))
+    return {"every-n", integer_argument(rule, "restart_rule", 1)};
   const std::string name = py::str(rule).cast<std::string>();
   if (py::isinstance<py::str>(rule) && name == "no_improvement") return {"no-improvement", 0};
   if (py::isinstance<py::str>(rule) && name == "basic") return {"basic", 0};
@@ -82,10 +94,7 @@ std::pair<std::string, int> restart_rule(py::handle rule) {
 }
 
 int batch_size_argument(py::handle batch_size, int otherwise) {
-  if (batch_size.is_none()) return otherwise;
-  const auto n = batch_size.cast<long long>();
-  if (n < 1) throw InputError(fmt::format("batch_size = {} is invalid: must be >= 1", n));
-  return static_cast<int>(n);
+  return batch_size.is_none() ? otherwise : integer_argument(batch_size, "batch_size", 1);
 }
 
 // pyribs's bounds (one (lower, upper) pair per gene, or None); qdmeta's emitters clamp every gene

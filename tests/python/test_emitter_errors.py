@@ -29,16 +29,18 @@ def test_the_archives_threshold_arguments_are_checked(named, message):
 
 
 EMITTER_ERRORS = [
-    (dict(batch_size=0), r"^batch_size = 0 is invalid: must be >= 1$"),
+    (dict(batch_size=0), r"^batch_size = 0 is invalid: must be an integer in \[1, 2147483647\]$"),
     (dict(sigma0=0.0), r"sigma0 = 0 is invalid: must be finite and > 0$"),
     (dict(sigma0=-1.0), r"sigma0 = -1 is invalid"),
     (dict(x0=np.zeros(3)), r"^x0 has 3 values; the archive's solution_dim is 10$"),
     (dict(ranker="nov"), r"^ranker = 'nov' is not one of imp, 2imp, obj, 2obj, rd, 2rd$"),
     (dict(restart_rule="never"), r"^restart_rule = 'never' is not 'no_improvement', 'basic' or an integer >= 1$"),
-    (dict(restart_rule=0), r"^restart_rule = 0 is invalid: an integer rule must be >= 1$"),
+    (dict(restart_rule=0), r"^restart_rule = 0 is invalid: must be an integer in \[1, 2147483647\]$"),
+    (dict(restart_rule=True), r"^restart_rule = True is not 'no_improvement', 'basic' or an integer >= 1$"),
     (dict(selection_rule="best"), r"^selection_rule = 'best' is not 'filter' or 'mu'$"),
     (dict(bounds=[(0, 1)] * DIM), r"^bounds must be None"),
     (dict(seed=-1), r"^seed = -1 is out of range"),
+    (dict(seed=2**70), r"^seed = 1180591620717411303424 is out of range: must be in \[0, 9223372036854775807\]$"),
 ]
 
 
@@ -48,11 +50,19 @@ def test_the_evolution_strategy_emitters_arguments_are_checked(named, message):
         es(grid(), **named)
 
 
+def test_integer_arguments_of_another_type_are_one_line_type_errors():
+    with pytest.raises(TypeError, match=r"^batch_size must be an integer, got <class 'float'>$"):
+        es(grid(), batch_size=1.5)
+    with pytest.raises(TypeError, match=r"^seed must be an integer, got <class 'str'>$"):
+        es(grid(), seed="x")
+    assert es(grid(), batch_size=np.int64(6), restart_rule=np.int32(3), seed=np.uint8(2)).batch_size == 6
+
+
 def test_the_gaussian_emitters_arguments_are_checked():
     archive = grid()
     with pytest.raises(qdmeta.InputError, match=r"sigma = 0 is invalid: must be finite and > 0$"):
         qdmeta.GaussianEmitter(archive, sigma=0.0, x0=np.zeros(DIM))
-    with pytest.raises(qdmeta.InputError, match=r"^batch_size = 0 is invalid"):
+    with pytest.raises(qdmeta.InputError, match=r"^batch_size = 0 is invalid: must be an integer in \[1, "):
         qdmeta.GaussianEmitter(archive, sigma=1.0, x0=np.zeros(DIM), batch_size=0)
     with pytest.raises(qdmeta.InputError, match=r"^x0 is None"):
         qdmeta.GaussianEmitter(archive, sigma=1.0)
