@@ -30,6 +30,7 @@ print('qdmeta', qdmeta.__version__, qdmeta.build_info, 'numpy', numpy.__version_
 ") || fail "import qdmeta"
 step "the Python suite against the installed package"
 mkdir -p "$scratch/tests" && cp -r "$root/tests/python" "$scratch/tests/python"
-mkdir -p "$scratch/docs" && cp "$root/docs/python.md" "$scratch/docs/" && cp "$root/README.md" "$scratch/"
+mkdir -p "$scratch/docs/tutorials" && cp "$root/docs/python.md" "$scratch/docs/" && cp "$root/README.md" "$scratch/"
+cp "$root/docs/tutorials/pyribs-cma-mae.md" "$scratch/docs/tutorials/"  # tests/python/test_tutorials.py runs it
 (cd "$scratch" && "$py" -m pytest -q -p no:cacheprovider tests/python) || fail "pytest"
 step "passed"

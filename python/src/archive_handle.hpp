@@ -1,7 +1,8 @@
 #pragma once
-// An archive as Python holds it: the archive and the random streams of its sample_elites().
-// Call k of sample_elites() draws from the stream (seed, k), so a copy or an unpickled archive
-// samples exactly as the original would have from there on.
+// An archive as Python holds it: the archive, the random streams of its sample_elites() and
+// CMA-MAE's threshold params (pyribs's learning_rate and threshold_min; a Scheduler keeps the
+// per-cell thresholds themselves). Call k of sample_elites() draws from the stream (seed, k), so
+// a copy or an unpickled archive samples exactly as the original would have from there on.
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/rng.hpp"
+#include "qdmeta/emitters/cell_thresholds.hpp"
 
 namespace qdmeta::python {
 
@@ -29,7 +31,15 @@ struct ArchiveHandle {
   Archive archive;
   std::uint64_t seed;
   std::uint64_t sample_calls;  // sample_elites() calls so far
+  ThresholdParams thresholds;  // alpha = 1, threshold_min = -inf (CMA-ME) unless given
 };
+
+// A seed argument: any Python integer (numpy's too) in [0, 2^63 - 1], else a one-line error naming it.
+std::uint64_t seed_argument(pybind11::handle value);
+
+// learning_rate (pyribs's name for CMA-MAE's alpha; None is 1) and threshold_min checked, with
+// errors naming the argument.
+ThresholdParams threshold_arguments(pybind11::handle learning_rate, double threshold_min);
 
 // A grid's bound of each measure (pyribs's lower_bounds / upper_bounds).
 inline std::vector<double> bounds_of(const GridArchiveParams& p, bool upper) {

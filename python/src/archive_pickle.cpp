@@ -17,7 +17,7 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 3;  // of the state tuples below; 2: with their checksum; 3: a grid's ranges
+constexpr int kFormat = 4;  // of the state tuples below; 2: with their checksum; 3: a grid's ranges; 4: thresholds
 
 const char* class_name(const GridArchive*) { return "GridArchive"; }
 const char* class_name(const CvtArchive*) { return "CvtArchive"; }
@@ -68,17 +68,25 @@ ArchiveHandle<Archive> restored(Archive archive, const py::tuple& s) {
   return ArchiveHandle<Archive>(std::move(archive), s[2].cast<std::uint64_t>(), s[3].cast<std::uint64_t>());
 }
 
+// The restored archive with its pickled learning_rate and threshold_min (checked as given).
+template <class Archive>
+ArchiveHandle<Archive> with_thresholds(ArchiveHandle<Archive> h, py::handle learning_rate, py::handle threshold_min) {
+  h.thresholds = threshold_arguments(learning_rate, threshold_min.cast<double>());
+  return h;
+}
+
 }  // namespace
 
 py::tuple archive_state(const ArchiveHandle<GridArchive>& h) {
   const GridArchiveParams& p = h.archive.params();
   return state(h, py::make_tuple(p.bins, p.lower, p.upper, p.solution_size, p.base_feature_size, p.qd_offset,
-                                 p.epsilon, p.lower_bounds, p.upper_bounds));
+                                 p.epsilon, p.lower_bounds, p.upper_bounds, h.thresholds.alpha,
+                                 h.thresholds.threshold_min));
 }
 
 template <>
 ArchiveHandle<GridArchive> archive_from_state(const py::tuple& s) {
-  const py::tuple v = parameters_of<GridArchive>(s, 9);
+  const py::tuple v = parameters_of<GridArchive>(s, 11);
   GridArchiveParams p;
   p.bins = v[0].cast<std::vector<int>>();
   p.lower = v[1].cast<double>();
@@ -90,23 +98,25 @@ ArchiveHandle<GridArchive> archive_from_state(const py::tuple& s) {
   p.lower_bounds = v[7].cast<std::vector<double>>();
   p.upper_bounds = v[8].cast<std::vector<double>>();
   p.validate();
-  return restored(GridArchive(p), s);
+  return with_thresholds(restored(GridArchive(p), s), v[9], v[10]);
 }
 
 py::tuple archive_state(const ArchiveHandle<CvtArchive>& h) {
   const CvtArchiveParams& p = h.archive.params();
   const RowMatrix& c = h.archive.centroids();
-  return state(h, py::make_tuple(p.solution_size, p.qd_offset, p.neighbours, rows_copy(c.data(), c.rows(), c.cols())));
+  return state(h, py::make_tuple(p.solution_size, p.qd_offset, p.neighbours, rows_copy(c.data(), c.rows(), c.cols()),
+                                 h.thresholds.alpha, h.thresholds.threshold_min));
 }
 
 template <>
 ArchiveHandle<CvtArchive> archive_from_state(const py::tuple& s) {
-  const py::tuple v = parameters_of<CvtArchive>(s, 4);
+  const py::tuple v = parameters_of<CvtArchive>(s, 6);
   const CvtArchiveParams p{v[0].cast<Index>(), v[1].cast<double>(), v[2].cast<Index>()};
   const py::array raw = py::array::ensure(v[3]);
   if (!raw || raw.ndim() != 2) throw InputError("unpickling a qdmeta.CvtArchive: the state is not one qdmeta made");
   const FloatArray c = float_rows(raw, raw.shape(0), raw.shape(1), "centroids");
-  return restored(CvtArchive(p, RowMatrix(Eigen::Map<const RowMatrix>(c.data(), c.shape(0), c.shape(1)))), s);
+  return with_thresholds(
+      restored(CvtArchive(p, RowMatrix(Eigen::Map<const RowMatrix>(c.data(), c.shape(0), c.shape(1)))), s), v[4], v[5]);
 }
 
 py::tuple archive_state(const ArchiveHandle<UnstructuredArchive>& h) {

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -71,23 +72,6 @@ py::array_t<std::uint8_t> statuses(const std::vector<AddStatus>& s) {
   py::array_t<std::uint8_t> out = new_array<std::uint8_t>({static_cast<py::ssize_t>(s.size())});
   for (std::size_t i = 0; i < s.size(); ++i) out.mutable_data()[i] = static_cast<std::uint8_t>(s[i]);
   return out;
-}
-
-// A seed argument: any Python integer (numpy's too) in the config's range [0, 2^63 - 1], else a
-// one-line error naming it (pybind11's own would list every overload).
-std::uint64_t seed_argument(py::handle value) {
-  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
-  if (!index) {
-    PyErr_Clear();
-    throw py::type_error(
-        fmt::format("seed must be an integer, got {}", py::str(py::type::handle_of(value)).cast<std::string>()));
-  }
-  int overflow = 0;
-  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
-  if (overflow != 0 || v < 0)
-    throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
-                                 std::numeric_limits<std::int64_t>::max()));
-  return static_cast<std::uint64_t>(v);
 }
 
 const char* kAddDoc =
@@ -165,7 +149,49 @@ void bind_elite_archive(Class& c) {
   bind_common<Archive>(c, +[](const Archive& a) { return a.elites(); });
 }
 
+// learning_rate and threshold_min as properties (pyribs's names) on the archives that take them.
+template <class Archive, class Class>
+void bind_thresholds(Class& c) {
+  c.def_property_readonly("learning_rate", [](const ArchiveHandle<Archive>& h) { return h.thresholds.alpha; },
+                          "CMA-MAE's alpha: how far a cell's threshold moves toward an accepted objective (1: CMA-ME)")
+      .def_property_readonly("threshold_min", [](const ArchiveHandle<Archive>& h) { return h.thresholds.threshold_min; },
+                             "The threshold of a cell never reached (-inf: CMA-ME)");
+}
+
 }  // namespace
+
+// A seed argument: any Python integer (numpy's too) in the config's range [0, 2^63 - 1], else a
+// one-line error naming it (pybind11's own would list every overload).
+std::uint64_t seed_argument(py::handle value) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(
+        fmt::format("seed must be an integer, got {}", py::str(py::type::handle_of(value)).cast<std::string>()));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < 0)
+    throw InputError(fmt::format("seed = {} is out of range: must be in [0, {}]", py::str(index).cast<std::string>(),
+                                 std::numeric_limits<std::int64_t>::max()));
+  return static_cast<std::uint64_t>(v);
+}
+
+ThresholdParams threshold_arguments(py::handle learning_rate, double threshold_min) {
+  ThresholdParams t;
+  if (!learning_rate.is_none()) t.alpha = learning_rate.cast<double>();
+  if (!(t.alpha >= 0.0 && t.alpha <= 1.0))
+    throw InputError(fmt::format("learning_rate = {} is outside [0, 1] (CMA-MAE's alpha)", t.alpha));
+  if (std::isnan(threshold_min) || threshold_min == std::numeric_limits<double>::infinity())
+    throw InputError(fmt::format("threshold_min = {} is invalid: must be a number or -inf", threshold_min));
+  if (std::isinf(threshold_min) && t.alpha != 1.0)
+    throw InputError(fmt::format("threshold_min = -inf needs learning_rate = 1 (got {}): give a finite threshold_min "
+                                 "for CMA-MAE",
+                                 t.alpha));
+  t.threshold_min = threshold_min;
+  t.validate();
+  return t;
+}
 
 void bind_archives(py::module_& m) {
   py::class_<ArchiveStats>(m, "ArchiveStats", "An archive's statistics, with pyribs's names and meanings")
@@ -196,9 +222,12 @@ void bind_archives(py::module_& m) {
   py::class_<ArchiveHandle<GridArchive>> grid(m, "GridArchive", R"doc(
 A MAP-Elites grid: `dims` bins per measure, every measure over [lower, upper], or measure i over
 ranges[i] = (lower_i, upper_i) as pyribs's `ranges` (values outside go to the edge bins), one elite per cell, replaced only by a strictly better objective; cells
-numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites().)doc");
+numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites().
+learning_rate and threshold_min are CMA-MAE's (pyribs's names): a Scheduler over this archive
+keeps one threshold per cell with them; the archive itself always keeps each cell's best elite.)doc");
   grid.def(py::init([](Index solution_dim, std::vector<int> dims, double lower, double upper, double qd_offset,
-                       Index base_feature_dim, py::handle seed, std::optional<std::vector<std::pair<double, double>>> ranges) {
+                       Index base_feature_dim, py::handle seed, std::optional<std::vector<std::pair<double, double>>> ranges,
+                       py::handle learning_rate, double threshold_min) {
              GridArchiveParams p;
              p.bins = std::move(dims);
              p.lower = lower;
@@ -215,12 +244,16 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
              p.qd_offset = qd_offset;
              p.base_feature_size = base_feature_dim;
              p.validate();
-             return ArchiveHandle<GridArchive>(GridArchive(p), seed_argument(seed));
+             ArchiveHandle<GridArchive> h(GridArchive(p), seed_argument(seed));
+             h.thresholds = threshold_arguments(learning_rate, threshold_min);
+             return h;
            }),
            py::arg("solution_dim"), py::arg("dims"), py::arg("lower") = 0.0, py::arg("upper") = 1.0,
            py::arg("qd_offset") = 0.0, py::arg("base_feature_dim") = 0, py::arg("seed") = kDefaultArchiveSeed,
-           py::arg("ranges") = py::none());
+           py::arg("ranges") = py::none(), py::arg("learning_rate") = py::none(),
+           py::arg("threshold_min") = -std::numeric_limits<double>::infinity());
   bind_elite_archive<GridArchive>(grid);
+  bind_thresholds<GridArchive>(grid);
   grid.def_property_readonly("dims", [](const ArchiveHandle<GridArchive>& h) { return h.archive.params().bins; })
       .def_property_readonly("lower", [](const ArchiveHandle<GridArchive>& h) { return common_bound(h.archive.params(), false); })
       .def_property_readonly("upper", [](const ArchiveHandle<GridArchive>& h) { return common_bound(h.archive.params(), true); })
@@ -232,18 +265,23 @@ numbered in row-major order as pyribs's GridArchive. `seed` seeds sample_elites(
 A CVT-MAP-Elites archive: one cell per centroid (a (cells x measure_dim) array, e.g. from
 qdmeta.cvt_centroids), a measure vector belongs to its nearest centroid's cell (exact; ties to
 the lower index). `seed` seeds sample_elites().)doc");
-  cvt.def(py::init([](Index solution_dim, py::handle centroids, double qd_offset, py::handle seed) {
+  cvt.def(py::init([](Index solution_dim, py::handle centroids, double qd_offset, py::handle seed, py::handle learning_rate,
+                      double threshold_min) {
             const py::array a = py::array::ensure(centroids);
             if (!a || a.ndim() != 2 || a.shape(0) < 1 || a.shape(1) < 1)
               throw py::value_error("centroids must be a 2-D array (cells, measure_dim) with at least one row");
             const FloatArray f = float_rows(centroids, a.shape(0), a.shape(1), "centroids");
             RowMatrix rows = Eigen::Map<const RowMatrix>(f.data(), f.shape(0), f.shape(1));
-            return ArchiveHandle<CvtArchive>(CvtArchive(CvtArchiveParams{solution_dim, qd_offset, 0}, std::move(rows)),
-                                             seed_argument(seed));
+            ArchiveHandle<CvtArchive> h(CvtArchive(CvtArchiveParams{solution_dim, qd_offset, 0}, std::move(rows)),
+                                        seed_argument(seed));
+            h.thresholds = threshold_arguments(learning_rate, threshold_min);
+            return h;
           }),
           py::arg("solution_dim"), py::arg("centroids"), py::arg("qd_offset") = 0.0,
-          py::arg("seed") = kDefaultArchiveSeed);
+          py::arg("seed") = kDefaultArchiveSeed, py::arg("learning_rate") = py::none(),
+          py::arg("threshold_min") = -std::numeric_limits<double>::infinity());
   bind_elite_archive<CvtArchive>(cvt);
+  bind_thresholds<CvtArchive>(cvt);
   cvt.def_property_readonly("centroids", [](const ArchiveHandle<CvtArchive>& h) {
     const RowMatrix& c = h.archive.centroids();
     return rows_copy(c.data(), c.rows(), c.cols());

@@ -86,6 +86,17 @@ double map_elites_qd_score(std::uint64_t seed) {
   return archive.stats().qd_score;
 }
 
+TEST(Scheduler, SolutionsAreZeroBeforeTheFirstAskThenTheLastBatch) {
+  GridArchive archive(sphere_grid());
+  Scheduler scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 2));
+  EXPECT_TRUE(scheduler.solutions().isZero(0));
+  EXPECT_EQ(scheduler.solutions().rows(), 2 * kEmitterBatch);
+  Rng rng(3);
+  const RowMatrix first = scheduler.ask(rng);
+  EXPECT_EQ(scheduler.solutions(), first);
+  EXPECT_FALSE(first.isZero(0));
+}
+
 TEST(Scheduler, GaussianEmittersAtAlphaOneAreMapElitesBitForBit) {
   GridArchive written_out(sphere_grid()), scheduled(sphere_grid());
   run_map_elites(written_out, 4);

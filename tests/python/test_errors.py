@@ -107,7 +107,7 @@ def test_arguments_a_method_does_not_take_are_one_line_without_the_arrays():
                                         r"was given objective=, measures=$"):
         algo.tell(objective=np.zeros(len(x)), measures=x)
     with pytest.raises(TypeError, match=r"^CvtArchive\(\) takes \(solution_dim, centroids, qd_offset=0\.0, "
-                                        r"seed=1\); it was given 2 positional, ranges=$"):
+                                        r"seed=1, learning_rate=None, threshold_min=-inf\); it was given 2 positional, ranges=$"):
         qdmeta.CvtArchive(3, np.zeros((1000, 2)), ranges=[(0, 1), (0, 1)])
     # A TypeError from the caller's own task reaches them as it was raised.
     def typo(x):

@@ -61,7 +61,7 @@ class Scheduler {
       }
       rows += emitters_[i]->batch_size();
     }
-    solutions_.resize(rows, archive.solution_size());
+    solutions_.setZero(rows, archive.solution_size());  // zero: a checkpoint before the first ask() is deterministic
     outcomes_.resize(static_cast<std::size_t>(rows));
   }
 
@@ -70,6 +70,8 @@ class Scheduler {
   const Emitter& emitter(std::size_t i) const { return *emitters_[i]; }
   A& archive() { return archive_; }
   const CellThresholds& thresholds() const { return thresholds_; }
+  // The last ask()'s rows (all zero before the first ask()).
+  const RowMatrix& solutions() const { return solutions_; }
   // The last tell's outcomes, one per row.
   std::span<const ThresholdOutcome> outcomes() const { return outcomes_; }
 

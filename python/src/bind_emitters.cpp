@@ -1,0 +1,364 @@
+// CMA-ME and CMA-MAE with pyribs's names (emitters/): qdmeta.EvolutionStrategyEmitter,
+// qdmeta.GaussianEmitter and qdmeta.Scheduler over a GridArchive or CvtArchive whose
+// learning_rate and threshold_min give the thresholds. Each emitter asks with its own stream
+// (seed=), as pyribs seeds each emitter; all three pickle, and an unpickled scheduler (with its
+// archives and emitters, pickled together) continues to the same bits.
+#include <fmt/format.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "archive_handle.hpp"
+#include "bindings.hpp"
+#include "emitter_handle.hpp"
+#include "numpy_arrays.hpp"
+#include "pickled_state.hpp"
+#include "qdmeta/archive/cvt_archive.hpp"
+#include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/emitters/evolution_strategy_emitter.hpp"
+#include "qdmeta/emitters/scheduler.hpp"
+
+namespace py = pybind11;
+
+namespace qdmeta::python {
+namespace {
+
+constexpr int kFormat = 1;  // of the emitter and scheduler state tuples
+// The purpose key of an emitter's stream ("EMIT"): apart from sample_elites()'s and the library's.
+constexpr std::uint64_t kEmitterStream = 0x454D4954;
+
+// seed=None draws one from the system, as pyribs does; an integer must be in [0, 2^63 - 1].
+Rng emitter_stream(py::handle seed) {
+  std::uint64_t value = 0;
+  if (seed.is_none()) {
+    std::random_device device;
+    value = (std::uint64_t{device()} << 32 | device()) >> 1;
+  } else {
+    value = seed_argument(seed);
+  }
+  return Rng::stream(value, {kEmitterStream});
+}
+
+// An integer argument (numpy's too) of at least `minimum`, else a one-line error naming it.
+int integer_argument(py::handle value, const char* name, int minimum) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(fmt::format("{} must be an integer, got {}", name,
+                                     py::str(py::type::handle_of(value)).cast<std::string>()));
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
+  if (overflow != 0 || v < minimum || v > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("{} = {} is invalid: must be an integer in [{}, {}]", name,
+                                 py::str(index).cast<std::string>(), minimum, std::numeric_limits<int>::max()));
+  return static_cast<int>(v);
+}
+
+// pyribs's ranker names ("imp", "2imp", ... or the class names) and qdmeta's.
+std::string ranker_name(const std::string& name) {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> aliases{
+      {"improvement", {"imp", "ImprovementRanker"}},
+      {"two-stage-improvement", {"2imp", "TwoStageImprovementRanker"}},
+      {"objective", {"obj", "ObjectiveRanker"}},
+      {"two-stage-objective", {"2obj", "TwoStageObjectiveRanker"}},
+      {"random-direction", {"rd", "RandomDirectionRanker"}},
+      {"two-stage-random-direction", {"2rd", "TwoStageRandomDirectionRanker"}}};
+  for (const auto& [canonical, others] : aliases) {
+    if (name == canonical) return canonical;
+    for (const auto& other : others)
+      if (name == other) return canonical;
+  }
+  throw InputError(fmt::format("ranker = '{}' is not one of imp, 2imp, obj, 2obj, rd, 2rd", name));
+}
+
+// restart_rule: "no_improvement", "basic" or an integer n (restart every n iterations).
+std::pair<std::string, int> restart_rule(py::handle rule) {
+  if (!py::isinstance<py::str>(rule) && !py::isinstance<py::bool_>(rule) && PyIndex_Check(rule.ptr()))
+    return {"every-n", integer_argument(rule, "restart_rule", 1)};
+  const std::string name = py::str(rule).cast<std::string>();
+  if (py::isinstance<py::str>(rule) && name == "no_improvement") return {"no-improvement", 0};
+  if (py::isinstance<py::str>(rule) && name == "basic") return {"basic", 0};
+  throw InputError(fmt::format("restart_rule = {} is not 'no_improvement', 'basic' or an integer >= 1",
+                               py::repr(rule).cast<std::string>()));
+}
+
+int batch_size_argument(py::handle batch_size, int otherwise) {
+  return batch_size.is_none() ? otherwise : integer_argument(batch_size, "batch_size", 1);
+}
+
+// pyribs's bounds (one (lower, upper) pair per gene, or None); qdmeta's emitters clamp every gene
+// to one range, so the pairs must agree.
+std::pair<double, double> common_gene_bounds(py::handle bounds, Index genes) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (bounds.is_none()) return {-inf, inf};
+  const auto pairs = bounds.cast<std::vector<std::pair<std::optional<double>, std::optional<double>>>>();
+  if (static_cast<Index>(pairs.size()) != genes)
+    throw InputError(fmt::format("bounds has {} pairs; the archive's solution_dim is {}", pairs.size(), genes));
+  const auto lower = [&](std::size_t i) { return pairs[i].first.value_or(-inf); };
+  const auto upper = [&](std::size_t i) { return pairs[i].second.value_or(inf); };
+  for (std::size_t i = 1; i < pairs.size(); ++i)
+    if (lower(i) != lower(0) || upper(i) != upper(0))
+      throw InputError("bounds differ between genes: qdmeta's GaussianEmitter clamps every gene to one range");
+  return {lower(0), upper(0)};
+}
+
+py::tuple emitter_state(const EmitterHandle& h) {
+  BinaryWriter out;
+  h.save(out);
+  const py::int_ format(kFormat);
+  const py::str kind(h.kind);
+  const py::bytes bytes(out.bytes());
+  const py::int_ checksum(state_checksum({format, kind, h.parameters, bytes}));
+  return py::make_tuple(format, kind, h.archive, h.parameters, bytes, checksum);
+}
+
+template <class H>
+std::shared_ptr<H> emitter_from_state(const py::tuple& s) {
+  const char* who = "unpickling a qdmeta emitter";
+  if (s.size() != 6 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+      !py::isinstance<py::str>(s[1]) || !py::isinstance<py::tuple>(s[3]) || !py::isinstance<py::bytes>(s[4]))
+    throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+  check_state_checksum(s[5], state_checksum({s[0], s[1], s[3], s[4]}), who);
+  auto h = std::make_shared<H>();
+  build_emitter(*h, py::reinterpret_borrow<py::object>(s[2]), s[1].cast<std::string>(), s[3], Rng{});
+  const std::string bytes = s[4].cast<std::string>();
+  BinaryReader in(bytes, "the pickled emitter");
+  h->load(in);
+  in.finish();
+  return h;
+}
+
+// qdmeta.Scheduler: the C++ scheduler over the archive's type, with the Python objects it uses.
+struct SchedulerHandle {
+  py::object archive, result_archive;
+  py::list emitters;
+  std::variant<std::unique_ptr<Scheduler<GridArchive>>, std::unique_ptr<Scheduler<CvtArchive>>> scheduler;
+
+  Index rows() const { return std::visit([](const auto& s) { return s->batch_size(); }, scheduler); }
+  Index measure_dim() const {
+    return std::visit([](const auto& s) { return s->archive().dimensions(); }, scheduler);
+  }
+};
+
+template <class A>
+std::unique_ptr<Scheduler<A>> scheduler_over(ArchiveHandle<A>& archive, const py::list& emitters) {
+  std::vector<std::unique_ptr<Emitter>> wrapped;
+  for (const auto e : emitters) wrapped.push_back(std::make_unique<HandleEmitter>(e.cast<std::shared_ptr<EmitterHandle>>()));
+  return std::make_unique<Scheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped));
+}
+
+void add_to_result_archive(py::handle result, const EliteBatch& batch) {
+  if (py::isinstance<ArchiveHandle<GridArchive>>(result))
+    result.cast<ArchiveHandle<GridArchive>&>().archive.add_batch(batch);
+  else
+    result.cast<ArchiveHandle<CvtArchive>&>().archive.add_batch(batch);
+}
+
+Index measure_dim_of(py::handle archive) {
+  if (py::isinstance<ArchiveHandle<GridArchive>>(archive)) return archive.cast<ArchiveHandle<GridArchive>&>().archive.dimensions();
+  return archive.cast<ArchiveHandle<CvtArchive>&>().archive.dimensions();
+}
+
+SchedulerHandle make_scheduler(py::object archive, py::handle emitters, py::object result_archive) {
+  SchedulerHandle h;
+  const Index genes = archive_solution_dim(archive);  // TypeError unless a Grid or CVT archive
+  h.emitters = py::list(py::reinterpret_borrow<py::object>(emitters));
+  if (h.emitters.empty()) throw InputError("emitters is empty: give the Scheduler at least one emitter");
+  for (std::size_t i = 0; i < h.emitters.size(); ++i) {
+    if (!py::isinstance<EmitterHandle>(h.emitters[i]))
+      throw py::type_error(fmt::format("emitters[{}] is not a qdmeta emitter", i));
+    if (!h.emitters[i].cast<EmitterHandle&>().archive.is(archive))
+      throw InputError(fmt::format("emitters[{}] was made over another archive: give each emitter the scheduler's archive", i));
+    for (std::size_t j = 0; j < i; ++j)
+      if (h.emitters[j].is(h.emitters[i]))
+        throw InputError(fmt::format("emitters[{}] is emitters[{}]: give each emitter once", i, j));
+  }
+  if (!result_archive.is_none()) {
+    if (result_archive.is(archive)) throw InputError("result_archive is the archive: give another archive or None");
+    if (archive_solution_dim(result_archive) != genes || measure_dim_of(result_archive) != measure_dim_of(archive))
+      throw InputError("result_archive has another solution_dim or measure_dim than the archive");
+  }
+  if (py::isinstance<ArchiveHandle<GridArchive>>(archive))
+    h.scheduler = scheduler_over(archive.cast<ArchiveHandle<GridArchive>&>(), h.emitters);
+  else
+    h.scheduler = scheduler_over(archive.cast<ArchiveHandle<CvtArchive>&>(), h.emitters);
+  h.archive = std::move(archive);
+  h.result_archive = std::move(result_archive);
+  return h;
+}
+
+void tell(SchedulerHandle& h, py::handle objective, py::handle measures) {
+  const Index rows = h.rows();
+  const FloatArray o = float_rows(objective, rows, -1, "objective");
+  const FloatArray m = float_rows(measures, rows, h.measure_dim(), "measures");
+  for (Index r = 0; r < rows; ++r) {
+    if (!std::isfinite(o.data()[r]))
+      throw InputError(fmt::format("Scheduler.tell: objective[{}] = {} is invalid: must be finite", r, o.data()[r]));
+    for (Index d = 0; d < h.measure_dim(); ++d)
+      if (!std::isfinite(m.data()[r * h.measure_dim() + d]))
+        throw InputError(fmt::format("Scheduler.tell: measures[{}, {}] = {} is invalid: must be finite", r, d,
+                                     m.data()[r * h.measure_dim() + d]));
+  }
+  const std::span<const Real> objectives(o.data(), static_cast<std::size_t>(rows));
+  const RowsView measure_rows(m.data(), rows, h.measure_dim());
+  std::visit(
+      [&](auto& s) {
+        s->tell(objectives, measure_rows);
+        if (!h.result_archive.is_none())
+          add_to_result_archive(h.result_archive, EliteBatch{s->solutions(), objectives, measure_rows, {}, {}});
+      },
+      h.scheduler);
+}
+
+py::tuple scheduler_state(const SchedulerHandle& h) {
+  BinaryWriter out;
+  std::visit([&](const auto& s) { s->save(out); }, h.scheduler);
+  const py::int_ format(kFormat);
+  const py::bytes bytes(out.bytes());
+  const py::int_ checksum(state_checksum({format, bytes}));
+  return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum);
+}
+
+SchedulerHandle scheduler_from_state(const py::tuple& s) {
+  const char* who = "unpickling a qdmeta.Scheduler";
+  if (s.size() != 6 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+      !py::isinstance<py::list>(s[2]) || !py::isinstance<py::bytes>(s[4]))
+    throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+  check_state_checksum(s[5], state_checksum({s[0], s[4]}), who);
+  SchedulerHandle h = make_scheduler(py::reinterpret_borrow<py::object>(s[1]), s[2],
+                                     py::reinterpret_borrow<py::object>(s[3]));
+  const std::string bytes = s[4].cast<std::string>();
+  BinaryReader in(bytes, "the pickled Scheduler");
+  std::visit([&](auto& scheduler) { scheduler->load(in); }, h.scheduler);
+  in.finish();
+  return h;
+}
+
+template <class H, class Class>
+void bind_emitter_pickle(Class& c) {
+  c.def(py::pickle([](const H& h) { return emitter_state(h); },
+                   [](const py::tuple& s) { return emitter_from_state<H>(s); }));
+}
+
+// A new emitter of `kind` (the constructors' arguments already in qdmeta's terms).
+template <class H>
+std::shared_ptr<H> new_emitter(py::object archive, const char* kind, py::tuple parameters, py::handle seed) {
+  auto h = std::make_shared<H>();
+  build_emitter(*h, std::move(archive), kind, std::move(parameters), emitter_stream(seed));
+  return h;
+}
+
+}  // namespace
+
+void bind_emitters(py::module_& m) {
+  py::class_<EmitterHandle, std::shared_ptr<EmitterHandle>>(m, "Emitter", "What the emitters share")
+      .def_property_readonly("archive", [](const EmitterHandle& h) { return h.archive; })
+      .def_property_readonly("batch_size", [](const EmitterHandle& h) { return h.emitter->batch_size(); });
+
+  using EsHandle = EvolutionStrategyEmitterHandle;
+  py::class_<EsHandle, EmitterHandle, std::shared_ptr<EsHandle>> es(m, "EvolutionStrategyEmitter", R"doc(
+CMA-ME's emitter, as pyribs's EvolutionStrategyEmitter: CMA-ES proposes each batch; told how the
+archive took it, the emitter ranks the rows (ranker "2imp", "imp", "obj", "2obj", "rd", "2rd"),
+takes the parents (selection_rule "filter": the rows the archive took; "mu": the best half) and
+restarts CMA-ES from a random elite when restart_rule fires ("no_improvement", "basic" or every n
+iterations) or CMA-ES converges. batch_size None is CMA-ES's 4 + floor(3 ln solution_dim); seed
+None draws one from the system. bounds must be None (qdmeta's CMA-ES here is unbounded).)doc");
+  es.def(py::init([](py::object archive, py::handle x0, double sigma0, const std::string& ranker,
+                     const std::string& selection_rule, py::handle restart_rule_value, py::handle bounds,
+                     py::handle batch_size, py::handle seed) {
+           if (!bounds.is_none()) throw InputError("bounds must be None: qdmeta's EvolutionStrategyEmitter is unbounded");
+           if (selection_rule != "filter" && selection_rule != "mu")
+             throw InputError(fmt::format("selection_rule = '{}' is not 'filter' or 'mu'", selection_rule));
+           const Index genes = archive_solution_dim(archive);
+           const auto [restart, every] = restart_rule(restart_rule_value);
+           const int lambda = 4 + static_cast<int>(std::floor(3.0 * std::log(static_cast<double>(genes))));
+           return new_emitter<EsHandle>(archive, "EvolutionStrategyEmitter",
+                                        py::make_tuple(x0, sigma0, batch_size_argument(batch_size, lambda),
+                                                       ranker_name(ranker), selection_rule, restart, every),
+                                        seed);
+         }),
+         py::arg("archive"), py::kw_only(), py::arg("x0"), py::arg("sigma0"), py::arg("ranker") = "2imp",
+         py::arg("selection_rule") = "filter", py::arg("restart_rule") = "no_improvement",
+         py::arg("bounds") = py::none(), py::arg("batch_size") = py::none(), py::arg("seed") = py::none())
+      .def_property_readonly("restarts",
+                             [](const EsHandle& h) {
+                               return static_cast<const EvolutionStrategyEmitter&>(*h.emitter).restarts();
+                             },
+                             "How many times CMA-ES has restarted")
+      .def_property_readonly("itrs",
+                             [](const EsHandle& h) {
+                               return static_cast<const EvolutionStrategyEmitter&>(*h.emitter).tells();
+                             },
+                             "How many batches the emitter has been told");
+  bind_emitter_pickle<EsHandle>(es);
+
+  py::class_<GaussianEmitterHandle, EmitterHandle, std::shared_ptr<GaussianEmitterHandle>> gaussian(
+      m, "GaussianEmitter", R"doc(
+MAP-Elites's variation as an emitter, as pyribs's GaussianEmitter: each row is a random elite plus
+N(0, sigma^2) per gene (x0 plus that noise while the archive is empty), clamped to bounds (one
+(lower, upper) pair per gene, all equal here, or None). seed None draws one from the system.)doc");
+  gaussian
+      .def(py::init([](py::object archive, double sigma, py::handle x0, py::handle bounds, py::handle batch_size,
+                       py::handle seed) {
+             if (x0.is_none()) throw InputError("x0 is None: give the first parent, one value per gene");
+             const auto [lower, upper] = common_gene_bounds(bounds, archive_solution_dim(archive));
+             return new_emitter<GaussianEmitterHandle>(
+                 archive, "GaussianEmitter", py::make_tuple(x0, sigma, batch_size_argument(batch_size, 64), lower, upper),
+                 seed);
+           }),
+           py::arg("archive"), py::kw_only(), py::arg("sigma"), py::arg("x0") = py::none(),
+           py::arg("bounds") = py::none(), py::arg("batch_size") = 64, py::arg("seed") = py::none());
+  bind_emitter_pickle<GaussianEmitterHandle>(gaussian);
+
+  py::class_<SchedulerHandle>(m, "Scheduler", R"doc(
+CMA-ME / CMA-MAE's ask/tell loop, as pyribs's Scheduler: ask() stacks every emitter's batch (an
+(n, solution_dim) float32 array, emitters in order); tell(objective, measures) adds every row to
+the archive under its thresholds (learning_rate, threshold_min), tells each emitter its rows'
+outcomes, and adds them to result_archive when given. The archive keeps each cell's best elite
+whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresholds`).)doc")
+      .def(py::init(&make_scheduler), py::arg("archive"), py::arg("emitters"),
+           py::arg("result_archive") = py::none())
+      .def("ask",
+           [](SchedulerHandle& h) {
+             Rng unused;  // each emitter asks with its own stream
+             return std::visit(
+                 [&](auto& s) {
+                   const RowMatrix& x = s->ask(unused);
+                   return rows_copy(x.data(), x.rows(), x.cols());
+                 },
+                 h.scheduler);
+           },
+           "The next batch: an (n, solution_dim) float32 array, every emitter's rows in emitter order")
+      .def("tell", &tell, py::arg("objective"), py::arg("measures"),
+           "The objective (n,) and measures (n, measure_dim) of the last ask()'s rows, in its order")
+      .def_property_readonly("archive", [](const SchedulerHandle& h) { return h.archive; })
+      .def_property_readonly("result_archive", [](const SchedulerHandle& h) { return h.result_archive; })
+      .def_property_readonly("emitters", [](const SchedulerHandle& h) { return py::list(h.emitters); })
+      .def_property_readonly("thresholds",
+                             [](const SchedulerHandle& h) {
+                               return std::visit(
+                                   [](const auto& s) {
+                                     const CellThresholds& t = s->thresholds();
+                                     py::array_t<double> out(t.cells());
+                                     for (Index c = 0; c < t.cells(); ++c) out.mutable_data()[c] = t.threshold(c);
+                                     return out;
+                                   },
+                                   h.scheduler);
+                             },
+                             "Each cell's CMA-MAE threshold (threshold_min where never reached), by cell index")
+      .def(py::pickle([](const SchedulerHandle& h) { return scheduler_state(h); },
+                      [](const py::tuple& s) { return scheduler_from_state(s); }));
+}
+
+}  // namespace qdmeta::python
