@@ -24,7 +24,7 @@ KIND_KEYS = {
 SOURCES = ["paper", "ours"]
 FAMILIES = ["final", "population", "meta", "test", "generalisation"]
 POPULATION_STATS = ["num_elites", "obj_mean", "obj_max", "qd_score"]
-# meta.csv's columns (src/qdmeta/experiment/run_tables.cpp).
+# meta.csv's columns (src/qdmeta/run/run_tables.cpp).
 META_COLUMNS = ["meta_generation", "evals", "evals_bottom", "evals_meta", "meta_fitness_best", "meta_fitness_mean",
                 "meta_fitness_sd", "generations", "states"] + [
     f"population_{s}_{m}" for s in POPULATION_STATS for m in ("mean", "se")]

@@ -34,7 +34,7 @@ def slug_of(name):
 
 
 # The rules of each run file's columns: the whole numbers qdmeta writes (the integer cells of the
-# tables in src/qdmeta/experiment/run_tables.cpp and adaptation.cpp: counts), and archive.csv's
+# tables in src/qdmeta/run/run_tables.cpp and adaptation.cpp: counts), and archive.csv's
 # cells as qdmeta's C++ reader of archives checks them (read_elites_csv, src/qdmeta/io/csv.cpp),
 # the reader of `qdmeta adapt` and of the tests an experiment runs: the report refuses what they
 # refuse (bench/robustness/report_vs_adapt.py holds both readers to the same verdicts).

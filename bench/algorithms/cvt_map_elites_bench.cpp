@@ -12,8 +12,8 @@
 #include <tbb/task_arena.h>
 
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
+#include "qdmeta/assembly/cvt_centroids.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/cvt_centroids.hpp"
 #include "qdmeta/io/centroid_cache.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 

@@ -1,12 +1,12 @@
 // arm-parts: the arm run by a program that registers nothing. Its task and meta-objective are
-// handed to build_run() as values (qdmeta/experiment/run_parts.hpp), and the config only names
+// handed to build_run() as values (qdmeta/assembly/run_parts.hpp), and the config only names
 // them: its [task] holds `name = "arm"` and no other key.
 //   arm-parts run CONFIG DIR    a new run into DIR
 //   arm-parts resume DIR        an interrupted run continued from its checkpoint
+#include <qdmeta/assembly/run_parts.hpp>
 #include <qdmeta/eval/evaluator.hpp>
-#include <qdmeta/experiment/run.hpp>
-#include <qdmeta/experiment/run_directory.hpp>
-#include <qdmeta/experiment/run_parts.hpp>
+#include <qdmeta/run/run.hpp>
+#include <qdmeta/run/run_directory.hpp>
 
 #include <cstdio>
 #include <exception>

@@ -1,10 +1,10 @@
 #include "random_search.hpp"
 
+#include <qdmeta/assembly/build.hpp>
+#include <qdmeta/assembly/standard_tables.hpp>
 #include <qdmeta/core/error.hpp>
 #include <qdmeta/core/rng.hpp>
-#include <qdmeta/experiment/algorithm_registry.hpp>
-#include <qdmeta/experiment/build.hpp>
-#include <qdmeta/experiment/standard_tables.hpp>
+#include <qdmeta/plugin/algorithm_registry.hpp>
 #include <qdmeta/plugin/config.hpp>
 
 #include <utility>

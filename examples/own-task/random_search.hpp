@@ -6,8 +6,8 @@
 #include <qdmeta/algorithms/algorithm.hpp>
 #include <qdmeta/algorithms/map_elites.hpp>
 #include <qdmeta/archive/grid_archive.hpp>
-#include <qdmeta/experiment/algorithm_builder.hpp>
 #include <qdmeta/featuremap/feature_map.hpp>
+#include <qdmeta/plugin/algorithm_builder.hpp>
 
 #include <cstdint>
 #include <memory>

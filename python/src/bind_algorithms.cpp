@@ -25,9 +25,10 @@
 #include "python_variation.hpp"
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/run/checkpoint.hpp"
 #include "toml_convert.hpp"
 
 namespace py = pybind11;

@@ -10,8 +10,8 @@
 #include "bindings.hpp"
 #include "python_build.hpp"
 #include "python_run.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/run_lock.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;

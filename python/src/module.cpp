@@ -10,8 +10,8 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/version.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
 #include "qdmeta/experiment/task_registry.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 
 namespace py = pybind11;
 

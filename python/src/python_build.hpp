@@ -13,9 +13,9 @@
 #include <toml++/toml.h>
 
 #include "python_meta_objective.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/run_parts.hpp"
 #include "qdmeta/core/task.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/run_parts.hpp"
 
 namespace qdmeta::python {
 

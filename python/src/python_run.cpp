@@ -4,10 +4,10 @@
 
 #include "python_evaluator.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/run.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_lock.hpp"
+#include "qdmeta/run/run.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;

@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/run/checkpoint.hpp"
 
 namespace qdmeta::python {
 

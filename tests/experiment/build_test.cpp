@@ -1,6 +1,6 @@
 // Tests of build_run in src/qdmeta/experiment/build.{hpp,cpp}: exact messages for bad input,
 // defaults recorded in the resolved table, and the shipped configs.
-#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/assembly/build.hpp"
 
 #include "expect_input_error.hpp"
 

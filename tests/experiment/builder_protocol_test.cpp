@@ -1,4 +1,4 @@
-// The builder protocol of src/qdmeta/experiment/algorithm_registry.hpp, run by build_run around
+// The builder protocol of src/qdmeta/plugin/algorithm_registry.hpp, run by build_run around
 // every builder: a builder only reads, estimates and returns a maker; build_run checks every key
 // (whether or not the builder finished its tables), then the memory estimate, and calls the
 // maker only for a run. A builder written as carelessly as possible still gets every check.
@@ -8,10 +8,10 @@
 #include <string>
 
 #include "expect_input_error.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 #include "qdmeta/plugin/config.hpp"
 
 namespace qdmeta {

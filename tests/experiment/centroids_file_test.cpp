@@ -8,8 +8,8 @@
 
 #include "expect_input_error.hpp"
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
 
 namespace qdmeta {
 namespace {

@@ -1,7 +1,7 @@
 // Tests of src/qdmeta/experiment/checkpoint.{hpp,cpp}: a checkpoint forged with a valid checksum
 // is still refused when its program version is not one this program continues, or when the
 // archive it restores holds values no run writes.
-#include "qdmeta/experiment/checkpoint.hpp"
+#include "qdmeta/run/checkpoint.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,11 +15,11 @@
 #include <string>
 
 #include "../expect_input_error.hpp"
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/run/run.hpp"
 
 namespace qdmeta {
 namespace {

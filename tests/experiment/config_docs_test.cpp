@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/plugin/config.hpp"
 #ifdef QDMETA_TEST_RHEX
 #include "qdmeta/tasks/rhex/rhex_config.hpp"

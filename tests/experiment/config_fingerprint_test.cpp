@@ -1,12 +1,12 @@
 // Tests of src/qdmeta/experiment/config_fingerprint.{hpp,cpp}: what the resolved config
 // fingerprint covers, and the keys a refusal names.
-#include "qdmeta/experiment/config_fingerprint.hpp"
+#include "qdmeta/assembly/config_fingerprint.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/assembly/build.hpp"
 
 namespace qdmeta {
 namespace {

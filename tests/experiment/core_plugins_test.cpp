@@ -3,7 +3,7 @@
 // built-in name wins whether it came first or last. The first case needs a process in which
 // nothing has been registered yet, so it runs in a fresh one (a "threadsafe" death test
 // re-executes this binary for it alone).
-#include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@
 #include <thread>
 #include <vector>
 
-#include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"

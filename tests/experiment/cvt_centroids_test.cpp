@@ -1,7 +1,7 @@
-// A run's CVT centroids (experiment/cvt_centroids.hpp): made once by k-means and cached, read
+// A run's CVT centroids (assembly/cvt_centroids.hpp): made once by k-means and cached, read
 // back from the cache afterwards (the cached values, not new ones), the same bits on any number
 // of threads; random-descriptor points only where the task's genotypes are valid.
-#include "qdmeta/experiment/cvt_centroids.hpp"
+#include "qdmeta/assembly/cvt_centroids.hpp"
 
 #include <gtest/gtest.h>
 

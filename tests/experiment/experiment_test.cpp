@@ -11,7 +11,8 @@
 
 #include "../expect_input_error.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/experiment/test_phase.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace qdmeta {
 namespace {

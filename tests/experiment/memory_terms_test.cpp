@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "qdmeta/experiment/build.hpp"
+#include "qdmeta/assembly/build.hpp"
 
 namespace qdmeta {
 namespace {

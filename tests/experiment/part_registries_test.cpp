@@ -15,11 +15,11 @@
 
 #include "expect_input_error.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
+#include "qdmeta/assembly/run_parts.hpp"
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/core_plugins.hpp"
-#include "qdmeta/experiment/run_parts.hpp"
 #include "qdmeta/plugin/config.hpp"
 
 // `statement` throws an InputError whose message starts with `prefix`.

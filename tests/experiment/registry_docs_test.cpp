@@ -11,8 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/cli/builtin_plugins.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
 
 namespace qdmeta {

@@ -1,7 +1,7 @@
-// Tests of build_run() with parts handed over as values (src/qdmeta/experiment/run_parts.hpp):
+// Tests of build_run() with parts handed over as values (src/qdmeta/assembly/run_parts.hpp):
 // a part is used in place of the registry's, the config only names it (a different name is
 // refused), the builder protocol still runs around it, and nothing is registered.
-#include "qdmeta/experiment/run_parts.hpp"
+#include "qdmeta/assembly/run_parts.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
 

@@ -1,7 +1,7 @@
 // RunState: what a run directory holds, read once. An empty or missing directory holds no run;
 // config.toml makes a run and gives its budget; summary.json says whether it finished (only a
 // `budget` stop is finished); checkpoint.bin is seen; a damaged file is an InputError naming it.
-#include "qdmeta/experiment/run_state.hpp"
+#include "qdmeta/run/run_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 #include <string>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/checkpoint.hpp"
-#include "qdmeta/experiment/summary.hpp"
+#include "qdmeta/run/checkpoint.hpp"
+#include "qdmeta/run/summary.hpp"
 
 namespace qdmeta {
 namespace {

@@ -1,5 +1,5 @@
 // The run driver: budget semantics, metrics rows, interruption, files written, observers.
-#include "qdmeta/experiment/run.hpp"
+#include "qdmeta/run/run.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

@@ -10,8 +10,8 @@
 
 #include <toml++/toml.h>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/build.hpp"
 #include "qdmeta/plugin/toml_text.hpp"
 
 namespace qdmeta::fuzz {

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "qdmeta/experiment/adaptation.hpp"
-#include "qdmeta/experiment/run_tables.hpp"
+#include "qdmeta/run/run_tables.hpp"
 
 namespace qdmeta {
 namespace {

@@ -3,8 +3,8 @@
 // for another instruction set than the library: the elite table is allocated by the library and
 // freed here, which aborted with "double free or corruption" while Eigen's heap allocator
 // followed each side's instruction set (docs/library.md, "Programs built with other flags").
+#include <qdmeta/assembly/build.hpp>
 #include <qdmeta/eval/evaluator.hpp>
-#include <qdmeta/experiment/build.hpp>
 #include <qdmeta/io/csv.hpp>
 
 #include <cstdio>

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/mutation.hpp"
-#include "qdmeta/experiment/build.hpp"
 
 namespace qdmeta {
 namespace {

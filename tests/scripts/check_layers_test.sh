@@ -37,8 +37,8 @@ $out"
 fresh_copy
 "$python" "$src/scripts/check-layers.py" "$tmp/repo" > "$tmp/out" || fail "the sources as they are: $(cat "$tmp/out")"
 
-expect_refusal src/qdmeta/core/types.hpp '#include "qdmeta/experiment/run.hpp"' \
-  'src/qdmeta/core/types.hpp:@LINE@: core includes qdmeta/experiment/run.hpp, a higher layer (layer 6 >= 0)'
+expect_refusal src/qdmeta/core/types.hpp '#include "qdmeta/run/run.hpp"' \
+  'src/qdmeta/core/types.hpp:@LINE@: core includes qdmeta/run/run.hpp, a higher layer (layer 7 >= 0)'
 expect_refusal src/qdmeta/io/csv.cpp '#include <qdmeta/algorithms/algorithm.hpp>' \
   'src/qdmeta/io/csv.cpp:@LINE@: io includes qdmeta/algorithms/algorithm.hpp, a higher layer (layer 5 >= 2)'
 expect_refusal src/qdmeta/tasks/rastrigin/rastrigin.cpp '  #  include "qdmeta/algorithms/map_elites.hpp"' \
@@ -47,8 +47,8 @@ expect_refusal src/qdmeta/algorithms/algorithm.hpp '#include "qdmeta/eval/evalua
   'src/qdmeta/algorithms/algorithm.hpp:@LINE@: algorithms includes qdmeta/eval/evaluator.hpp, the same layer (layer 5 >= 5)'
 expect_refusal src/qdmeta/plugin/config.hpp '#include "qdmeta/tasks/rastrigin/rastrigin.hpp"' \
   'src/qdmeta/plugin/config.hpp:@LINE@: plugin includes qdmeta/tasks/rastrigin/rastrigin.hpp, a higher layer (layer 5 >= 4)'
-expect_refusal src/qdmeta/experiment/run.cpp '#include "qdmeta/nowhere/x.hpp"' \
-  'src/qdmeta/experiment/run.cpp:@LINE@: includes qdmeta/nowhere/x.hpp, a folder not in docs/architecture.md'"'"'s layer order'
+expect_refusal src/qdmeta/run/run.cpp '#include "qdmeta/nowhere/x.hpp"' \
+  'src/qdmeta/run/run.cpp:@LINE@: includes qdmeta/nowhere/x.hpp, a folder not in docs/architecture.md'"'"'s layer order'
 expect_refusal src/qdmeta/newpart/part.hpp '#include "qdmeta/core/types.hpp"' \
   'src/qdmeta/newpart: folder newpart is not in docs/architecture.md'"'"'s layer order'
 

@@ -7,8 +7,8 @@
 #include <set>
 #include <toml++/toml.h>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
 #include "qdmeta/tasks/rhex/rhex_adaptation.hpp"
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #include "qdmeta/tasks/rhex/rhex_meta_fitness.hpp"

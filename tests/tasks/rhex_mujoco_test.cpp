@@ -11,9 +11,9 @@
 #include <fstream>
 #include <toml++/toml.h>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #include "qdmeta/tasks/rhex/rhex_geometry.hpp"
 #include "qdmeta/tasks/rhex/rhex_meta_fitness.hpp"

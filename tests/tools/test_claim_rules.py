@@ -41,9 +41,9 @@ def test_every_committed_experiment_files_claims_are_accepted():
 
 
 def test_the_meta_measures_are_meta_csvs_columns():
-    """meta:<column> names a column of meta.csv as qdmeta writes it (src/qdmeta/experiment/run_tables.cpp,
+    """meta:<column> names a column of meta.csv as qdmeta writes it (src/qdmeta/run/run_tables.cpp,
     whose list the C++ reader uses directly)."""
-    source = (ROOT / "src/qdmeta/experiment/run_tables.cpp").read_text().split("meta_table()")[1]
+    source = (ROOT / "src/qdmeta/run/run_tables.cpp").read_text().split("meta_table()")[1]
     assert re.findall(r'\{"(\w+)", \[\]\(const MetaPoint&', source) == claim_rules.META_COLUMNS
 
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/plugin/algorithm_builder.hpp"
 
 namespace qdmeta {
 
@@ -155,5 +156,7 @@ EvaluationCounters load_counters(BinaryReader& in) {
   if (c.bottom < 0 || c.meta < 0) in.fail("negative evaluation counters");
   return c;
 }
+
+std::unique_ptr<Algorithm> AlgorithmMaker::operator()() { return impl_->make(); }
 
 }  // namespace qdmeta

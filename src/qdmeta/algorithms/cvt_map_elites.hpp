@@ -4,7 +4,7 @@
 // initial population, then batches of mutated elites drawn uniformly); a solution's descriptor is
 // its base features, its cell the nearest centroid. The centroids are a value the algorithm is
 // given, or makes by its source at the first step, on the evaluator's workers; it reads no file
-// (the centroid cache is assembly's: experiment/cvt_centroids.hpp).
+// (the centroid cache is assembly's: assembly/cvt_centroids.hpp).
 #include <functional>
 #include <memory>
 #include <optional>
@@ -13,9 +13,9 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/archive/cvt_archive.hpp"
 #include "qdmeta/archive/kmeans.hpp"
+#include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
-#include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/task.hpp"
 
 namespace qdmeta {
@@ -44,7 +44,7 @@ struct CvtMapElitesParams {
   // Centroids given instead of made (cvt.centroids_file; e.g. the authors' file): then
   // kmeans.centroids x base-features in [0, 1], and `make_centroids` never runs.
   std::shared_ptr<const RowMatrix> centroids;
-  // Where the centroids come from otherwise (a run's: experiment/cvt_centroids.hpp, the cache or
+  // Where the centroids come from otherwise (a run's: assembly/cvt_centroids.hpp, the cache or
   // k-means over the points [cvt] names); empty: k-means over kmeans.samples uniform points.
   CentroidSource make_centroids;
   void validate() const;

@@ -3,7 +3,7 @@
 // algorithms) register themselves on first use; the RHex task when the program links qdmeta::rhex,
 // whose QDMETA_WITH_RHEX compile definition reaches this header. Inline, so that the choice is the
 // program's, not the one the CLI library was compiled with.
-#include "qdmeta/experiment/core_plugins.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
 #ifdef QDMETA_WITH_RHEX
 #include "qdmeta/tasks/rhex/rhex_config.hpp"
 #endif

@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/eval/evaluator.hpp"
-#include "qdmeta/experiment/build.hpp"
 
 namespace qdmeta {
 

@@ -17,6 +17,9 @@
 #include <sstream>
 #include <string_view>
 
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/core_plugins.hpp"
+#include "qdmeta/assembly/standard_tables.hpp"
 #include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/cli/distribution_factory.hpp"
 #include "qdmeta/core/error.hpp"
@@ -24,20 +27,18 @@
 #include "qdmeta/core/one_line.hpp"
 #include "qdmeta/core/version.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
-#include "qdmeta/experiment/algorithm_registry.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/core_plugins.hpp"
 #include "qdmeta/experiment/experiment.hpp"
 #include "qdmeta/experiment/kept_runs.hpp"
-#include "qdmeta/experiment/run.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
-#include "qdmeta/experiment/standard_tables.hpp"
+#include "qdmeta/experiment/test_phase.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/io/subprocess.hpp"
+#include "qdmeta/plugin/algorithm_registry.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/task_registry.hpp"
+#include "qdmeta/run/run.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace qdmeta {
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #pragma once
 // A run's memory, estimated before anything is allocated: each algorithm and archive adds the
 // large blocks it will allocate (next to the code that allocates them), and the run's builder
-// checks the total against the machine (experiment/memory_estimate.hpp), so that a config that
+// checks the total against the machine (assembly/memory_estimate.hpp), so that a config that
 // cannot fit stops with a message naming the keys that make it large instead of a bare
 // std::bad_alloc minutes into the run. A lower bound, good to a small factor.
 #include <string>

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/run_tables.hpp"
+#include "qdmeta/run/run_tables.hpp"
 
 namespace qdmeta {
 

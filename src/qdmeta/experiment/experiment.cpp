@@ -12,17 +12,18 @@
 #include <set>
 #include <sstream>
 
+#include "qdmeta/assembly/config_fingerprint.hpp"
+#include "qdmeta/assembly/memory_estimate.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/experiment/claim_rules.hpp"
-#include "qdmeta/experiment/config_fingerprint.hpp"
 #include "qdmeta/experiment/kept_runs.hpp"
-#include "qdmeta/experiment/memory_estimate.hpp"
-#include "qdmeta/experiment/run.hpp"
-#include "qdmeta/experiment/run_directory.hpp"
+#include "qdmeta/experiment/test_phase.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/plugin/config.hpp"
+#include "qdmeta/run/run.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,12 +8,12 @@
 #include <optional>
 #include <sstream>
 
+#include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/experiment/build.hpp"
-#include "qdmeta/experiment/config_fingerprint.hpp"
-#include "qdmeta/experiment/run_state.hpp"
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/plugin/config.hpp"
+#include "qdmeta/run/run_state.hpp"
 
 namespace fs = std::filesystem;
 

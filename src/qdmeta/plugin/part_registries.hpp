@@ -1,6 +1,6 @@
 #pragma once
 // The parts inside an algorithm that a config names by kind, beside tasks (task_registry.hpp) and
-// algorithms (experiment/algorithm_registry.hpp): variation operators ([mutation] kind),
+// algorithms (plugin/algorithm_registry.hpp): variation operators ([mutation] kind),
 // controllers of G ([control] kind), feature-maps ([feature_map] kind) and archives ([archive]
 // kind). Each is a Registry (registry.hpp) of readers: a reader gets the part's config table
 // (`kind` already read) and reads its own keys from it, so an unknown or misspelt key is refused
@@ -11,7 +11,7 @@
 // that are the library's fast paths ("gaussian", "discrete-step", "uniform-resample",
 // "iso-line"; feature-map "select"; archive "grid") are not in these registries: a registered
 // name must differ from them (a config that reads the table says so). The controllers "static" and "sarsa" register here as a user's do
-// (experiment/core_plugins.cpp). Register at start-up, before building runs; a reader may be
+// (assembly/core_plugins.cpp). Register at start-up, before building runs; a reader may be
 // called from any thread, and a variation operator from several at once (QD-Meta varies its maps
 // in parallel), so neither may share mutable state.
 #include <functional>

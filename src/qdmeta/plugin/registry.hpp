@@ -1,13 +1,13 @@
 #pragma once
 // The one registry type behind every name a config file chooses: tasks and their meta-objective
-// kinds (plugin/task_registry.hpp) and algorithms (experiment/algorithm_registry.hpp). A name
+// kinds (plugin/task_registry.hpp) and algorithms (plugin/algorithm_registry.hpp). A name
 // maps to a plugin value. Lookups return immutable snapshots, so a plugin a caller found stays
 // valid and unchanged while others are registered or it is replaced. Names keep the order they
 // were first registered in (the order of the CLI's and docs/config.md's lists); a name registered
 // again keeps its place. Thread-safe.
 //
 // A registry knows nothing of the built-in plugins: they register through the same calls as a
-// user's (experiment/core_plugins.hpp), so no registry calls back into the code that fills it.
+// user's (assembly/core_plugins.hpp), so no registry calls back into the code that fills it.
 #include <algorithm>
 #include <map>
 #include <memory>

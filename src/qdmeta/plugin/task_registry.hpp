@@ -49,14 +49,14 @@ struct TaskPlugin {
 };
 
 // Registers (or replaces) the plugin for `name`. Thread-safe. The built-in plugins are
-// registered the same way (experiment/core_plugins.hpp).
+// registered the same way (assembly/core_plugins.hpp).
 void register_task_plugin(const std::string& name, TaskPlugin plugin);
 // Adds (or replaces) meta-objective `kind` of the registered task `task`; Error when `task` is
 // not registered.
 void register_meta_objective(std::string_view task, const std::string& kind, MetaObjectiveReader reader);
 // Remove a plugin, or one meta-objective kind of a registered task; false when there was none.
 // Lookups already made keep their snapshots. (A part used for one run only needs no
-// registration at all: hand it to build_run() as a value, experiment/run_parts.hpp.)
+// registration at all: hand it to build_run() as a value, assembly/run_parts.hpp.)
 bool unregister_task_plugin(std::string_view name);
 bool unregister_meta_objective(std::string_view task, std::string_view kind);
 // A task this build lacks but a user may ask for: `[task] name = NAME` then fails with `why`
