@@ -350,7 +350,7 @@ whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresho
                                return std::visit(
                                    [](const auto& s) {
                                      const CellThresholds& t = s->thresholds();
-                                     py::array_t<double> out(t.cells());
+                                     auto out = new_array<double>({t.cells()});  // numpy 2: not array_t(n)
                                      for (Index c = 0; c < t.cells(); ++c) out.mutable_data()[c] = t.threshold(c);
                                      return out;
                                    },

@@ -97,3 +97,17 @@ def test_a_module_that_gets_the_arrays_wrong_refuses_to_import():
     assert "\n" not in message
     assert f"numpy {np.__version__}" in message and "GridArchive.index_of gave [0, 0, 0, 0]" in message
     assert "pip install ." in message
+
+
+def test_the_module_sources_make_arrays_only_with_explicit_strides():
+    """Under numpy 1 an array_t made from a shape alone is right; under numpy 2 and this pybind11 its
+    strides are 0. ctest runs numpy 1, so the constructor itself is refused here (numpy_arrays.hpp's
+    new_array gives the strides)."""
+    import pathlib
+    import re
+    sources = pathlib.Path(__file__).resolve().parents[2] / "python" / "src"
+    # A variable made from one argument: `py::array_t<double> out(n);` (two or more carry strides).
+    shape_only = re.compile(r"array_t<[^>;]*>\s+\w+\s*[({]([^,;]*)[)}]\s*;")
+    found = [f"{p.name}:{n}: {line.strip()}" for p in sorted(sources.glob("*.[ch]pp"))
+             for n, line in enumerate(p.read_text().splitlines(), 1) if shape_only.search(line)]
+    assert not found, "\n".join(found)
