@@ -1,13 +1,14 @@
 // DART against MuJoCo (docs/fidelity.md, "MuJoCo"): the same random controllers, and the tripod
 // gait, in every environment of the study (flat ground, the four damages on one leg, the nine
 // courses) on DART with rigid legs (the reference), MuJoCo with rigid legs, and DART with
-// compliant legs on the first `compliant` controllers (each ~1.5 s). Per environment and model:
+// compliant legs on the first `compliant` controllers (each ~1.5 s), and DART with rigid legs at a
+// short step (`fine_dt`, the converged reference: docs/fidelity.md) on the first `fine`. Per environment and model:
 // mean distance (dead = 0), deaths, the tripod's distance, and against DART-rigid over the same
 // controllers Pearson's r and Spearman's rank correlation, and how many die on one engine only;
 // deaths by cause: turned over (during the walk), never settled (after it), diverged (MuJoCo).
 // MuJoCo's compliant legs are not modelled yet (rhex_episode.cpp refuses them). Not a
 // micro-benchmark: a plain program.
-//   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [seconds=5] [only=NAME]
+//   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [fine=0] [fine_dt=0.001] [seconds=5] [only=NAME]
 // only: the environments whose name contains NAME.
 #include <fmt/format.h>
 
@@ -20,6 +21,7 @@
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
+#include "tasks/key_value_args.hpp"
 #include "tasks/paired_stats.hpp"
 
 namespace {
@@ -30,7 +32,9 @@ struct Model {
   std::string name;
   rhex::Engine engine;
   rhex::LegModel legs;
-  bool subset;  // only the first `compliant` controllers
+  bool subset;  // only the first `subset` controllers
+  double time_step = 0.005;
+  bool fine = false;  // DART at a short step: the converged reference (MuJoCo is compared with it too)
 };
 
 struct Outcome {
@@ -49,19 +53,12 @@ std::vector<double> head(const std::vector<double>& v, std::size_t n) { return {
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args{{"count", "200"}, {"seed", "3"},      {"threads", "1"},
                                           {"leg", "1"},     {"compliant", "0"}, {"seconds", "5"},
-                                          {"only", ""}};
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const auto eq = a.find('=');
-    if (eq == std::string::npos || !args.contains(a.substr(0, eq))) {
-      fmt::print(stderr, "rhex_engines: bad argument '{}' (key=value, keys: count seed threads leg compliant seconds only)\n", a);
-      return 2;
-    }
-    args[a.substr(0, eq)] = a.substr(eq + 1);
-  }
+                                          {"only", ""},     {"fine", "0"},      {"fine_dt", "0.001"}};
+  if (!bench::read_key_values(argc, argv, "rhex_engines", args)) return 2;
   try {
     const Index count = std::stoll(args["count"]);
     const auto subset = static_cast<std::size_t>(std::min<Index>(count, std::stoll(args["compliant"])));
+    const auto fine = static_cast<std::size_t>(std::min<Index>(count, std::stoll(args["fine"])));
     const int leg = std::stoi(args["leg"]);
     const int threads = std::stoi(args["threads"]);
     Rng rng(std::stoull(args["seed"]));
@@ -70,6 +67,9 @@ int main(int argc, char** argv) {
     std::vector<Model> models{{"DART rigid", rhex::Engine::kDart, rhex::LegModel::kRigid, false},
                               {"MuJoCo rigid", rhex::Engine::kMujoco, rhex::LegModel::kRigid, false}};
     if (subset > 0) models.push_back({"DART compliant", rhex::Engine::kDart, rhex::LegModel::kCompliant, true});
+    if (fine > 0)
+      models.push_back({fmt::format("DART {:g} ms", 1000 * std::stod(args["fine_dt"])), rhex::Engine::kDart,
+                        rhex::LegModel::kRigid, true, std::stod(args["fine_dt"]), true});
     std::vector<std::pair<std::string, rhex::RhexEnvironment>> envs{{"flat", {}}};
     for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
                    rhex::DamageType::kPassiveHip})
@@ -79,8 +79,9 @@ int main(int argc, char** argv) {
       if (course != rhex::ObstacleCourse::kFlat) envs.emplace_back(std::string(name), rhex::RhexEnvironment::obstacle(course));
     auto evaluator = make_evaluator(threads);
     const auto tripod = rhex::tripod_genes();
-    fmt::print("{} random controllers (seed {}), DART compliant on the first {}, {} threads; distance in m (dead = 0)\n",
-               count, args["seed"], subset, threads);
+    fmt::print("{} random controllers (seed {}), DART compliant on the first {}, DART at {} s on the first {}, {} threads; "
+               "distance in m (dead = 0)\n",
+               count, args["seed"], subset, args["fine_dt"], fine, threads);
     for (const auto& [env_name, env] : envs) {
       if (!args["only"].empty() && env_name.find(args["only"]) == std::string::npos) continue;
       std::vector<Outcome> outcomes;
@@ -88,9 +89,13 @@ int main(int argc, char** argv) {
         RhexParams p;
         p.episode.engine = m.engine;
         p.episode.legs = m.legs;
+        p.episode.time_step = m.time_step;
+        // The settling rule counts steps: the same 5 s at most, 0.15 s quiet, at any step.
+        p.episode.settle_steps = static_cast<int>(std::lround(p.episode.settle_steps * 0.005 / p.episode.time_step));
+        p.episode.stable_steps = static_cast<int>(std::lround(p.episode.stable_steps * 0.005 / p.episode.time_step));
         p.episode.duration = std::stod(args["seconds"]);
         const RhexTask task(p);
-        const Index n = m.subset ? static_cast<Index>(subset) : count;
+        const Index n = m.fine ? static_cast<Index>(fine) : m.subset ? static_cast<Index>(subset) : count;
         Outcome o;
         o.distance.resize(static_cast<std::size_t>(n));
         o.dead.resize(static_cast<std::size_t>(n));
@@ -141,9 +146,16 @@ int main(int argc, char** argv) {
           fmt::print("; vs DART rigid: r = {:.3f}, rank r = {:.3f}, dead on one only {}", bench::correlation(o.distance, ref),
                      bench::rank_correlation(o.distance, ref), dead_disagree);
         }
-        if (k == 2) {
+        if (k >= 2) {
           const auto mj = head(outcomes[1].distance, n);
-          fmt::print("; vs MuJoCo rigid: r = {:.3f}", bench::correlation(o.distance, mj));
+          fmt::print("; MuJoCo rigid vs this: r = {:.3f}, rank r = {:.3f}", bench::correlation(mj, o.distance),
+                     bench::rank_correlation(mj, o.distance));
+          if (models[k].fine) {
+            double mean_mj = 0;
+            int dead_mj = 0;
+            for (std::size_t j = 0; j < n; ++j) mean_mj += mj[j] / static_cast<double>(n), dead_mj += outcomes[1].dead[j];
+            fmt::print(" (MuJoCo on these: mean {:.3f}, dead {})", mean_mj, dead_mj);
+          }
         }
         fmt::print("\n");
       }
