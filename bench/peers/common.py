@@ -69,6 +69,46 @@ TASKS = {
 }
 
 
+# The CMA-MAE paper's domains (Fontaine & Nikolaidis 2023; its experiments' lin_proj.py and
+# arm.py), as bench/peers/cma_domains.hpp has them in C++: unbounded genes, objectives normalised
+# so that 100 is the optimum, measures on a 100 x 100 grid over [-CMA_BOUND, CMA_BOUND]^2.
+SPHERE_BOUND = 5.12
+SPHERE_SHIFT = 0.4 * SPHERE_BOUND
+
+
+def lin_proj_sphere(solutions):
+    """Objective and (n, 2) measures of each row of a (n, genes) array: the sphere with its
+    optimum at 2.048 in every gene, 100 (W - S) / W with W = genes (5.12 + 2.048)^2; the measures
+    sum the first and the last genes / 2 genes after each gene outside [-5.12, 5.12] is folded to
+    5.12 / x. In float64, as pyribs's example."""
+    x = np.asarray(solutions, dtype=np.float64)
+    genes = x.shape[1]
+    worst = genes * (SPHERE_BOUND + SPHERE_SHIFT) ** 2
+    objective = 100.0 * (worst - np.sum((x - SPHERE_SHIFT) ** 2, axis=1)) / worst
+    folded = np.where(np.abs(x) <= SPHERE_BOUND, x, SPHERE_BOUND / np.where(x == 0.0, 1.0, x))
+    half = genes // 2
+    return objective, np.stack([folded[:, :half].sum(axis=1), folded[:, half:].sum(axis=1)], axis=1)
+
+
+def arm_repertoire(solutions):
+    """Objective and (n, 2) measures of each row of a (n, joints) array of joint angles, links of
+    length 1: 100 (1 - Var(angles)), and the end effector's (x, y)."""
+    angles = np.asarray(solutions, dtype=np.float64)
+    heading = np.cumsum(angles, axis=1)
+    objective = 100.0 * (1.0 - np.var(angles, axis=1))
+    return objective, np.stack([np.cos(heading).sum(axis=1), np.sin(heading).sum(axis=1)], axis=1)
+
+
+# name -> (evaluate, half-width of the measure grid for `genes` genes, the paper's sigma0)
+CMA_DOMAINS = {
+    "sphere": (lin_proj_sphere, lambda genes: genes // 2 * SPHERE_BOUND, 0.5),
+    "arm": (arm_repertoire, lambda genes: float(genes), 0.1),
+}
+CMA_EMITTERS = 15
+CMA_EMITTER_BATCH = 36
+CMA_GRID = (100, 100)
+
+
 def mutate(parents, rng):
     """The Gaussian operator on a (n, genes) array of parents."""
     mask = rng.random(parents.shape) < MUTATION_RATE

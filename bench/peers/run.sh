@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Side-by-side benchmark of qdmeta against pyribs and QDax (bench/peers/README.md).
 #   bench/peers/run.sh [--evals N] [--repeats R] [any option of peers.py]
+#   bench/peers/run.sh --cma [any option of cma_peers.py]   (CMA-ME / CMA-MAE against pyribs)
 # Creates build/peers-venv with Debian's python3 and pinned peers, builds qdmeta if needed and
 # the arm's command line (examples/own-task against an install of the build, in
 # build/peers-arm), then runs peers.py. The only part of the project that uses the Python
@@ -27,6 +28,12 @@ pip_install() {  # name, packages...: installs quietly; a failure skips the peer
   fi
 }
 pip_install pyribs "$RIBS"
+if [[ "${1:-}" == "--cma" ]]; then
+  # The CMA-MAE paper's comparison needs pyribs and the C++ peer only (README.md, "CMA-ME and CMA-MAE").
+  shift
+  cmake --build "$ROOT/build" -j "${JOBS:-2}" --target cma_peer >/dev/null
+  exec "$VENV/bin/python" "$ROOT/bench/peers/cma_peers.py" "$@"
+fi
 pip_install qdax "${QDAX[@]}"
 
 if [[ ! -x "$ROOT/build/qdmeta" ]]; then
