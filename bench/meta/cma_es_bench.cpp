@@ -96,7 +96,7 @@ void BM_CmaEsDecompose(benchmark::State& state) {
     benchmark::DoNotOptimize(eigen.values.data());
   }
 }
-BENCHMARK(BM_CmaEsDecompose)->Arg(222)->Arg(542)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CmaEsDecompose)->Arg(100)->Arg(222)->Arg(542)->Unit(benchmark::kMillisecond);
 
 void BM_EigenSelfAdjointSolver(benchmark::State& state) {
   const Eigen::MatrixXd c = covariance_for(state);
@@ -105,6 +105,6 @@ void BM_EigenSelfAdjointSolver(benchmark::State& state) {
     benchmark::DoNotOptimize(solver.eigenvalues().data());
   }
 }
-BENCHMARK(BM_EigenSelfAdjointSolver)->Arg(222)->Arg(542)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EigenSelfAdjointSolver)->Arg(100)->Arg(222)->Arg(542)->Unit(benchmark::kMillisecond);
 
 }  // namespace

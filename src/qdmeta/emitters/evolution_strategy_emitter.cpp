@@ -20,6 +20,7 @@ CmaEsParams cma_params(const EvolutionStrategyEmitterParams& p) {
   c.bounds = p.bounds;
   c.lower_bound = p.lower_bound;
   c.upper_bound = p.upper_bound;
+  c.eigen_gap = p.eigen_gap;
   return c;
 }
 

@@ -54,6 +54,8 @@ struct EvolutionStrategyEmitterParams {
   // The random-direction rankers: the extent of each measure (upper - lower bound, > 0). A
   // direction is N(0, I) scaled by these, drawn at the first ask() and at each restart.
   std::vector<double> measure_ranges;
+  // How often CMA-ES decomposes its covariance: pyribs's gap by default (meta/cma_es.hpp).
+  CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };

@@ -41,6 +41,22 @@ void multiply(const Eigen::MatrixXd& a, const double* x, double* y) {
   }
 }
 
+// Y = A X for `count` columns of X (rows a.cols()) into Y (rows a.rows()): each y_ik is the sum
+// over j = 0, 1, ... as multiply() forms it, with A read once for all the columns.
+void multiply_columns(const Eigen::MatrixXd& a, const double* x, double* y, Eigen::Index count) {
+  const Eigen::Index rows = a.rows();
+  const Eigen::Index inner = a.cols();
+  std::fill_n(y, rows * count, 0.0);
+  for (Eigen::Index j = 0; j < inner; ++j) {
+    const double* column = &a(0, j);
+    for (Eigen::Index k = 0; k < count; ++k) {
+      const double xj = x[k * inner + j];
+      double* yk = y + k * rows;
+      for (Eigen::Index i = 0; i < rows; ++i) yk[i] += column[i] * xj;
+    }
+  }
+}
+
 // y = A^T x: each y_j is the dot product of column j with x, summed in i = 0, 1, ...
 void multiply_transposed(const Eigen::MatrixXd& a, const double* x, double* y) {
   for (Eigen::Index j = 0; j < a.cols(); ++j) {
@@ -104,6 +120,14 @@ CmaEsStrategy make_strategy(const CmaEsParams& p) {
   // c-cmaes's default weights, ln(mu + 1) - ln i, where its realisation of lambda = 1 is asked for.
   const double top = s.library_ranking ? std::log(s.mu + 1.0) : std::log((lambda + 1.0) / 2.0);
   set_weights_and_rates(s, top);
+  if (p.eigen_gap == CmaEigenGap::kPurecma) {
+    // purecma's gap, 0.5 n lambda / (c1 + c_mu) / n^2, from the rates of floor(lambda / 2)
+    // parents weighted ln(mu + 1/2) - ln i, whatever the parents of each update.
+    CmaEsStrategy half = s;
+    half.mu = std::max(1, lambda / 2);
+    set_weights_and_rates(half, std::log(half.mu + 0.5));
+    s.eigen_interval = 0.5 * static_cast<double>(lambda) / ((half.c1 + half.c_mu) * static_cast<double>(s.n));
+  }
   return s;
 }
 
@@ -123,6 +147,12 @@ std::string to_string(CmaSmallPopulation value) {
 
 CmaSmallPopulation cma_small_population_from_string(std::string_view text) {
   return enum_from_string(kCmaSmallPopulationNames, "CMA-ES small population", text);
+}
+
+std::string to_string(CmaEigenGap value) { return std::string(enum_to_string(kCmaEigenGapNames, value)); }
+
+CmaEigenGap cma_eigen_gap_from_string(std::string_view text) {
+  return enum_from_string(kCmaEigenGapNames, "CMA-ES eigen gap", text);
 }
 
 std::string to_string(CmaObjective value) { return std::string(enum_to_string(kCmaObjectiveNames, value)); }
@@ -151,6 +181,9 @@ void CmaEsParams::validate() const {
   require_at_least("CmaEsParams.max_resample_attempts", max_resample_attempts, 1);
   if (enum_to_string(kCmaSmallPopulationNames, small_population) == "?") {
     invalid_param("small_population", static_cast<int>(small_population), "must be one of one-one, authors");
+  }
+  if (enum_to_string(kCmaEigenGapNames, eigen_gap) == "?") {
+    invalid_param("eigen_gap", static_cast<int>(eigen_gap), "must be one of tutorial, purecma");
   }
   if (bounds == CmaBoundsHandling::kNone) return;
   if (!std::isfinite(lower_bound)) invalid_param("lower_bound", lower_bound, "must be finite");
@@ -230,9 +263,11 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
     fill_normals(&z_(0, first), Eigen::Index{n} * count);
     for (int k = first; k < first + count; ++k) {
       double* z = &z_(0, k);
-      double* x = &state_.samples(0, k);
       for (int i = 0; i < n; ++i) z[i] *= dist.D(i);
-      multiply(dist.B, z, x);  // x = m + sigma B D z
+    }
+    multiply_columns(dist.B, &z_(0, first), &state_.samples(0, first), count);  // x = m + sigma B D z
+    for (int k = first; k < first + count; ++k) {
+      double* x = &state_.samples(0, k);
       for (int i = 0; i < n; ++i) x[i] = dist.mean(i) + dist.sigma * x[i];
     }
   };
@@ -329,6 +364,7 @@ void CmaEs::tell_ranked(std::span<const int> order, int parents) {
   CmaEsStrategy s = strategy_;
   s.mu = parents;
   set_weights_and_rates(s, std::log(parents + 0.5));
+  if (params_.eigen_gap == CmaEigenGap::kPurecma) s.eigen_interval = strategy_.eigen_interval;
   update(s);
 }
 
@@ -370,11 +406,19 @@ void CmaEs::update(const CmaEsStrategy& s) {
   // C_ij = decay C_ij + c1 p_c,i p_c,j + c_mu sum_k w_k y_k,i y_k,j, the sum in k order.
   const double delta_h = h_sigma ? 0.0 : s.c_c * (2.0 - s.c_c);
   const double decay = 1.0 - s.c1 - s.c_mu + s.c1 * delta_h;
+  // The k sums run for a whole column of C at once (contiguous in y_'s columns), each entry's
+  // still in k order from 0.
+  Eigen::VectorXd rank_mu(n);
   for (int j = 0; j < n; ++j) {
+    std::fill(rank_mu.data() + j, rank_mu.data() + n, 0.0);
+    for (int k = 0; k < s.mu; ++k) {
+      const double* y = &y_(0, k);
+      const double w = s.weights(k);
+      const double y_j = y[j];
+      for (int i = j; i < n; ++i) rank_mu(i) += w * (y[i] * y_j);
+    }
     for (int i = j; i < n; ++i) {
-      double rank_mu = 0.0;
-      for (int k = 0; k < s.mu; ++k) rank_mu += s.weights(k) * (y_(i, k) * y_(j, k));
-      st.C(i, j) = decay * st.C(i, j) + s.c1 * (st.p_c(i) * st.p_c(j)) + s.c_mu * rank_mu;
+      st.C(i, j) = decay * st.C(i, j) + s.c1 * (st.p_c(i) * st.p_c(j)) + s.c_mu * rank_mu(i);
     }
   }
   for (int j = 1; j < n; ++j) {

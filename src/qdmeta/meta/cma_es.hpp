@@ -56,6 +56,23 @@ std::string to_string(CmaSmallPopulation value);
 // Accepts "one-one", "authors"; anything else throws InputError listing those.
 CmaSmallPopulation cma_small_population_from_string(std::string_view text);
 
+// How many evaluations CMA-ES lets pass between eigendecompositions of C (sampling and the
+// step-size path use the B and D of the last one): a decomposition costs O(n^3), the rest of a
+// generation O(n^2 lambda).
+enum class CmaEigenGap {
+  // More than lambda / ((c1 + c_mu) n 10), c1 and c_mu those of the update just made (the
+  // tutorial's "every lambda / (c1 + c_mu) / n / 10 generations" read in evaluations); QD-Meta's.
+  kTutorial,
+  // More than lambda / (2 (c1 + c_mu) n), c1 and c_mu those of floor(lambda / 2) parents, fixed
+  // for the run: Hansen's purecma and pyribs's CMA-ES; 5x lazier. The emitters' default.
+  kPurecma,
+};
+inline constexpr EnumNames<CmaEigenGap, 2> kCmaEigenGapNames{
+    {{CmaEigenGap::kTutorial, "tutorial"}, {CmaEigenGap::kPurecma, "purecma"}}};
+std::string to_string(CmaEigenGap value);
+// Accepts "tutorial", "purecma"; anything else throws InputError listing those.
+CmaEigenGap cma_eigen_gap_from_string(std::string_view text);
+
 // Whether tell() receives values to minimise or to maximise (QD-Meta maximises meta-fitness).
 enum class CmaObjective { kMinimise, kMaximise };
 inline constexpr EnumNames<CmaObjective, 2> kCmaObjectiveNames{
@@ -76,6 +93,7 @@ struct CmaEsParams {
   int max_resample_attempts = 100;   // kResample: draws per candidate before clamping (>= 1)
   bool frozen = false;  // ablation control: always sample the initial distribution, never update
   CmaSmallPopulation small_population = CmaSmallPopulation::kOneOne;  // population_size 1 only
+  CmaEigenGap eigen_gap = CmaEigenGap::kTutorial;  // how often C is decomposed
 
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
