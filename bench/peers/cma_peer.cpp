@@ -6,6 +6,7 @@
 //
 //   cma_peer --domain sphere|arm --algorithm cma-me|cma-mae [--iterations 10000] [--seed 1]
 //            [--genes 100] [--eigen-gap purecma|tutorial]
+//            [--rank-one tutorial|pyribs]
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -38,6 +39,7 @@ struct Options {
   std::uint64_t seed = 1;
   Index genes = 100;
   CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;  // the emitters' default, pyribs's gap
+  CmaRankOne rank_one = CmaRankOne::kTutorial;     // "pyribs": pyribs 0.12's term (fidelity.md)
 };
 
 Options parse(int argc, char** argv) {
@@ -52,6 +54,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--seed") o.seed = std::strtoull(value, nullptr, 10);
     else if (key == "--genes") o.genes = std::atol(value);
     else if (key == "--eigen-gap") o.eigen_gap = cma_eigen_gap_from_string(value);
+    else if (key == "--rank-one") o.rank_one = cma_rank_one_from_string(value);
     else throw InputError(fmt::format("cma_peer: unknown option {}", key));
   }
   if (o.domain != "sphere" && o.domain != "arm") throw InputError(fmt::format("cma_peer --domain = {}: sphere or arm", o.domain));
@@ -81,6 +84,7 @@ int run(const Options& o, const peers::CmaDomain& domain, Evaluate evaluate_one)
   ep.selection = EmitterSelection::kMu;
   ep.restart = EmitterRestart::kBasic;
   ep.eigen_gap = o.eigen_gap;
+  ep.rank_one = o.rank_one;
   ThresholdParams thresholds;
   thresholds.alpha = mae ? 0.01 : 1.0;
   thresholds.threshold_min = mae ? 0.0 : -std::numeric_limits<double>::infinity();
@@ -104,10 +108,10 @@ int run(const Options& o, const peers::CmaDomain& domain, Evaluate evaluate_one)
   // The paper's QD-score: the sum of the elites' objectives over all cells; coverage in percent.
   fmt::print(R"({{"library": "qdmeta", "version": "{}", "algorithm": "{}", "domain": "{}", "iterations": {}, )"
              R"("evals": {}, "wall_s": {}, "task_s": {}, "num_elites": {}, "qd_score": {}, "coverage": {}, )"
-             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), one thread, eigen gap {}"}})"
+             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), one thread, eigen gap {}, rank-one {}"}})"
              "\n",
              kVersion, o.algorithm, domain.name, o.iterations, evals, wall, task_s, stats.num_elites,
-             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed, to_string(o.eigen_gap));
+             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed, to_string(o.eigen_gap), to_string(o.rank_one));
   return 0;
 }
 

@@ -21,6 +21,7 @@ CmaEsParams cma_params(const EvolutionStrategyEmitterParams& p) {
   c.lower_bound = p.lower_bound;
   c.upper_bound = p.upper_bound;
   c.eigen_gap = p.eigen_gap;
+  c.rank_one = p.rank_one;
   return c;
 }
 

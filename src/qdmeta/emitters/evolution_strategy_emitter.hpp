@@ -56,6 +56,8 @@ struct EvolutionStrategyEmitterParams {
   std::vector<double> measure_ranges;
   // How often CMA-ES decomposes its covariance: pyribs's gap by default (meta/cma_es.hpp).
   CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;
+  // CMA-ES's rank-one term; "pyribs" reproduces pyribs 0.12's, for comparisons with it only.
+  CmaRankOne rank_one = CmaRankOne::kTutorial;
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };

@@ -155,6 +155,12 @@ CmaEigenGap cma_eigen_gap_from_string(std::string_view text) {
   return enum_from_string(kCmaEigenGapNames, "CMA-ES eigen gap", text);
 }
 
+std::string to_string(CmaRankOne value) { return std::string(enum_to_string(kCmaRankOneNames, value)); }
+
+CmaRankOne cma_rank_one_from_string(std::string_view text) {
+  return enum_from_string(kCmaRankOneNames, "CMA-ES rank-one term", text);
+}
+
 std::string to_string(CmaObjective value) { return std::string(enum_to_string(kCmaObjectiveNames, value)); }
 
 CmaObjective cma_objective_from_string(std::string_view text) {
@@ -184,6 +190,9 @@ void CmaEsParams::validate() const {
   }
   if (enum_to_string(kCmaEigenGapNames, eigen_gap) == "?") {
     invalid_param("eigen_gap", static_cast<int>(eigen_gap), "must be one of tutorial, purecma");
+  }
+  if (enum_to_string(kCmaRankOneNames, rank_one) == "?") {
+    invalid_param("rank_one", static_cast<int>(rank_one), "must be one of tutorial, pyribs");
   }
   if (bounds == CmaBoundsHandling::kNone) return;
   if (!std::isfinite(lower_bound)) invalid_param("lower_bound", lower_bound, "must be finite");
@@ -400,7 +409,13 @@ void CmaEs::update(const CmaEsStrategy& s) {
       std::sqrt(1.0 - std::pow(1.0 - s.c_sigma, 2.0 * static_cast<double>(st.generation)));
   const bool h_sigma = p_sigma_norm / path_bias < (1.4 + 2.0 / (dn + 1.0)) * s.chi_n;
   const double c_path_scale = h_sigma ? std::sqrt(s.c_c * (2.0 - s.c_c) * s.mu_eff) : 0.0;
-  for (int i = 0; i < n; ++i) st.p_c(i) = (1.0 - s.c_c) * st.p_c(i) + c_path_scale * y_w(i);
+  const bool pyribs_rank_one = params_.rank_one == CmaRankOne::kPyribs;
+  if (pyribs_rank_one) {
+    for (int i = 0; i < n; ++i) st.p_c(i) = (1.0 - s.c_c) * st.p_c(i) + c_path_scale * (st.sigma * y_w(i));
+  } else {
+    for (int i = 0; i < n; ++i) st.p_c(i) = (1.0 - s.c_c) * st.p_c(i) + c_path_scale * y_w(i);
+  }
+  const double rank_one_rate = pyribs_rank_one ? s.c1 * s.c1 : s.c1;
 
   // Rank-one + rank-mu update (the weights sum to 1) on the lower triangle, then mirrored:
   // C_ij = decay C_ij + c1 p_c,i p_c,j + c_mu sum_k w_k y_k,i y_k,j, the sum in k order.
@@ -418,7 +433,7 @@ void CmaEs::update(const CmaEsStrategy& s) {
       for (int i = j; i < n; ++i) rank_mu(i) += w * (y[i] * y_j);
     }
     for (int i = j; i < n; ++i) {
-      st.C(i, j) = decay * st.C(i, j) + s.c1 * (st.p_c(i) * st.p_c(j)) + s.c_mu * rank_mu(i);
+      st.C(i, j) = decay * st.C(i, j) + rank_one_rate * (st.p_c(i) * st.p_c(j)) + s.c_mu * rank_mu(i);
     }
   }
   for (int j = 1; j < n; ++j) {

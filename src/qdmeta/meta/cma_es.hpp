@@ -73,6 +73,20 @@ std::string to_string(CmaEigenGap value);
 // Accepts "tutorial", "purecma"; anything else throws InputError listing those.
 CmaEigenGap cma_eigen_gap_from_string(std::string_view text);
 
+// CMA-ES's rank-one covariance term.
+enum class CmaRankOne {
+  kTutorial,  // c1 p_c p_c^T, p_c accumulating the normalised mean steps y_w (the tutorial's)
+  // pyribs 0.12's (emitters/opt/_cma_es.py): p_c accumulates the mean's steps sigma y_w, and the
+  // term is c1^2 p_c p_c^T, not divided by sigma^2; next to c_mu's term it is nearly nothing. For
+  // comparisons with pyribs only (docs/fidelity.md, "Emitters against pyribs").
+  kPyribs,
+};
+inline constexpr EnumNames<CmaRankOne, 2> kCmaRankOneNames{
+    {{CmaRankOne::kTutorial, "tutorial"}, {CmaRankOne::kPyribs, "pyribs"}}};
+std::string to_string(CmaRankOne value);
+// Accepts "tutorial", "pyribs"; anything else throws InputError listing those.
+CmaRankOne cma_rank_one_from_string(std::string_view text);
+
 // Whether tell() receives values to minimise or to maximise (QD-Meta maximises meta-fitness).
 enum class CmaObjective { kMinimise, kMaximise };
 inline constexpr EnumNames<CmaObjective, 2> kCmaObjectiveNames{
@@ -94,6 +108,7 @@ struct CmaEsParams {
   bool frozen = false;  // ablation control: always sample the initial distribution, never update
   CmaSmallPopulation small_population = CmaSmallPopulation::kOneOne;  // population_size 1 only
   CmaEigenGap eigen_gap = CmaEigenGap::kTutorial;  // how often C is decomposed
+  CmaRankOne rank_one = CmaRankOne::kTutorial;      // the rank-one term of C's update
 
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;

@@ -1,6 +1,7 @@
-// Tests of CmaEsParams::eigen_gap (src/qdmeta/meta/cma_es.hpp): "purecma", the emitters' gap
-// between eigendecompositions, is pycma's purecma and pyribs's 0.5 lambda / ((c1 + c_mu) n) for
-// floor(lambda / 2) parents, whatever the parents of each update; "tutorial" stays QD-Meta's.
+// Tests of the CMA-ES options the emitters have for pyribs's sake (src/qdmeta/meta/cma_es.hpp):
+// eigen_gap "purecma", the emitters' gap between eigendecompositions, is pycma's purecma and
+// pyribs's 0.5 lambda / ((c1 + c_mu) n) for floor(lambda / 2) parents, whatever the parents of
+// each update; rank_one "pyribs" is pyribs 0.12's rank-one term. The defaults stay QD-Meta's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -112,6 +113,40 @@ TEST(CmaEsEigenGap, EmittersUsePurecmaUnlessTold) {
   EXPECT_EQ(EvolutionStrategyEmitter(p, {}).optimiser().params().eigen_gap, CmaEigenGap::kPurecma);
   p.eigen_gap = CmaEigenGap::kTutorial;
   EXPECT_EQ(EvolutionStrategyEmitter(p, {}).optimiser().params().eigen_gap, CmaEigenGap::kTutorial);
+}
+
+TEST(CmaEsRankOne, PyribsTermIsC1SquaredTimesTheUnnormalisedPath) {
+  // One generation from the same samples: pyribs's p_c is sigma0 times the tutorial's, and its
+  // C differs from the tutorial's by (c1^2 sigma0^2 - c1) p_c p_c^T (tutorial's p_c) alone.
+  CmaEsParams p = params(6, 10, CmaEigenGap::kTutorial);
+  const CmaEs tutorial = run(p, 1, 5);
+  p.rank_one = CmaRankOne::kPyribs;
+  const CmaEs pyribs = run(p, 1, 5);
+  const CmaEsState& t = tutorial.state();
+  const CmaEsState& r = pyribs.state();
+  ASSERT_GT(t.p_c.norm(), 0.1);  // h_sigma held: the path moved
+  EXPECT_TRUE(r.mean == t.mean);
+  EXPECT_EQ(r.sigma, t.sigma);
+  EXPECT_TRUE(r.p_c.isApprox(p.initial_sigma * t.p_c, 1e-15));
+  const double c1 = tutorial.strategy().c1;
+  const double s0 = p.initial_sigma;
+  const Eigen::MatrixXd expected = t.C + (c1 * c1 * s0 * s0 - c1) * t.p_c * t.p_c.transpose();
+  EXPECT_TRUE(r.C.isApprox(expected, 1e-14));
+  EXPECT_FALSE(r.C.isApprox(t.C, 1e-6));
+}
+
+TEST(CmaEsRankOne, NamesRoundTripAndBadValuesAreRefused) {
+  for (const auto& [value, name] : kCmaRankOneNames) {
+    EXPECT_EQ(to_string(value), name);
+    EXPECT_EQ(cma_rank_one_from_string(name), value);
+  }
+  EXPECT_INPUT_ERROR(cma_rank_one_from_string("none"),
+                     "CMA-ES rank-one term = \"none\" is not a valid choice: use one of \"tutorial\", \"pyribs\"");
+  CmaEsParams p = params(3, 4, CmaEigenGap::kTutorial);
+  p.rank_one = static_cast<CmaRankOne>(5);
+  EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.rank_one = 5 is invalid: must be one of tutorial, pyribs");
+  EXPECT_EQ(CmaEsParams{}.rank_one, CmaRankOne::kTutorial);
+  EXPECT_EQ(EvolutionStrategyEmitterParams{}.rank_one, CmaRankOne::kTutorial);
 }
 
 }  // namespace
