@@ -57,6 +57,15 @@ CmaEs run(const CmaEsParams& p, int generations, int parents) {
   return cma;
 }
 
+// Every name of an option's table is its value's to_string and parses back to it.
+template <class Table, class Parse>
+void expect_names_round_trip(const Table& table, Parse parse) {
+  for (const auto& [value, name] : table) {
+    EXPECT_EQ(to_string(value), name);
+    EXPECT_EQ(parse(name), value);
+  }
+}
+
 TEST(CmaEsEigenGap, PurecmaIsPyribsGapAtTheCmaMaePapersSize) {
   const CmaEs cma(params(100, 36, CmaEigenGap::kPurecma));
   EXPECT_NEAR(cma.strategy().eigen_interval, pyribs_gap(100, 36), 1e-9 * pyribs_gap(100, 36));
@@ -96,10 +105,7 @@ TEST(CmaEsEigenGap, BAndDAreThoseOfTheCovarianceAtTheLastDecomposition) {
 }
 
 TEST(CmaEsEigenGap, NamesRoundTripAndBadValuesAreRefused) {
-  for (const auto& [value, name] : kCmaEigenGapNames) {
-    EXPECT_EQ(to_string(value), name);
-    EXPECT_EQ(cma_eigen_gap_from_string(name), value);
-  }
+  expect_names_round_trip(kCmaEigenGapNames, cma_eigen_gap_from_string);
   EXPECT_INPUT_ERROR(cma_eigen_gap_from_string("lazy"),
                      "CMA-ES eigen gap = \"lazy\" is not a valid choice: use one of \"tutorial\", \"purecma\"");
   CmaEsParams p = params(3, 4, static_cast<CmaEigenGap>(7));
@@ -136,10 +142,7 @@ TEST(CmaEsRankOne, PyribsTermIsC1SquaredTimesTheUnnormalisedPath) {
 }
 
 TEST(CmaEsRankOne, NamesRoundTripAndBadValuesAreRefused) {
-  for (const auto& [value, name] : kCmaRankOneNames) {
-    EXPECT_EQ(to_string(value), name);
-    EXPECT_EQ(cma_rank_one_from_string(name), value);
-  }
+  expect_names_round_trip(kCmaRankOneNames, cma_rank_one_from_string);
   EXPECT_INPUT_ERROR(cma_rank_one_from_string("none"),
                      "CMA-ES rank-one term = \"none\" is not a valid choice: use one of \"tutorial\", \"pyribs\"");
   CmaEsParams p = params(3, 4, CmaEigenGap::kTutorial);
