@@ -1,0 +1,48 @@
+#!/bin/bash
+# The engine cross-check (docs/fidelity.md, "Cross-check, engine against engine"): 200 random
+# controllers and the tripod in the 14 environments of the study, on each model, run in slices
+# (one environment and model, compliant legs 50 controllers at a time) at low priority, so that an
+# interrupted run resumes where it stopped; then the finished slices are joined, in the study's
+# order, into the committed CSV that tools/rhex_engines_table.py makes the table from.
+#   scripts/rhex-engine-crosscheck.sh [BUILD_DIR] [SLICE_DIR] [CSV]
+# MODELS (default: dart-rigid mujoco-rigid dart-compliant, and mujoco-compliant when the build
+# has it), THREADS (2) and NICE (19) from the environment; JOIN_ONLY=1 only joins.
+set -euo pipefail
+build=${1:-build}
+slices=${2:-build/rhex-crosscheck}
+csv=${3:-docs/results/rhex-engines/episodes.csv}
+models=${MODELS:-dart-rigid mujoco-rigid dart-compliant mujoco-compliant}
+count=200
+mkdir -p "$slices" "$(dirname "$csv")"
+
+ranges() {  # the slices of one model: "from to" per line
+  case $1 in
+    *compliant) for from in 0 50 100 150; do echo "$from $((from + 50))"; done ;;
+    *) echo "0 $count" ;;
+  esac
+}
+
+if [[ ${JOIN_ONLY:-0} != 1 ]]; then
+  for model in $models; do
+    for env in $(seq 0 13); do
+      ranges "$model" | while read -r from to; do
+        out="$slices/$env-$model-$from.csv"
+        [[ -f $out ]] && continue
+        tripod=$([[ $to == "$count" ]] && echo 1 || echo 0)
+        nice -n "${NICE:-19}" "$build/bench/rhex_crosscheck" models="$model" env="$env" count=$count from="$from" \
+          to="$to" tripod="$tripod" threads="${THREADS:-2}" header=0 > "$out.part"
+        mv "$out.part" "$out"
+      done
+    done
+  done
+fi
+
+echo "environment,model,controller,distance,dead,cause" > "$csv.part"
+for env in $(seq 0 13); do
+  for model in dart-rigid dart-compliant mujoco-rigid mujoco-compliant; do
+    ranges "$model" | while read -r from _; do
+      [[ -f $slices/$env-$model-$from.csv ]] && cat "$slices/$env-$model-$from.csv"
+    done
+  done
+done >> "$csv.part"
+mv "$csv.part" "$csv"
