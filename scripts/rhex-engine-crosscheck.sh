@@ -2,7 +2,7 @@
 # The engine cross-check (docs/fidelity.md, "Cross-check, engine against engine"): 200 random
 # controllers and the tripod in the 14 environments of the study, on each model, run in slices
 # (one environment and model, compliant legs 50 controllers at a time) at low priority, so that an
-# interrupted run resumes where it stopped; then the finished slices are joined, in the study's
+# interrupted run resumes where it stopped (a slice is kept once complete); then the finished slices are joined, in the study's
 # order, into the committed CSV that tools/rhex_engines_table.py makes the table from.
 #   scripts/rhex-engine-crosscheck.sh [BUILD_DIR] [SLICE_DIR] [CSV]
 # MODELS (default: dart-rigid mujoco-rigid dart-compliant, and mujoco-compliant when the build
@@ -22,15 +22,17 @@ ranges() {  # the slices of one model: "from to" per line
   esac
 }
 
+# Slice by slice across the environments (every environment's first 50 controllers before any
+# environment's next 50), so that a run stopped early still covers every environment; the tripod
+# goes with each model's first slice.
 if [[ ${JOIN_ONLY:-0} != 1 ]]; then
   for model in $models; do
-    for env in $(seq 0 13); do
-      ranges "$model" | while read -r from to; do
+    ranges "$model" | while read -r from to; do
+      for env in $(seq 0 13); do
         out="$slices/$env-$model-$from.csv"
         [[ -f $out ]] && continue
-        tripod=$([[ $to == "$count" ]] && echo 1 || echo 0)
         nice -n "${NICE:-19}" "$build/bench/rhex_crosscheck" models="$model" env="$env" count=$count from="$from" \
-          to="$to" tripod="$tripod" threads="${THREADS:-2}" header=0 > "$out.part"
+          to="$to" tripod=$((from == 0)) threads="${THREADS:-2}" header=0 > "$out.part"
         mv "$out.part" "$out"
       done
     done
