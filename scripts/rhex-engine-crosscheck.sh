@@ -43,7 +43,7 @@ echo "environment,model,controller,distance,dead,cause" > "$csv.part"
 for env in $(seq 0 13); do
   for model in dart-rigid dart-compliant mujoco-rigid mujoco-compliant; do
     ranges "$model" | while read -r from _; do
-      [[ -f $slices/$env-$model-$from.csv ]] && cat "$slices/$env-$model-$from.csv"
+      if [[ -f $slices/$env-$model-$from.csv ]]; then cat "$slices/$env-$model-$from.csv"; fi
     done
   done
 done >> "$csv.part"
