@@ -22,18 +22,20 @@ ranges() {  # the slices of one model: "from to" per line
   esac
 }
 
-# Slice by slice across the environments (every environment's first 50 controllers before any
-# environment's next 50), so that a run stopped early still covers every environment; the tripod
-# goes with each model's first slice.
+# Round by round: round k runs each model's k-th slice in every environment (rigid legs have one
+# slice, compliant legs four of 50 controllers), so that a run stopped early covers every model
+# and environment with the same controllers; the tripod goes with each model's first slice.
 if [[ ${JOIN_ONLY:-0} != 1 ]]; then
-  for model in $models; do
-    ranges "$model" | while read -r from to; do
-      for env in $(seq 0 13); do
-        out="$slices/$env-$model-$from.csv"
-        [[ -f $out ]] && continue
-        nice -n "${NICE:-19}" "$build/bench/rhex_crosscheck" models="$model" env="$env" count=$count from="$from" \
-          to="$to" tripod=$((from == 0)) threads="${THREADS:-2}" header=0 > "$out.part"
-        mv "$out.part" "$out"
+  for round in 0 1 2 3; do
+    for model in $models; do
+      ranges "$model" | sed -n "$((round + 1))p" | while read -r from to; do
+        for env in $(seq 0 13); do
+          out="$slices/$env-$model-$from.csv"
+          [[ -f $out ]] && continue
+          nice -n "${NICE:-19}" "$build/bench/rhex_crosscheck" models="$model" env="$env" count=$count from="$from" \
+            to="$to" tripod=$((from == 0)) threads="${THREADS:-2}" header=0 > "$out.part"
+          mv "$out.part" "$out"
+        done
       done
     done
   done
