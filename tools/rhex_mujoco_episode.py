@@ -9,6 +9,7 @@ forward x displacement. tests/tools/test_rhex_mujoco_python.py compares it with 
 
 Usage: tools/rhex_mujoco_episode.py MODEL.xml GENE,GENE,... (24 genes in [0, 1])
 """
+import collections
 import math
 import sys
 
@@ -19,6 +20,9 @@ KP, KI, INTEGRAL_LIMIT, TORQUE_LIMIT = 15.0, 15.0, math.pi, 4.0  # ServoParams
 DURATION, TURNOVER_FROM = 5.0, 2.0    # EpisodeSettings
 SETTLE_STEPS, STABLE_STEPS, STABLE_TOLERANCE = 1000, 30, 1e-4
 LEGS = 6
+# distance (m), dead, the body's position after each walking step, and the compliant legs' plate
+# joint angles' range over the walk (rad; (0, 0) for rigid legs).
+Episode = collections.namedtuple("Episode", "distance dead positions plate_range")
 
 
 def decode_gait(genes):
@@ -53,9 +57,8 @@ def euler_xyz(r):
 
 
 def run_episode(model_xml, genes, passive_leg=None):
-    """(distance in m, dead, body positions after each walking step) of one episode of `genes` on
-    the model in `model_xml`; `passive_leg`: the leg whose hip turns freely (passive-hip damage),
-    never driven."""
+    """The Episode of `genes` on the model in `model_xml`; `passive_leg`: the leg whose hip turns
+    freely (passive-hip damage), never driven."""
     import mujoco
     m = mujoco.MjModel.from_xml_string(model_xml)
     d = mujoco.MjData(m)
@@ -63,7 +66,9 @@ def run_episode(model_xml, genes, passive_leg=None):
     body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "body")
     hips = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, f"hip_{i}") for i in range(LEGS)]
     gait = decode_gait(genes)
-    turns, integral, positions = [0] * LEGS, [0.0] * LEGS, []
+    turns, integral, positions, plate_range = [0] * LEGS, [0.0] * LEGS, [], [0.0, 0.0]
+    names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or "" for j in range(m.njnt)]
+    plates = [m.jnt_qposadr[j] for j, name in enumerate(names) if "_joint_" in name]  # leg_I_joint_K
 
     def pose():
         return d.xpos[body].copy(), d.xmat[body].reshape(3, 3).copy()
@@ -98,10 +103,12 @@ def run_episode(model_xml, genes, passive_leg=None):
             d.qfrc_applied[m.jnt_dofadr[j]] = min(max(KP * error + KI * integral[i], -TORQUE_LIMIT), TORQUE_LIMIT)
         step()
         positions.append(pose()[0])
+        if plates:
+            plate_range = [min(plate_range[0], d.qpos[plates].min()), max(plate_range[1], d.qpos[plates].max())]
         if step_index + 1 >= round(TURNOVER_FROM / dt) and pose()[1][2, 2] <= 0.0:
-            return relative(start, pose())[0], True, positions
+            return Episode(relative(start, pose())[0], True, positions, tuple(plate_range))
         if diverged():
-            return relative(start, pose())[0], True, positions
+            return Episode(relative(start, pose())[0], True, positions, tuple(plate_range))
     for j in hips:
         if j >= 0:
             d.qfrc_applied[m.jnt_dofadr[j]] = 0.0
@@ -109,17 +116,18 @@ def run_episode(model_xml, genes, passive_leg=None):
     for _ in range(SETTLE_STEPS):
         step()
         if diverged():
-            return relative(start, pose())[0], True, positions
+            return Episode(relative(start, pose())[0], True, positions, tuple(plate_range))
         now = relative(start, pose())
         change = math.sqrt(sum((a - b) ** 2 for a, b in zip(now, last)))
         last = now
         quiet = quiet + 1 if change < STABLE_TOLERANCE else 0
         if quiet > STABLE_STEPS:
-            return now[0], False, positions
-    return last[0], True, positions
+            return Episode(now[0], False, positions, tuple(plate_range))
+    return Episode(last[0], True, positions, tuple(plate_range))
 
 
 if __name__ == "__main__":
     with open(sys.argv[1]) as f:
-        distance, dead, _ = run_episode(f.read(), [float(x) for x in sys.argv[2].split(",")])
-    print(f"distance {distance:.9g} m{' (dead)' if dead else ''}")
+        e = run_episode(f.read(), [float(x) for x in sys.argv[2].split(",")])
+    print(f"distance {e.distance:.9g} m{' (dead)' if e.dead else ''}, plate joints over the walk "
+          f"[{e.plate_range[0]:.3g}, {e.plate_range[1]:.3g}] rad")
