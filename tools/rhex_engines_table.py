@@ -28,9 +28,9 @@ END = "<!-- tools/rhex_engines_table.py: end -->"
 MODELS = ["dart-rigid", "dart-compliant", "mujoco-rigid", "mujoco-compliant"]
 LABELS = {"dart-rigid": "DART rigid", "dart-compliant": "DART compliant", "mujoco-rigid": "MuJoCo rigid",
           "mujoco-compliant": "MuJoCo compliant"}
-# The pairs compared: each MuJoCo model against both DART models, and DART's two leg models.
-PAIRS = [("mujoco-rigid", "dart-rigid"), ("mujoco-rigid", "dart-compliant"), ("dart-compliant", "dart-rigid"),
-         ("mujoco-compliant", "dart-compliant"), ("mujoco-compliant", "dart-rigid")]
+# The pairs compared: each MuJoCo model against both DART models, and each engine's two leg models.
+PAIRS = [("mujoco-rigid", "dart-rigid"), ("mujoco-rigid", "dart-compliant"), ("mujoco-compliant", "dart-compliant"),
+         ("mujoco-compliant", "dart-rigid"), ("dart-compliant", "dart-rigid"), ("mujoco-compliant", "mujoco-rigid")]
 
 
 def pearson(a, b):
