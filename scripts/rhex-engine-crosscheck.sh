@@ -41,11 +41,15 @@ if [[ ${JOIN_ONLY:-0} != 1 ]]; then
   done
 fi
 
+# A slice joins only when it is done in every environment (a whole round of its model).
+complete() {
+  for env in $(seq 0 13); do [[ -f $slices/$env-$1-$2.csv ]] || return 1; done
+}
 echo "environment,model,controller,distance,dead,cause" > "$csv.part"
 for env in $(seq 0 13); do
   for model in dart-rigid dart-compliant mujoco-rigid mujoco-compliant; do
     ranges "$model" | while read -r from _; do
-      if [[ -f $slices/$env-$model-$from.csv ]]; then cat "$slices/$env-$model-$from.csv"; fi
+      if complete "$model" "$from"; then cat "$slices/$env-$model-$from.csv"; fi
     done
   done
 done >> "$csv.part"
