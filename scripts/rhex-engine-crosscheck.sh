@@ -43,7 +43,8 @@ fi
 
 # A slice joins only when it is done in every environment (a whole round of its model).
 complete() {
-  for env in $(seq 0 13); do [[ -f $slices/$env-$1-$2.csv ]] || return 1; done
+  local e
+  for e in $(seq 0 13); do [[ -f $slices/$e-$1-$2.csv ]] || return 1; done
 }
 echo "environment,model,controller,distance,dead,cause" > "$csv.part"
 for env in $(seq 0 13); do
