@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <fstream>
 #include <sstream>
 
 #include "qdmeta/core/error.hpp"
@@ -46,7 +47,7 @@ std::array<Real, rhex::kGenes> archive_genes(const std::string& archive, Index r
 
 int main(int argc, char** argv) {
   CLI::App app{"qdmeta-rhex-gait: replay an RHex controller and write its gait (HTML animation or CSV)"};
-  std::string genes, archive, out, course = "flat", damage = "none", legs = "rigid", engine = "dart";
+  std::string genes, archive, out, mjcf, course = "flat", damage = "none", legs = "rigid", engine = "dart";
   Index row = 0;
   int leg = 0;
   double seconds = 5.0;
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   app.add_option("--engine", engine, "physics engine: dart or mujoco");
   app.add_option("--seconds", seconds, "episode length");
   app.add_option("--out", out, "output file: .html (animation) or .csv (poses)")->required();
+  app.add_option("--mjcf", mjcf, "also write MuJoCo's model of the episode (MJCF) to this file");
   CLI11_PARSE(app, argc, argv);
   try {
     if (genes.empty() && archive.empty()) throw InputError("give --genes or --archive");
@@ -75,11 +77,16 @@ int main(int argc, char** argv) {
     env.damage = enum_from_string(rhex::kDamageTypeNames, "--damage", damage);
     env.leg = leg;
     env.validate();
+    if (!mjcf.empty()) {
+      std::ofstream file(mjcf);
+      file << rhex::mujoco_model(p.episode, env);
+      if (!file) throw InputError(fmt::format("--mjcf {}: cannot write", mjcf));
+    }
     const RhexTask task(p);
     const rhex::EpisodeResult r = task.episode(g24.data(), env);
     if (out.ends_with(".csv")) rhex::write_gait_csv(r, out);
     else rhex::write_gait_html(r, out, fmt::format("RHex gait, {}: {:.2f} m{}", env.to_string(), r.fitness, r.dead ? " (dead)" : ""));
-    fmt::print("{}: distance {:.3f} m{}, {} steps; wrote {}\n", env.to_string(), r.fitness, r.dead ? " (dead)" : "",
+    fmt::print("{}: distance {:.9g} m{}, {} steps; wrote {}\n", env.to_string(), r.fitness, r.dead ? " (dead)" : "",
                r.walk_steps + r.settle_steps, out);
   } catch (const Error& e) {
     fmt::print(stderr, "error: {}\n", e.what());

@@ -44,8 +44,8 @@ BENCHMARK(BM_RhexEpisode)
     ->Iterations(3);
 
 // DART and MuJoCo side by side (docs/fidelity.md, "RHex on MuJoCo"): the tripod's 5 s episode
-// with rigid legs on each engine, and with compliant legs on DART (MuJoCo refuses them so far).
-// MuJoCo only where built with it.
+// with rigid and with compliant legs on each engine (bench/README.md). MuJoCo only where built
+// with it.
 void BM_RhexEngine(benchmark::State& state) {
   RhexParams params;
   params.episode.engine = static_cast<rhex::Engine>(state.range(0));

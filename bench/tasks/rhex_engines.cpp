@@ -6,8 +6,8 @@
 // mean distance (dead = 0), deaths, the tripod's distance, and against DART-rigid over the same
 // controllers Pearson's r and Spearman's rank correlation, and how many die on one engine only;
 // deaths by cause: turned over (during the walk), never settled (after it), diverged (MuJoCo).
-// MuJoCo's compliant legs are not modelled yet (rhex_episode.cpp refuses them). Not a
-// micro-benchmark: a plain program.
+// MuJoCo's compliant legs: rhex_crosscheck (the committed cross-check). Not a micro-benchmark: a
+// plain program.
 //   rhex_engines [count=200] [seed=3] [threads=1] [leg=1] [compliant=0] [fine=0] [fine_dt=0.001] [seconds=5] [only=NAME]
 // only: the environments whose name contains NAME.
 #include <fmt/format.h>
@@ -23,6 +23,7 @@
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 #include "tasks/key_value_args.hpp"
 #include "tasks/paired_stats.hpp"
+#include "tasks/rhex_study_environments.hpp"
 
 namespace {
 
@@ -70,13 +71,7 @@ int main(int argc, char** argv) {
     if (fine > 0)
       models.push_back({fmt::format("DART {:g} ms", 1000 * std::stod(args["fine_dt"])), rhex::Engine::kDart,
                         rhex::LegModel::kRigid, true, std::stod(args["fine_dt"]), true});
-    std::vector<std::pair<std::string, rhex::RhexEnvironment>> envs{{"flat", {}}};
-    for (auto d : {rhex::DamageType::kLegRemoval, rhex::DamageType::kLegShortening, rhex::DamageType::kBlockedHip,
-                   rhex::DamageType::kPassiveHip})
-      envs.emplace_back(fmt::format("{} leg {}", enum_to_string(rhex::kDamageTypeNames, d), leg),
-                        rhex::RhexEnvironment::damaged(d, leg));
-    for (const auto& [course, name] : rhex::kObstacleCourseNames)
-      if (course != rhex::ObstacleCourse::kFlat) envs.emplace_back(std::string(name), rhex::RhexEnvironment::obstacle(course));
+    const auto envs = bench::rhex_study_environments(leg);
     auto evaluator = make_evaluator(threads);
     const auto tripod = rhex::tripod_genes();
     fmt::print("{} random controllers (seed {}), DART compliant on the first {}, DART at {} s on the first {}, {} threads; "

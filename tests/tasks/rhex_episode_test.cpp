@@ -56,15 +56,17 @@ TEST(RhexTask, RejectsBadParams) {
   EXPECT_THROW(RhexTask{p}, InputError);
 }
 
-// On each engine built (MuJoCo: one mjData per episode on a shared model).
+// On each engine built (MuJoCo: one mjData per episode on a shared model; rigid and compliant legs).
 TEST(RhexTask, EpisodesAreDeterministicAtAnyThreadCount) {
-  std::vector<rhex::Engine> engines{rhex::Engine::kDart};
+  std::vector<std::pair<rhex::Engine, rhex::LegModel>> models{{rhex::Engine::kDart, rhex::LegModel::kRigid}};
 #ifdef QDMETA_TEST_MUJOCO
-  engines.push_back(rhex::Engine::kMujoco);
+  models.emplace_back(rhex::Engine::kMujoco, rhex::LegModel::kRigid);
+  models.emplace_back(rhex::Engine::kMujoco, rhex::LegModel::kCompliant);
 #endif
-  for (const rhex::Engine engine : engines) {
+  for (const auto& [engine, legs] : models) {
     RhexParams p = short_params(1.0);
     p.episode.engine = engine;
+    p.episode.legs = legs;
     const Task task{RhexTask{p}};
     const RowMatrix genotypes = random_genotypes(4, 11);
     const GenotypeView view{genotypes.data(), genotypes.rows(), genotypes.cols()};

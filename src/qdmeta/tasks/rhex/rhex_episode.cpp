@@ -21,9 +21,6 @@ void EpisodeSettings::validate() const {
     throw InputError(fmt::format("task.episode_seconds = {}: the episode must last a multiple of 10 time steps "
                                  "(it has {})", duration, steps()));
   require_range("task.settle_steps", settle_steps, 0, 1000000);
-  if (engine == Engine::kMujoco && legs == LegModel::kCompliant)
-    throw InputError("task.engine = \"mujoco\" has rigid legs only so far: the compliant legs' plate springs "
-                     "(152,000-202,672 N m / rad on 12.5 g plates) diverge at a 5 ms step (docs/fidelity.md, \"MuJoCo\")");
   require_range("task.stable_steps", stable_steps, 0, 1000000);
 }
 

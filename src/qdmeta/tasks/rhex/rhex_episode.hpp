@@ -4,6 +4,7 @@
 // Engine-free header: DART and MuJoCo stay behind rhex_simulation.hpp.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "qdmeta/core/params.hpp"
@@ -80,6 +81,11 @@ struct EpisodeResult {
   double max_tilt = 0.0;             // largest angle of the body's z-axis from vertical (rad)
   std::vector<PoseRecord> poses;     // every step (walk and settle) when settings.record_poses
 };
+
+// The MJCF text MuJoCo's episodes of `settings` and `environment` step (qdmeta-rhex-gait --mjcf,
+// for the mujoco Python package: tools/rhex_mujoco_episode.py); InputError in a build without
+// MuJoCo.
+std::string mujoco_model(const EpisodeSettings& settings, const RhexEnvironment& environment);
 
 // Runs one episode in a fresh world (so the same input always gives the same bits).
 EpisodeResult run_episode(const EpisodeSettings& settings, const GaitParams& gait, const RhexEnvironment& environment);

@@ -6,7 +6,9 @@
 // 0.01, DART's error reduction) pushes a penetration out at 2 x depth per second as DART does. The
 // earlier time constant of 2 steps (stiffness 1 / (2 dt)^2, 25 x DART's) threw a robot that met a
 // stone or a bar edge at speed (docs/fidelity.md, "RHex on MuJoCo"). Impedance near 1 (solimp
-// 0.99-0.999: contacts nearly as hard as DART's; 0.9-0.95 let the robot bounce).
+// 0.99-0.999: contacts nearly as hard as DART's; 0.9-0.95 let the robot bounce). Compliant legs
+// (48 degrees of freedom) use MuJoCo's sparse Jacobians: ~0.7x the time, distances the same to 8
+// digits (bench/README.md); rigid legs (12) stay dense, which is as fast.
 #include "qdmeta/tasks/rhex/rhex_mjcf.hpp"
 
 #include <fmt/format.h>
@@ -61,17 +63,48 @@ std::string hip(int leg, DamageType damage) {
                      kHipDamping);
 }
 
-// Plate joint k (between plates k - 1 and k) of the compliant leg: see docs/fidelity.md,
-// "MuJoCo", on how its spring is modelled.
-std::string plate_joint(const EpisodeSettings& settings, int k) {
-  return fmt::format("<joint type=\"hinge\" axis=\"0 1 0\" stiffness=\"{:.17g}\" damping=\"{:.17g}\" limited=\"{}\" "
-                     "range=\"0 {:.17g}\"/>\n",
-                     plate_joint_stiffness(k), kPlateJointDamping, settings.plate_joint_limits ? "true" : "false",
-                     kPlateJointUpper);
+// Plate joint k (between plates k - 1 and k) of the compliant leg: a spring-damper stepped as
+// DART steps its joint springs. DART integrates a joint's spring (k) and damping (c) implicitly:
+// (I + h c + h^2 k) qdd = tau - k (q - q0) - (c + h k) qd at step h (GenericJoint: h c + h^2 k
+// added to the projected articulated inertia, the spring read at the next position q + h qd), and
+// its contacts and limits are solved against that inertia too. Here that equation in MuJoCo's
+// parts: the passive spring (stiffness, springref 0: the rest pose is the start), armature
+// h c + h^2 k (in the mass matrix, so the constraint solver sees it as DART's does), and the
+// damping c + h k as a velocity actuator (ctrl 0, explicit: the Euler integrator would also add
+// h d to the matrix for a joint `damping` d, counting the implicit term twice). With the damping
+// c alone the spring (period ~4e-5 s) diverges in the second step; as an implicit joint damping
+// c + h k without armature, contacts are solved against the bare plates and the legs give way
+// (every robot turned over). The limits [0, pi/64] are DART's hard limit rows with the contacts'
+// error reduction (its JointLimitConstraint's defaults are its contacts'): the joints' default
+// solreflimit in rhex_mjcf().
+std::string plate_joint(const EpisodeSettings& settings, int leg, int k) {
+  const double stiffness = plate_joint_stiffness(k), h = settings.time_step;
+  return fmt::format("<joint name=\"{}\" type=\"hinge\" axis=\"0 1 0\" stiffness=\"{:.17g}\" springref=\"0\" "
+                     "armature=\"{:.17g}\" limited=\"{}\" range=\"0 {:.17g}\"/>\n",
+                     plate_joint_name(leg, k), stiffness, h * kPlateJointDamping + h * h * stiffness,
+                     settings.plate_joint_limits ? "true" : "false", kPlateJointUpper);
 }
 
-std::string leg(const EpisodeSettings& settings, int i, DamageType damage) {
-  const int plates = damage == DamageType::kLegShortening ? kShortenedPlates : kPlates;
+int plates_of(int leg, const RhexEnvironment& environment) {
+  if (environment.leg != leg) return kPlates;
+  return environment.damage == DamageType::kLegRemoval ? 0
+         : environment.damage == DamageType::kLegShortening ? kShortenedPlates : kPlates;
+}
+
+// The plate joints' damping c + h k (plate_joint above).
+std::string plate_dampers(const EpisodeSettings& settings, const RhexEnvironment& environment) {
+  if (settings.legs == LegModel::kRigid) return "";
+  std::string out = "<actuator>\n";
+  for (int i = 0; i < kLegs; ++i)
+    for (int k = 1; k < plates_of(i, environment); ++k)
+      out += fmt::format("<velocity joint=\"{}\" kv=\"{:.17g}\"/>\n", plate_joint_name(i, k),
+                         kPlateJointDamping + settings.time_step * plate_joint_stiffness(k));
+  return out + "</actuator>\n";
+}
+
+std::string leg(const EpisodeSettings& settings, int i, const RhexEnvironment& environment) {
+  const DamageType damage = environment.leg == i ? environment.damage : DamageType::kNone;
+  const int plates = plates_of(i, environment);
   const Eigen::Isometry3d at_hip = translation(hip_position(i));
   if (settings.legs == LegModel::kRigid) {
     std::string out = fmt::format("<body name=\"{}\" {}>\n", leg_body_name(i, 0), placement(at_hip)) + hip(i, damage);
@@ -87,7 +120,7 @@ std::string leg(const EpisodeSettings& settings, int i, DamageType damage) {
   for (int k = 0; k < plates; ++k) {
     const Eigen::Isometry3d where = k == 0 ? at_hip * plate_frame(0) : plate_frame(k - 1).inverse() * plate_frame(k);
     out += fmt::format("<body name=\"{}\" {}>\n", leg_body_name(i, k), placement(where));
-    out += k == 0 ? hip(i, damage) : plate_joint(settings, k);
+    out += k == 0 ? hip(i, damage) : plate_joint(settings, i, k);
     out += inertial(one) + plate(plate_shape_offset());
   }
   for (int k = 0; k < plates; ++k) out += "</body>\n";
@@ -111,10 +144,8 @@ std::string robot(const EpisodeSettings& settings, const RhexEnvironment& enviro
   for (const double side : {1.0, -1.0})
     out += box(Eigen::Vector3d(kSpacerLength, kSpacerWidth, kBodyHeight),
                translation(spacer_position(side)), "robot");
-  for (int i = 0; i < kLegs; ++i) {
-    const DamageType damage = environment.leg == i ? environment.damage : DamageType::kNone;
-    if (damage != DamageType::kLegRemoval) out += leg(settings, i, damage);
-  }
+  for (int i = 0; i < kLegs; ++i)
+    if (plates_of(i, environment) > 0) out += leg(settings, i, environment);
   return out + "</body>\n";
 }
 
@@ -122,24 +153,30 @@ std::string robot(const EpisodeSettings& settings, const RhexEnvironment& enviro
 
 std::string leg_body_name(int leg, int plate) { return fmt::format("leg_{}_plate_{}", leg, plate); }
 std::string hip_joint_name(int leg) { return fmt::format("hip_{}", leg); }
+std::string plate_joint_name(int leg, int plate) { return fmt::format("leg_{}_joint_{}", leg, plate); }
 
 std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& environment) {
   const double dt = settings.time_step;
   const double stiffness = kDartErrorReduction / (dt * dt), damping = 1.0 / dt;
+  const std::string solref = fmt::format("{:.17g} {:.17g}", -stiffness, -damping);
   return fmt::format(R"(<mujoco model="rhex">
 <compiler angle="radian" inertiafromgeom="false"/>
-<option timestep="{:.17g}" gravity="0 0 -9.81" integrator="Euler" cone="pyramidal"/>
+<option timestep="{:.17g}" gravity="0 0 -9.81" integrator="Euler" cone="pyramidal" {}/>
 <size njmax="{}" nconmax="{}"/>
 <default>
-<geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{:.17g} {:.17g}" solimp="0.99 0.999 0.001"/>
+<geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{}" solimp="0.99 0.999 0.001"/>
+<joint solreflimit="{}" solimplimit="0.99 0.999 0.001"/>
 <default class="robot"><geom contype="1" conaffinity="0"/></default>
 <default class="terrain"><geom contype="0" conaffinity="1"/></default>
 </default>
 <worldbody>
 {}{}</worldbody>
-</mujoco>
+{}</mujoco>
 )",
-                     settings.time_step, 4 * kMaxContacts, kMaxContacts, kFriction, -stiffness, -damping, terrain(environment.course), robot(settings, environment));
+                     settings.time_step, settings.legs == LegModel::kCompliant ? "jacobian=\"sparse\"" : "",
+                     4 * kMaxContacts, kMaxContacts, kFriction, solref, solref, terrain(environment.course),
+                     robot(settings, environment),
+                     plate_dampers(settings, environment));
 }
 
 }  // namespace qdmeta::rhex

@@ -14,5 +14,6 @@ std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& en
 // Names in the model, for the engine to find its bodies and joints.
 std::string leg_body_name(int leg, int plate);  // plate 0: the body the hip drives
 std::string hip_joint_name(int leg);
+std::string plate_joint_name(int leg, int plate);  // compliant legs: plate >= 1, between plates plate - 1 and plate
 
 }  // namespace qdmeta::rhex
