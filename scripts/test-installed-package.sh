@@ -252,6 +252,12 @@ check_run "$runs/random"
 cmp -s "$runs/random-straight/archive.csv" "$runs/random/archive.csv" \
   || fail "the resumed random-search archive differs from the uninterrupted run's"
 
+step "CMA-MAE: the emitter API by hand (arm-emitters) and algorithm = \"cma-mae\" on the arm"
+"$example/arm-emitters" || fail "arm-emitters"
+"$arm" run --config "$root/examples/own-task/configs/cma-mae.toml" --out "$runs/cma-mae" --threads "$jobs" --quiet \
+  || fail "arm-qd run (cma-mae)"
+check_run "$runs/cma-mae"
+
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"
 [[ -s $runs/map-elites/adapt-locked.csv ]] || fail "adapt wrote no adapt-locked.csv"

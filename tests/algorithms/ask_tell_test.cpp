@@ -14,6 +14,7 @@
 #include <string>
 
 #include "qdmeta/algorithms/aurora.hpp"
+#include "qdmeta/algorithms/cma_mae.hpp"
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
@@ -24,6 +25,7 @@
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
+#include "small_cma_mae.hpp"
 
 namespace qdmeta {
 namespace {
@@ -123,6 +125,38 @@ Aurora make_aurora() {
   return Aurora(p, rastrigin(kDims), {}, 6);
 }
 
+// CMA-MAE on a 10 x 10 grid of genes 0 and 1 (random-direction ranker, every-n restarts: the
+// emitters' every stream is used), or on 60 CVT cells of the base features.
+CmaMaeParams cma_mae_params() {
+  CmaMaeParams p = test::small_cma_mae(kDims, 0.5, 3, 10, CmaBoundsHandling::kResample, {0.1, -100.0});
+  p.emitter.ranker = EmitterRanker::kTwoStageRandomDirection;
+  p.emitter.restart = EmitterRestart::kEveryN;
+  p.emitter.restart_every = 3;
+  return p;
+}
+std::unique_ptr<Algorithm> make_cma_mae() {
+  CmaMaeParams p = cma_mae_params();
+  p.emitter.measure_ranges = {1.0, 1.0};
+  GridArchiveParams grid;
+  grid.bins = {10, 10};
+  grid.solution_size = kDims;
+  return std::make_unique<CmaMae<GridArchive>>(p, rastrigin(kDims),
+                                               std::make_unique<SelectFeatureMap>(kDims, std::vector<int>{0, 1}),
+                                               [grid](Evaluator*) { return GridArchive(grid); }, 9);
+}
+std::unique_ptr<Algorithm> make_cma_mae_cvt() {
+  CmaMaeParams p = cma_mae_params();
+  p.emitter.measure_ranges.assign(kDims, 1.0);
+  KMeansParams k;
+  k.centroids = 60;
+  k.samples = 1000;
+  k.init_samples = 500;
+  k.iterations = 2;
+  return std::make_unique<CmaMae<CvtArchive>>(
+      p, rastrigin(kDims), std::make_unique<SelectFeatureMap>(kDims, std::vector<int>{0, 1, 2, 3, 4, 5}),
+      [k](Evaluator*) { return CvtArchive(CvtArchiveParams{kDims, 0.0, 0}, cvt_centroids(kDims, k).centroids); }, 10);
+}
+
 QdMeta make_qd_meta(std::unique_ptr<MetaObjective> objective, Task task = rastrigin(kDims), int generations = 2,
                     std::unique_ptr<GenerationController> controller = nullptr) {
   QdMetaParams p;
@@ -195,6 +229,11 @@ TEST(AskTell, CvtMapElitesByHandEqualsStep) {
 
 TEST(AskTell, AuroraByHandEqualsStep) {
   expect_hand_equals_step([] { return std::make_unique<Aurora>(make_aurora()); }, 12);
+}
+
+TEST(AskTell, CmaMaeByHandEqualsStep) {
+  expect_hand_equals_step(make_cma_mae, 12);
+  expect_hand_equals_step(make_cma_mae_cvt, 12);
 }
 
 TEST(AskTell, QdMetaByHandEqualsStep) {
@@ -436,6 +475,12 @@ TEST(StepUndo, AFailedMapElitesStepIsUndone) {
 
 TEST(StepUndo, AFailedCvtMapElitesStepIsUndone) {
   expect_failed_steps_undone([] { return std::make_unique<CvtMapElites>(make_cvt()); }, 8, {1, 4, 5});
+}
+
+TEST(StepUndo, AFailedCmaMaeStepIsUndone) {
+  // The first step fails (its scheduler made, and asked, inside it), then one twice running.
+  expect_failed_steps_undone(make_cma_mae, 12, {1, 4, 5});
+  expect_failed_steps_undone(make_cma_mae_cvt, 12, {1, 7});
 }
 
 TEST(StepUndo, AFailedAuroraStepIsUndone) {

@@ -56,6 +56,21 @@ inline std::filesystem::path process_scratch(const std::string& tag) {
   return dir;
 }
 
+// TMPDIR/qdmeta_<tag>_<pid>/<name>, removed if it was there.
+inline std::filesystem::path fresh_scratch_dir(const std::string& tag, const std::string& name) {
+  const std::filesystem::path dir = process_scratch(tag) / name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+// TMPDIR/qdmeta_<tag>_<pid>/<name>.toml, holding `text`.
+inline std::filesystem::path write_scratch_config(const std::string& tag, const std::string& name,
+                                                  const std::string& text) {
+  const std::filesystem::path path = process_scratch(tag) / (name + ".toml");
+  std::ofstream(path) << text;
+  return path;
+}
+
 inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path);
   std::stringstream s;

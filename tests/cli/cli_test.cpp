@@ -110,7 +110,7 @@ TEST(Cli, RefusesADirectoryThatHoldsARunUnlessOverwrite) {
 TEST(Cli, TheTopLevelHelpListsWhatAConfigMayName) {
   const Outcome o = qdmeta_cli("--help");
   EXPECT_EQ(o.status, 0);
-  EXPECT_NE(o.output.find("algorithm: map-elites, qd-meta, cvt-map-elites, aurora\n"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("algorithm: map-elites, qd-meta, cvt-map-elites, aurora, cma-me, cma-mae\n"), std::string::npos) << o.output;
   EXPECT_NE(o.output.find("  [mutation] kind: gaussian, discrete-step, uniform-resample, iso-line\n  [control] kind: "
                           "static, sarsa\n  [archive] kind: grid\n  [feature_map] kind: select\n"),
             std::string::npos)

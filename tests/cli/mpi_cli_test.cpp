@@ -109,6 +109,18 @@ TEST(Mpi, OneTwoAndThreeRanksGiveTheBitsOfAThreadRun) {
   }
 }
 
+// CMA-MAE's emitters ask on rank 0 only; the ranks evaluate their batches.
+TEST(Mpi, CmaMaeOnThreeRanksGivesTheBitsOfAThreadRun) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const std::string run = "run --config " + std::string(QDMETA_SOURCE_DIR) +
+                          "/configs/rastrigin/cma-mae.toml --evals 30000 --quiet --out ";
+  const fs::path threads = fresh_dir("cma-mae-threads"), ranks = fresh_dir("cma-mae-ranks");
+  ASSERT_EQ(qdmeta_cli(run + threads.string() + " --threads 2").status, 0);
+  const Outcome o = mpirun(3, run + ranks.string());
+  ASSERT_EQ(o.status, 0) << o.output;
+  expect_same_files(threads, ranks);
+}
+
 TEST(Mpi, TheHeaderNamesTheRanksAndOnlyRankZeroWrites) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
   const fs::path dir = fresh_dir("header");

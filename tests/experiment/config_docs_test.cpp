@@ -40,6 +40,11 @@ std::vector<std::string> every_kind_of_config() {
     configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\ncache = false\ncentroids_file = \"unread.dat\"\n");
     configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\ndatabase_inputs = \"authors-2g-1\"\n[cma_es]\nsmall_population = \"authors\"\n");
     configs.push_back("algorithm = \"aurora\"\n" + head);
+    for (const char* emitters : {"cma-me", "cma-mae"}) {
+      configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head);
+      configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head +
+                        "[emitters]\nrestart_rule = \"every-n\"\n[archive]\nkind = \"cvt\"\n[cvt]\ncache = false\n");
+    }
     const std::vector<std::string> metas =
         task == "rastrigin" ? std::vector<std::string>{"translation", "dimension"} : std::vector<std::string>{"damage", "obstacle"};
     for (const std::string& meta : metas)

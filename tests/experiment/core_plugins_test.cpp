@@ -47,7 +47,7 @@ std::string register_first_then_build() {
   const BuiltRun built = build_run(toml::parse("[task]\nown_key = 3\n"), "x.toml", {}, BuildScope::kTasksOnly);
   if (built.evaluation_tasks.front().genotype_size() != 7) problems += "the built-in rastrigin replaced the user's; ";
   if (built.settings.algorithm != "map-elites") problems += "the default algorithm is " + built.settings.algorithm + "; ";
-  if (registered_algorithm_names() != Names{"mine", "map-elites", "qd-meta", "cvt-map-elites", "aurora"})
+  if (registered_algorithm_names() != Names{"mine", "map-elites", "qd-meta", "cvt-map-elites", "aurora", "cma-me", "cma-mae"})
     problems += "the built-in algorithms are not all registered after the user's; ";
   return problems;
 }
@@ -82,7 +82,7 @@ TEST(CorePlugins, RegisterOnceFromManyThreads) {
   for (auto& th : threads) th.join();
   ensure_core_plugins();
   const Names algorithms = registered_algorithm_names();
-  for (const char* name : {"map-elites", "qd-meta", "cvt-map-elites", "aurora"})
+  for (const char* name : {"map-elites", "qd-meta", "cvt-map-elites", "aurora", "cma-me", "cma-mae"})
     EXPECT_EQ(std::count(algorithms.begin(), algorithms.end(), name), 1) << name;
   EXPECT_NE(find_task_plugin("rastrigin"), nullptr);
 }

@@ -10,6 +10,7 @@
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/algorithms/qd_meta.hpp"
 #include "qdmeta/assembly/build.hpp"
+#include "qdmeta/assembly/build_cma_mae.hpp"
 #include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/assembly/cvt_centroids.hpp"
 #include "qdmeta/assembly/memory_estimate.hpp"
@@ -153,7 +154,9 @@ std::vector<std::pair<std::string, AlgorithmBuilder>> builtin_algorithms() {
   return {{"map-elites", build_map_elites},
           {"qd-meta", build_qd_meta},
           {"cvt-map-elites", build_cvt_map_elites},
-          {"aurora", build_aurora}};
+          {"aurora", build_aurora},
+          {"cma-me", build_cma_me},
+          {"cma-mae", build_cma_mae}};
 }
 
 }  // namespace qdmeta

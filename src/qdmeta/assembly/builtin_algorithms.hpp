@@ -1,6 +1,6 @@
 #pragma once
 // The built-in algorithms' builders (plugin/algorithm_registry.hpp): "map-elites",
-// "qd-meta", "cvt-map-elites" and "aurora", each reading its own config tables
+// "qd-meta", "cvt-map-elites", "aurora", "cma-me" and "cma-mae", each reading its own config tables
 // (docs/config.md). ensure_core_plugins() registers them (assembly/core_plugins.hpp).
 #include <string>
 #include <utility>

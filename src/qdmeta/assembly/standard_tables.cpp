@@ -211,12 +211,11 @@ std::unique_ptr<GenerationController> read_control_table(ConfigReader& c) {
   return controller;
 }
 
-// The [cvt] table: how the centroids are made and cached.
-CvtTable read_cvt_table(ConfigReader& c) {
-  CvtTable table;
-  CvtMapElitesParams& p = table.algorithm;
-  CvtCentroidSettings& made = table.centroids;
-  KMeansParams& k = p.kmeans;
+// The [cvt] table's centroids: how they are made and cached.
+CvtCentroidTable read_cvt_centroids(ConfigReader& c) {
+  CvtCentroidTable table;
+  CvtCentroidSettings& made = table.settings;
+  KMeansParams& k = table.kmeans;
   k.centroids = c.integer("centroids", k.centroids, 1, 10'000'000);
   k.samples = c.integer("samples", k.samples, 1, 1'000'000'000);
   k.init = c.choice("init", k.init, kKMeansInitNames);
@@ -233,17 +232,27 @@ CvtTable read_cvt_table(ConfigReader& c) {
       throw InputError(fmt::format("{}: cvt.cache_dir is empty and neither XDG_CACHE_HOME nor HOME is set: "
                                    "give cvt.cache_dir or set cvt.cache = false", c.source()));
   }
-  p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
-  p.search = c.choice("search", p.search, kCvtSearchNames);
-  p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
   made.points = c.choice("points", made.points, kCvtPointsNames);
   if (made.points == CvtPoints::kRandomDescriptors)
     made.max_attempts = c.integer("max_attempts", made.max_attempts, 0, 1'000'000'000'000);
   try {
-    p.kmeans.validate();
+    k.validate();
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", c.source(), e.what()));
   }
+  return table;
+}
+
+// The [cvt] table: the centroids, and how offspring find their cells.
+CvtTable read_cvt_table(ConfigReader& c) {
+  CvtCentroidTable centroids = read_cvt_centroids(c);
+  CvtTable table;
+  CvtMapElitesParams& p = table.algorithm;
+  p.kmeans = centroids.kmeans;
+  table.centroids = std::move(centroids.settings);
+  p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
+  p.search = c.choice("search", p.search, kCvtSearchNames);
+  p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
   return table;
 }
 

@@ -51,6 +51,12 @@ SarsaParams read_sarsa_table(ConfigReader& control);
 std::unique_ptr<GenerationController> read_sarsa_control(ConfigReader& control);
 std::unique_ptr<GenerationController> read_static_control(ConfigReader& control);
 
+// [cvt]'s keys that shape and cache the centroids (what any archive of CVT cells needs).
+struct CvtCentroidTable {
+  KMeansParams kmeans;
+  CvtCentroidSettings settings;
+};
+CvtCentroidTable read_cvt_centroids(ConfigReader& cvt);
 // [cvt]: the centroids, how they are made and cached, how offspring find their cells
 // ([map_elites] is read separately).
 struct CvtTable {

@@ -11,6 +11,7 @@
 //                       make_evolution_strategy_emitters(archive, emitter_params, 5));
 //   const RowMatrix& x = scheduler.ask(rng);   // evaluate each row...
 //   scheduler.tell(objectives, measures);
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <utility>
@@ -88,10 +89,11 @@ class Scheduler {
     return solutions_;
   }
 
-  // The objectives and measures of the last ask()'s rows, in its order.
-  void tell(std::span<const Real> objectives, RowsView measures) {
+  // The objectives and measures of the last ask()'s rows, in its order; `valid` (one flag per
+  // row, empty: all valid) marks rows that enter no cell (a task's invalid solutions).
+  void tell(std::span<const Real> objectives, RowsView measures, std::span<const std::uint8_t> valid = {}) {
     if (!awaiting_tell_) throw InputError("Scheduler::tell: called without a pending ask; call ask() first");
-    add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, {}}, outcomes_);
+    add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, valid}, outcomes_);
     awaiting_tell_ = false;
     Index row = 0;
     for (auto& emitter : emitters_) {
