@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/plugin/config.hpp"
@@ -20,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("qdmeta_run_test_" + name);
+  const fs::path dir = test::own_temp_path("run_test_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
