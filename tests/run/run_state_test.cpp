@@ -1,6 +1,6 @@
 // RunState: what a run directory holds, read once. An empty or missing directory holds no run;
 // config.toml makes a run and gives its budget; summary.json says whether it finished (only a
-// `budget` stop is finished); checkpoint.bin is seen; a damaged file is an
+// `budget` stop is finished) and is kept as read; checkpoint.bin is seen; a damaged file is an
 // InputError naming it.
 #include "qdmeta/run/run_state.hpp"
 
@@ -50,6 +50,17 @@ TEST_F(RunStateTest, OnlyABudgetStopIsFinished) {
   write_summary_saying(StopReason::kBudget);
   EXPECT_EQ(RunState(dir_).stop_reason(), StopReason::kBudget);
   EXPECT_TRUE(RunState(dir_).finished());
+}
+
+TEST_F(RunStateTest, TheSummaryIsReadOnceAndKept) {
+  write("config.toml", "seed = 1\n");
+  write_summary_saying(StopReason::kBudget);
+  const RunState state(dir_);
+  fs::remove(dir_ / "summary.json");  // what the state read stays what it says
+  ASSERT_TRUE(state.summary().has_value());
+  EXPECT_TRUE(state.finished());
+  EXPECT_EQ(std::get<std::string>(*state.summary()->find("algorithm")), "map-elites");
+  EXPECT_FALSE(RunState(dir_).summary().has_value());
 }
 
 TEST_F(RunStateTest, SeesACheckpoint) {

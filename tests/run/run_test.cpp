@@ -285,7 +285,7 @@ TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {
   EXPECT_EQ(j["num_elites"], r.stats.num_elites);
   EXPECT_EQ(j["qd_score"].get<double>(), r.stats.qd_score);
   EXPECT_EQ(j["message"], r.message);
-  EXPECT_EQ(stop_reason_of(dir), StopReason::kBudget);
+  EXPECT_EQ(read_summary(dir)->stop_reason, StopReason::kBudget);
 }
 
 }  // namespace
