@@ -24,6 +24,7 @@
 #include "python_run.hpp"
 #include "python_variation.hpp"
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/core/binary_io.hpp"
@@ -118,7 +119,7 @@ class PyAlgorithm {
     if (budget) {
       if (*budget < 1) throw py::value_error(fmt::format("run(): budget must be >= 1, got {}", *budget));
       built_.settings.budget = *budget;
-      if (auto* b = built_.resolved["budget"].as_table()) b->insert_or_assign("evaluations", *budget);
+      set_budget(built_.resolved, *budget);
       built_.settings.fingerprint = config_fingerprint(built_.resolved);
     }
     if (!out) return drive(built_, std::nullopt, threads, progress, nullptr);

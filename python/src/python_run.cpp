@@ -8,6 +8,7 @@
 #include "qdmeta/io/run_lock.hpp"
 #include "qdmeta/run/run.hpp"
 #include "qdmeta/run/run_directory.hpp"
+#include "qdmeta/run/summary.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -63,8 +64,19 @@ class PythonObserver final : public RunObserver {
   std::optional<py::error_already_set> error_;
 };
 
-py::dict read_summary(const fs::path& dir) {
-  return py::module_::import("json").attr("loads")(read_regular_file(dir / "summary.json", kMaxTextFileBytes));
+// summary.json as a dict, in the file's order (null: None).
+py::dict summary_dict(const fs::path& dir) {
+  const std::optional<RunSummary> summary = read_summary(dir);
+  if (!summary) throw InputError(fmt::format("{} holds no summary.json", dir.string()));
+  py::dict d;
+  for (const auto& [key, value] : summary->values)
+    d[py::str(key)] = std::visit(
+        [](const auto& v) -> py::object {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return py::none();
+          else return py::cast(v);
+        },
+        value);
+  return d;
 }
 
 // An in-memory run's result, with summary.json's keys where they apply.
@@ -110,7 +122,7 @@ py::dict drive(BuiltRun& built, const std::optional<fs::path>& out, int threads,
     }
   }
   observer.raise_if_stopped();
-  return out ? read_summary(*out) : result_dict(built, result);
+  return out ? summary_dict(*out) : result_dict(built, result);
 }
 
 py::dict start_and_drive(BuiltRun& built, const fs::path& out, int threads, bool overwrite, const py::object& progress) {

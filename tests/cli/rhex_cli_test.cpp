@@ -2,9 +2,7 @@
 // stores fitness equal to a fresh episode of the stored genotype, and gives the same bits with 1
 // and 2 threads.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -22,18 +20,16 @@ namespace {
 namespace fs = std::filesystem;
 
 int run_cli(const std::string& args, std::string* output = nullptr) {
-  const std::string command = std::string(QDMETA_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return -1;
-  char buffer[4096];
-  std::string out;
-  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
-  const int raw = pclose(pipe);
-  if (output) *output = out;
-  return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  const cli_test::Outcome o = cli_test::shell(std::string(QDMETA_BINARY) + " " + args);
+  if (output) *output = o.output;
+  return o.status;
 }
 
 using cli_test::slurp;
+
+// This process's own scratch folder (ctest runs tests as parallel processes, and two suites may
+// run at once): never a fixed name under TMPDIR.
+fs::path scratch() { return cli_test::process_scratch("rhex_cli"); }
 
 // smoke-damage.toml made smaller still: 0.5 s episodes, 8 random genotypes, 4 offspring, 1 generation.
 fs::path tiny_config(const std::string& name = "tiny") {
@@ -49,7 +45,7 @@ fs::path tiny_config(const std::string& name = "tiny") {
   set("batch_size = 16", "batch_size = 4");
   set("initial_population = 64", "initial_population = 8");
   set("generations = 2", "generations = 1");
-  const fs::path path = fs::temp_directory_path() / ("qdmeta_rhex_cli_" + name + ".toml");
+  const fs::path path = scratch() / (name + ".toml");
   std::ofstream(path) << text;
   return path;
 }
@@ -58,7 +54,7 @@ TEST(RhexCli, TinyQdMetaDamageRun) {
   const fs::path config = tiny_config();
   std::array<fs::path, 2> outs;
   for (int threads : {1, 2}) {
-    const fs::path out = fs::temp_directory_path() / ("qdmeta_rhex_cli_" + std::to_string(threads));
+    const fs::path out = scratch() / ("threads" + std::to_string(threads));
     fs::remove_all(out);
     std::string output;
     ASSERT_EQ(run_cli("run --config " + config.string() + " --out " + out.string() + " --quiet --threads " +
@@ -96,7 +92,7 @@ TEST(RhexCli, TinyQdMetaDamageRun) {
 // generalisation table on a one-solution archive (33 episodes).
 TEST(RhexCli, AdaptWritesTheDamageCurveAndTheGeneralisationTable) {
   const fs::path config = tiny_config("adapt");
-  const fs::path out = fs::temp_directory_path() / "qdmeta_rhex_cli_adapt";
+  const fs::path out = scratch() / "adapt";
   fs::remove_all(out);
   std::string output;
   ASSERT_EQ(run_cli("run --config " + config.string() + " --out " + out.string() + " --quiet --threads 2", &output), 0)
@@ -153,7 +149,7 @@ TEST(RhexCli, AdaptWritesTheDamageCurveAndTheGeneralisationTable) {
 // fingerprint, or the experiment refuses its own planned runs.
 TEST(RhexCli, PlannedRunsOfSeedDrawnDamageTypesAreTheConditionsOwn) {
   const fs::path config = tiny_config("planned");
-  const fs::path dir = fs::temp_directory_path() / "qdmeta_rhex_cli_planned";
+  const fs::path dir = scratch() / "planned";
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "experiment.toml") << "name = \"planned\"\nreplicates = 3\n[[condition]]\nname = \"damage\"\n"

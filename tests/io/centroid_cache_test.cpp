@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace qdmeta {
@@ -15,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("qdmeta_centroid_cache_test_" + name);
+  const fs::path dir = test::own_temp_path("centroid_cache_test_" + name);
   fs::remove_all(dir);
   return dir;
 }

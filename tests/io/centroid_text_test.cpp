@@ -9,6 +9,7 @@
 #include <string>
 
 #include "expect_input_error.hpp"
+#include "own_temp_path.hpp"
 
 namespace qdmeta {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& text) {
-  const fs::path path = fs::temp_directory_path() / ("qdmeta_centroid_text_test_" + name);
+  const fs::path path = test::own_temp_path("centroid_text_test_" + name);
   std::ofstream(path) << text;
   return path;
 }

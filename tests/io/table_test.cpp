@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/experiment/adaptation.hpp"
 #include "qdmeta/run/run_tables.hpp"
 
@@ -98,7 +99,7 @@ std::string slurp(const std::filesystem::path& path) {
 }
 
 TEST(TestPhaseTables, AdaptationAndGeneralisationFilesKeepTheirFormat) {
-  const auto dir = std::filesystem::temp_directory_path() / "qdmeta_table_test";
+  const auto dir = test::own_temp_path("table_test");
   std::filesystem::create_directories(dir);
   AdaptationCurve curve;
   curve.best_mean = {-2.5, 0.1};

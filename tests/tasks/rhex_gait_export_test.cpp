@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/tasks/rhex/gait_export.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
@@ -39,7 +40,7 @@ TEST(GaitExport, CsvHasOneRowPerStep) {
   EXPECT_DOUBLE_EQ(r.poses.front().time, 0.005);
   EXPECT_NEAR(r.poses[99].time, 0.5, 1e-12);
   EXPECT_NEAR(r.poses.back().position[0] - r.fitness, 0.0, 1e-9);  // start x is 0
-  const fs::path path = fs::temp_directory_path() / "qdmeta_gait_test.csv";
+  const fs::path path = test::own_temp_path("gait_test.csv");
   write_gait_csv(r, path);
   const std::string text = slurp(path);
   EXPECT_TRUE(text.starts_with("time,x,y,z,roll,pitch,yaw,leg_0,leg_1,leg_2,leg_3,leg_4,leg_5\n"));
@@ -48,7 +49,7 @@ TEST(GaitExport, CsvHasOneRowPerStep) {
 
 TEST(GaitExport, HtmlEmbedsSubsampledFrames) {
   const EpisodeResult r = recorded_walk();
-  const fs::path path = fs::temp_directory_path() / "qdmeta_gait_test.html";
+  const fs::path path = test::own_temp_path("gait_test.html");
   write_gait_html(r, path, "tripod test", 10);
   const std::string text = slurp(path);
   EXPECT_NE(text.find("<title>tripod test</title>"), std::string::npos);
@@ -60,7 +61,7 @@ TEST(GaitExport, HtmlEmbedsSubsampledFrames) {
 
 TEST(GaitExport, RefusesAnEpisodeWithoutPoses) {
   EpisodeResult r;
-  EXPECT_THROW(write_gait_csv(r, fs::temp_directory_path() / "x.csv"), InputError);
+  EXPECT_THROW(write_gait_csv(r, test::own_temp_path("gait_test_empty.csv")), InputError);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <toml++/toml.h>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
@@ -39,7 +40,7 @@ RhexParams params(Engine engine, double seconds) {
 // The model of `environment`, compiled by MuJoCo from a file (as the Python package would).
 struct Model {
   explicit Model(const rhex::EpisodeSettings& s, const RhexEnvironment& environment = {}) {
-    const auto path = std::filesystem::temp_directory_path() / "qdmeta_rhex_mujoco_test.xml";
+    const auto path = test::own_temp_path("rhex_mujoco_test.xml");
     std::ofstream(path) << rhex::rhex_mjcf(s, environment);
     char error[1000] = "";
     m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));

@@ -19,6 +19,7 @@ namespace qdmeta {
 namespace {
 
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
+constexpr std::string_view kBudgetTable = "budget", kBudgetKey = "evaluations";
 
 // The name `key` gives a part handed over: absent, the part's (recorded); any other is refused.
 std::string read_part_name(ConfigReader& r, std::string_view key, const std::string& part_name) {
@@ -36,6 +37,16 @@ std::unique_ptr<MetaObjective> read_meta_objective(AlgorithmBuild& b, ConfigRead
   return part->read(meta_fitness, b.task, b.settings.seed);
 }
 
+void set_budget(toml::table& config, std::int64_t evaluations) {
+  // A [budget] that is not a table stays as it is, for build_run to refuse naming it.
+  if (!config.contains(kBudgetTable)) config.insert(kBudgetTable, toml::table{});
+  if (auto* budget = config[kBudgetTable].as_table()) budget->insert_or_assign(kBudgetKey, evaluations);
+}
+
+std::optional<std::int64_t> configured_budget(const toml::table& config) {
+  return config[kBudgetTable][kBudgetKey].value<std::int64_t>();
+}
+
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides,
                    BuildScope scope) {
   return build_run(config, source, overrides, RunParts{}, scope);
@@ -49,10 +60,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   // so a resolved config can be run again as it is.
   effective.erase("provenance");
   if (overrides.seed) effective.insert_or_assign("seed", static_cast<std::int64_t>(*overrides.seed));
-  if (overrides.evaluations) {
-    if (!effective.contains("budget")) effective.insert("budget", toml::table{});
-    if (auto* budget = effective["budget"].as_table()) budget->insert_or_assign("evaluations", *overrides.evaluations);
-  }
+  if (overrides.evaluations) set_budget(effective, *overrides.evaluations);
 
   BuiltRun built;
   ConfigReader root(effective, source, built.resolved);
@@ -74,8 +82,8 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   }
   s.seed = static_cast<std::uint64_t>(root.integer("seed", 1, 0, kMaxInt));
 
-  ConfigReader budget = root.table("budget");
-  s.budget = budget.integer("evaluations", 1'000'000, 1, kMaxInt);
+  ConfigReader budget = root.table(kBudgetTable);
+  s.budget = budget.integer(kBudgetKey, 1'000'000, 1, kMaxInt);
   s.counts = budget.choice("counts", BudgetCount::kBottom, kBudgetCountNames);
   ConfigReader log = root.table("log");
   s.log_every = log.integer("every", 0, 0, kMaxInt);

@@ -53,6 +53,12 @@ struct BuiltRun {
   MemoryEstimate memory;
 };
 
+// The evaluation budget, [budget] evaluations: every reader and writer of the key outside
+// build_run (which reads it with its default and range) goes through these two.
+void set_budget(toml::table& config, std::int64_t evaluations);  // makes [budget] where missing
+// The budget `config` names (a run's resolved config.toml names it); nullopt when it names none.
+std::optional<std::int64_t> configured_budget(const toml::table& config);
+
 // kTasksOnly reads and checks the whole config but builds no algorithm: what an MPI worker
 // needs (the evaluation tasks) without the algorithm's memory (e.g. QD-Meta's database).
 enum class BuildScope { kRun, kTasksOnly };

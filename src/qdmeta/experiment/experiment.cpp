@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -12,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/assembly/memory_estimate.hpp"
 #include "qdmeta/core/error.hpp"
@@ -255,10 +254,7 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
   write_spec(spec, out);
   for (const auto& c : spec.conditions) {
     toml::table config = c.effective_config();
-    if (spec.evaluations) {
-      if (!config.contains("budget")) config.insert("budget", toml::table{});
-      config["budget"].as_table()->insert_or_assign("evaluations", *spec.evaluations);
-    }
+    if (spec.evaluations) set_budget(config, *spec.evaluations);
     // Refuse a bad config now, not in a batch job, without allocating the run.
     const BuiltRun checked = build_run(config, c.config.string(), {1, std::nullopt}, BuildScope::kTasksOnly);
     require_memory(checked.memory, memory_limit(), c.config.string());

@@ -14,6 +14,7 @@
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/run/run_state.hpp"
+#include "qdmeta/run/summary.hpp"
 
 namespace fs = std::filesystem;
 
@@ -167,13 +168,18 @@ void check_kept_summaries(const ExperimentSpec& spec, const std::vector<Resolved
       const fs::path summary = summary_file(dir, c, r);
       if (!path_taken(summary)) continue;
       nlohmann::json kept;
-      std::int64_t budget = -1;
       try {
         kept = nlohmann::json::parse(read_regular_file(summary, kMaxTextFileBytes));
-        budget = kept.at("summary").at("budget").get<std::int64_t>();
       } catch (const nlohmann::json::exception& e) {
         throw InputError(fmt::format("{} is unreadable: {}", summary.string(), e.what()));
       }
+      // Its "summary" is the run's summary.json (tools/runs.py), read as that file is.
+      const nlohmann::json* run_summary = kept.is_object() && kept.contains("summary") ? &kept["summary"] : nullptr;
+      if (run_summary == nullptr) throw InputError(fmt::format("{} is unreadable: it holds no summary", summary.string()));
+      const std::optional<std::int64_t> kept_budget = parse_summary(run_summary->dump(), summary.string()).integer("budget");
+      if (!kept_budget)
+        throw InputError(fmt::format("{} is unreadable: its summary has no whole-number budget", summary.string()));
+      const std::int64_t budget = *kept_budget;
       std::optional<std::string> fingerprint;
       if (kept.contains(kConfigFingerprintKey)) {
         const nlohmann::json& f = kept[kConfigFingerprintKey];

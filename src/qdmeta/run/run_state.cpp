@@ -2,18 +2,18 @@
 
 #include <fmt/format.h>
 
+#include "qdmeta/assembly/build.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/regular_file.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/run/checkpoint.hpp"
-#include "qdmeta/run/summary.hpp"
 
 namespace qdmeta {
 
 RunState::RunState(std::filesystem::path dir)
     : dir_(std::move(dir)),
       has_config_(path_taken(config_path())),
-      stop_reason_(stop_reason_of(dir_)),
+      summary_(read_summary(dir_)),
       has_checkpoint_(std::filesystem::exists(dir_ / kCheckpointFile)) {}
 
 const toml::table& RunState::config() const {
@@ -22,6 +22,6 @@ const toml::table& RunState::config() const {
   return *config_;
 }
 
-std::int64_t RunState::budget() const { return config()["budget"]["evaluations"].value_or<std::int64_t>(-1); }
+std::int64_t RunState::budget() const { return configured_budget(config()).value_or(-1); }
 
 }  // namespace qdmeta

@@ -10,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "qdmeta/run/run_result.hpp"
+#include "qdmeta/run/summary.hpp"
 
 namespace qdmeta {
 
@@ -22,8 +23,10 @@ class RunState {
   const std::filesystem::path& dir() const { return dir_; }
   std::filesystem::path config_path() const { return dir_ / "config.toml"; }
   bool has_run() const { return has_config_; }  // config.toml is there
-  std::optional<StopReason> stop_reason() const { return stop_reason_; }  // none while unfinished
-  bool finished() const { return stop_reason_ == StopReason::kBudget; }
+  // summary.json, read once (none while unfinished).
+  const std::optional<RunSummary>& summary() const { return summary_; }
+  std::optional<StopReason> stop_reason() const { return summary_ ? std::optional(summary_->stop_reason) : std::nullopt; }
+  bool finished() const { return stop_reason() == StopReason::kBudget; }
   bool has_checkpoint() const { return has_checkpoint_; }
   // config.toml, parsed at the first call (InputError naming the file when it is damaged).
   const toml::table& config() const;
@@ -33,7 +36,7 @@ class RunState {
  private:
   std::filesystem::path dir_;
   bool has_config_ = false;
-  std::optional<StopReason> stop_reason_;
+  std::optional<RunSummary> summary_;
   bool has_checkpoint_ = false;
   mutable std::optional<toml::table> config_;
 };

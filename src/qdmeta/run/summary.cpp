@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <limits>
+
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/atomic_file.hpp"
 #include "qdmeta/io/regular_file.hpp"
@@ -14,6 +16,8 @@ namespace qdmeta {
 namespace {
 
 Cell text(std::string_view s) { return std::string(s); }
+
+constexpr auto kMaxInt64 = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
 
 template <class Record>
 void add_to_json(nlohmann::ordered_json& j, const Table<Record>& table, const Record& record) {
@@ -59,16 +63,46 @@ void write_summary(const std::filesystem::path& path, const SummaryRecord& recor
   write_file_atomic(path, j.dump(2) + "\n");
 }
 
-std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir) {
+const SummaryValue* RunSummary::find(std::string_view key) const {
+  for (const auto& [name, value] : values)
+    if (name == key) return &value;
+  return nullptr;
+}
+
+std::optional<std::int64_t> RunSummary::integer(std::string_view key) const {
+  const SummaryValue* value = find(key);
+  if (value == nullptr || !std::holds_alternative<std::int64_t>(*value)) return std::nullopt;
+  return std::get<std::int64_t>(*value);
+}
+
+RunSummary parse_summary(std::string_view text, const std::string& where) {
+  RunSummary summary;
+  try {
+    const auto j = nlohmann::ordered_json::parse(text);
+    if (!j.is_object()) throw InputError("not a JSON object");
+    for (const auto& [key, v] : j.items()) {
+      SummaryValue value;
+      if (v.is_number_integer() && (!v.is_number_unsigned() || v.get<std::uint64_t>() <= kMaxInt64))
+        value = v.get<std::int64_t>();
+      else if (v.is_number()) value = v.get<double>();
+      else if (v.is_string()) value = v.get<std::string>();
+      else if (!v.is_null()) throw InputError(fmt::format("'{}' holds neither a number nor text", key));
+      summary.values.emplace_back(key, std::move(value));
+    }
+    const SummaryValue* reason = summary.find("stop_reason");
+    if (reason == nullptr || !std::holds_alternative<std::string>(*reason))
+      throw InputError("stop_reason is missing or not text");
+    summary.stop_reason = enum_from_string(kStopReasonNames, "stop_reason", std::get<std::string>(*reason));
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{} is unreadable: {}", where, e.what()));
+  }
+  return summary;
+}
+
+std::optional<RunSummary> read_summary(const std::filesystem::path& dir) {
   const auto path = dir / "summary.json";
   if (!path_taken(path)) return std::nullopt;
-  const std::string text = read_regular_file(path, kMaxTextFileBytes);
-  try {
-    const auto j = nlohmann::json::parse(text);
-    return enum_from_string(kStopReasonNames, "stop_reason", j.at("stop_reason").get<std::string>());
-  } catch (const std::exception& e) {
-    throw InputError(fmt::format("{} is unreadable: {}", path.string(), e.what()));
-  }
+  return parse_summary(read_regular_file(path, kMaxTextFileBytes), path.string());
 }
 
 }  // namespace qdmeta

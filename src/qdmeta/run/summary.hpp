@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "qdmeta/assembly/build.hpp"
@@ -28,8 +30,25 @@ const Table<SummaryRecord>& summary_tail_table();
 
 void write_summary(const std::filesystem::path& path, const SummaryRecord& record);
 
-// Why the run in `dir` stopped, from its summary.json; nullopt when there is none (a run still
-// going, or killed). Throws InputError on an unreadable summary.
-std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir);
+// summary.json read back, the one reader of what write_summary wrote: every key in the file's
+// order, each value a whole number, a number, text, or null (JSON's word for a number that was
+// not finite when written).
+using SummaryValue = std::variant<std::monostate, std::int64_t, double, std::string>;
+
+struct RunSummary {
+  StopReason stop_reason = StopReason::kBudget;
+  std::vector<std::pair<std::string, SummaryValue>> values;
+  const SummaryValue* find(std::string_view key) const;
+  std::optional<std::int64_t> integer(std::string_view key) const;  // nullopt: absent or not whole
+};
+
+// The text of a summary (summary.json, or the "summary" of a kept one, tools/runs.py); `where`
+// names it in errors. InputError when it is not a JSON object of numbers and text with a known
+// stop_reason.
+RunSummary parse_summary(std::string_view text, const std::string& where);
+
+// The summary.json of the run in `dir`; nullopt when there is none (a run still going, or
+// killed). InputError naming the file when it is unreadable.
+std::optional<RunSummary> read_summary(const std::filesystem::path& dir);
 
 }  // namespace qdmeta

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "own_temp_path.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/io/csv.hpp"
 #include "qdmeta/plugin/config.hpp"
@@ -20,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("qdmeta_run_test_" + name);
+  const fs::path dir = test::own_temp_path("run_test_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -284,7 +285,7 @@ TEST(RunSummary, KeysKeepTheirHistoricalOrderAndAgreeWithTheResult) {
   EXPECT_EQ(j["num_elites"], r.stats.num_elites);
   EXPECT_EQ(j["qd_score"].get<double>(), r.stats.qd_score);
   EXPECT_EQ(j["message"], r.message);
-  EXPECT_EQ(stop_reason_of(dir), StopReason::kBudget);
+  EXPECT_EQ(read_summary(dir)->stop_reason, StopReason::kBudget);
 }
 
 }  // namespace

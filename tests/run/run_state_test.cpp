@@ -1,42 +1,24 @@
 // RunState: what a run directory holds, read once. An empty or missing directory holds no run;
 // config.toml makes a run and gives its budget; summary.json says whether it finished (only a
-// `budget` stop is finished); checkpoint.bin is seen; a damaged file is an InputError naming it.
+// `budget` stop is finished) and is kept as read; checkpoint.bin is seen; a damaged file is an
+// InputError naming it.
 #include "qdmeta/run/run_state.hpp"
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/run/checkpoint.hpp"
-#include "qdmeta/run/summary.hpp"
+#include "run/run_dir_fixture.hpp"
 
 namespace qdmeta {
 namespace {
 
 namespace fs = std::filesystem;
 
-class RunStateTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("qdmeta_run_state_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
-  void write_summary_saying(StopReason reason) const {
-    RunResult result;
-    result.reason = reason;
-    const RunSettings settings;
-    write_summary(dir_ / "summary.json", SummaryRecord{result, settings, "map-elites", 1, {}});
-  }
-  fs::path dir_;
-};
+using RunStateTest = test::RunDirFixture;
 
 TEST_F(RunStateTest, AMissingOrEmptyDirectoryHoldsNoRun) {
   for (const fs::path& dir : {dir_, dir_ / "missing"}) {
@@ -68,6 +50,17 @@ TEST_F(RunStateTest, OnlyABudgetStopIsFinished) {
   write_summary_saying(StopReason::kBudget);
   EXPECT_EQ(RunState(dir_).stop_reason(), StopReason::kBudget);
   EXPECT_TRUE(RunState(dir_).finished());
+}
+
+TEST_F(RunStateTest, TheSummaryIsReadOnceAndKept) {
+  write("config.toml", "seed = 1\n");
+  write_summary_saying(StopReason::kBudget);
+  const RunState state(dir_);
+  fs::remove(dir_ / "summary.json");  // what the state read stays what it says
+  ASSERT_TRUE(state.summary().has_value());
+  EXPECT_TRUE(state.finished());
+  EXPECT_EQ(std::get<std::string>(*state.summary()->find("algorithm")), "map-elites");
+  EXPECT_FALSE(RunState(dir_).summary().has_value());
 }
 
 TEST_F(RunStateTest, SeesACheckpoint) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "expect_input_error.hpp"
+#include "own_temp_path.hpp"
 #include "qdmeta/algorithms/cvt_map_elites.hpp"
 #include "qdmeta/assembly/build.hpp"
 #include "qdmeta/eval/evaluator.hpp"
@@ -23,7 +24,7 @@ toml::table config_with(const fs::path& file) {
 }
 
 TEST(CentroidsFile, TheRunsArchiveHasTheFilesCentroids) {
-  const fs::path file = fs::temp_directory_path() / "qdmeta_centroids_file_test_good.dat";
+  const fs::path file = test::own_temp_path("centroids_file_test_good.dat");
   std::ofstream(file) << "0.1 0.2\n0.5 0.5\n0.9 0.75\n";
   BuiltRun run = build_run(config_with(file), "c.toml");
   auto* cvt = dynamic_cast<CvtMapElites*>(run.algorithm.get());
@@ -37,7 +38,7 @@ TEST(CentroidsFile, TheRunsArchiveHasTheFilesCentroids) {
 }
 
 TEST(CentroidsFile, AFileOfAnotherShapeIsRefusedNamingTheKey) {
-  const fs::path file = fs::temp_directory_path() / "qdmeta_centroids_file_test_bad.dat";
+  const fs::path file = test::own_temp_path("centroids_file_test_bad.dat");
   std::ofstream(file) << "0.1 0.2\n0.5 0.5\n";
   EXPECT_EQ(input_error_message([&] { (void)build_run(config_with(file), "c.toml"); }),
             "c.toml: cvt.centroids_file = \"" + file.string() + "\": 2 centroids, expected 3 (cvt.centroids)");
