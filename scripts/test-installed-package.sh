@@ -13,7 +13,8 @@
 # to the same archive, arm-parts (the task handed to build_run as a value, reading its own [task]
 # keys) killed at a checkpoint and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
 # definition by sbx-check) and algorithm (random search, killed at a checkpoint and resumed to the
-# uninterrupted run's archive), the test phase, an experiment with its report (by the installed
+# uninterrupted run's archive) and controller of G ("cycle": its schedule in meta.csv, killed at a
+# checkpoint and resumed to the same files), the test phase, an experiment with its report (by the installed
 # report.py), misspelt [task] and [mutation] keys refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -299,6 +300,31 @@ QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$random_config" --o
 check_run "$runs/random"
 cmp -s "$runs/random-straight/archive.csv" "$runs/random/archive.csv" \
   || fail "the resumed random-search archive differs from the uninterrupted run's"
+
+step "the program's own controller of G: [control] kind = \"cycle\" (docs/tutorials/controller.md)"
+cycle_config=$runs/cycle.toml
+cp "$root/examples/own-task/configs/cycle.toml" "$cycle_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$cycle_config"
+"$arm" run --config "$cycle_config" --out "$runs/cycle-straight" --threads 1 --quiet || fail "arm-qd run (cycle)"
+check_run "$runs/cycle-straight"
+python3 - "$runs/cycle-straight/meta.csv" <<'PY' || fail "the cycle run's meta-generations did not follow its schedule"
+import csv, sys
+g = [int(row["generations"]) for row in csv.DictReader(open(sys.argv[1]))]
+assert len(g) >= 6 and g == [(1, 2, 4)[i % 3] for i in range(len(g))], g
+PY
+status=0
+QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$cycle_config" --out "$runs/cycle" --threads 1 --quiet \
+  || status=$?
+[[ $status -eq 137 && -e $runs/cycle/checkpoint.bin ]] || fail "the cycle run was not killed at its checkpoint ($status)"
+"$arm" resume --out "$runs/cycle" --threads "$jobs" --quiet || fail "arm-qd resume (cycle)"
+for f in archive.csv meta.csv; do
+  cmp -s "$runs/cycle-straight/$f" "$runs/cycle/$f" || fail "the resumed cycle run's $f differs from the uninterrupted run's"
+done
+sed 's/^generations = /generation = /' "$root/examples/own-task/configs/cycle.toml" > "$runs/bad-cycle.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-cycle.toml" --out "$runs/bad-cycle" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'control.generation' in [control]"* ]] \
+  || fail "a misspelt cycle key gave status $status: $message"
 
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"

@@ -1,9 +1,10 @@
 // arm-qd: qdmeta's whole command line with one more task, "arm", one more mutation operator,
-// "sbx", and one more algorithm, "random-search".
+// "sbx", one more algorithm, "random-search", and one more controller of G, "cycle".
 #include <qdmeta/cli/builtin_plugins.hpp>
 #include <qdmeta/cli/run_cli.hpp>
 
 #include "arm_plugin.hpp"
+#include "cycle_control.hpp"
 #include "random_search.hpp"
 #include "sbx.hpp"
 
@@ -12,5 +13,6 @@ int main(int argc, char** argv) {
   arm::register_arm_task();            // before run_cli, on every MPI rank
   arm::register_sbx();                 // [mutation] kind = "sbx"
   arm::register_random_search();       // algorithm = "random-search"
+  arm::register_cycle_control();       // [control] kind = "cycle"
   return qdmeta::run_cli(argc, argv);
 }
