@@ -14,7 +14,8 @@
 # keys) killed at a checkpoint and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
 # definition by sbx-check) and algorithm (random search, killed at a checkpoint and resumed to the
 # uninterrupted run's archive) and controller of G ("cycle": its schedule in meta.csv, killed at a
-# checkpoint and resumed to the same files), the test phase, an experiment with its report (by the installed
+# checkpoint and resumed to the same files) and feature-map ("polar": each elite's measures
+# recomputed from its genes), the test phase, an experiment with its report (by the installed
 # report.py), misspelt [task] and [mutation] keys refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -325,6 +326,35 @@ status=0
 message=$("$arm" run --config "$runs/bad-cycle.toml" --out "$runs/bad-cycle" --quiet 2>&1) || status=$?
 [[ $status -eq 2 && $message == *"unknown key 'control.generation' in [control]"* ]] \
   || fail "a misspelt cycle key gave status $status: $message"
+
+step "the program's own feature-map: [feature_map] kind = \"polar\" (docs/tutorials/feature-map.md)"
+"$arm" run --config "$root/examples/own-task/configs/polar.toml" --out "$runs/polar" --threads "$jobs" --quiet \
+  || fail "arm-qd run (polar)"
+check_run "$runs/polar"
+# Each elite's measures, from its genes: the arm's end effector (10 links of length 1/10, each
+# gene an angle in [-pi, pi] relative to the link before), its distance from the base and direction.
+python3 - "$runs/polar/archive.csv" <<'PY' || fail "the polar run's measures are not its elites' distances and directions"
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) > 100, len(rows)
+for row in rows:
+    genes = [float(row[f"solution_{j}"]) for j in range(10)]
+    heading = x = y = 0.0
+    for g in genes:
+        heading += (g - 0.5) * 2 * math.pi
+        x += math.cos(heading) / 10
+        y += math.sin(heading) / 10
+    # The task's base features are float32: (x + 1) / 2 rounded, so compare within float precision.
+    distance = min(math.hypot(x, y), 1.0)
+    direction = (math.atan2(y, x) + math.pi) / (2 * math.pi)
+    assert abs(float(row["measures_0"]) - distance) < 1e-5, (row, distance)
+    assert min(abs(float(row["measures_1"]) - direction), 1 - abs(float(row["measures_1"]) - direction)) < 1e-5, (row, direction)
+PY
+sed 's/^reach = /raech = /' "$root/examples/own-task/configs/polar.toml" > "$runs/bad-polar.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-polar.toml" --out "$runs/bad-polar" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'feature_map.raech' in [feature_map] (valid keys: kind, reach)"* ]] \
+  || fail "a misspelt polar key gave status $status: $message"
 
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"

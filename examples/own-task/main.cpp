@@ -1,10 +1,12 @@
 // arm-qd: qdmeta's whole command line with one more task, "arm", one more mutation operator,
-// "sbx", one more algorithm, "random-search", and one more controller of G, "cycle".
+// "sbx", one more algorithm, "random-search", one more controller of G, "cycle", and one more
+// feature-map, "polar".
 #include <qdmeta/cli/builtin_plugins.hpp>
 #include <qdmeta/cli/run_cli.hpp>
 
 #include "arm_plugin.hpp"
 #include "cycle_control.hpp"
+#include "polar_feature_map.hpp"
 #include "random_search.hpp"
 #include "sbx.hpp"
 
@@ -14,5 +16,6 @@ int main(int argc, char** argv) {
   arm::register_sbx();                 // [mutation] kind = "sbx"
   arm::register_random_search();       // algorithm = "random-search"
   arm::register_cycle_control();       // [control] kind = "cycle"
+  arm::register_polar_feature_map();   // [feature_map] kind = "polar"
   return qdmeta::run_cli(argc, argv);
 }
