@@ -14,8 +14,8 @@
 # keys) killed at a checkpoint and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
 # definition by sbx-check) and algorithm (random search, killed at a checkpoint and resumed to the
 # uninterrupted run's archive) and controller of G ("cycle": its schedule in meta.csv, killed at a
-# checkpoint and resumed to the same files) and feature-map ("polar": each elite's measures
-# recomputed from its genes), the test phase, an experiment with its report (by the installed
+# checkpoint and resumed to the same files), feature-map ("polar": each elite's measures
+# recomputed from its genes) and archive ("floor": no elite below it, killed and resumed), the test phase, an experiment with its report (by the installed
 # report.py), misspelt [task] and [mutation] keys refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -355,6 +355,33 @@ status=0
 message=$("$arm" run --config "$runs/bad-polar.toml" --out "$runs/bad-polar" --quiet 2>&1) || status=$?
 [[ $status -eq 2 && $message == *"unknown key 'feature_map.raech' in [feature_map] (valid keys: kind, reach)"* ]] \
   || fail "a misspelt polar key gave status $status: $message"
+
+step "the program's own archive: [archive] kind = \"floor\" (docs/tutorials/archive.md)"
+floor_config=$runs/floor.toml
+cp "$root/examples/own-task/configs/floor.toml" "$floor_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$floor_config"
+"$arm" run --config "$floor_config" --out "$runs/floor-straight" --threads 1 --quiet || fail "arm-qd run (floor)"
+check_run "$runs/floor-straight"
+# Every elite reaches the floor, and the floor mattered: the unfloored run (same grid) keeps some below it.
+python3 - "$runs/floor-straight/archive.csv" "$runs/map-elites/archive.csv" <<'PY' || fail "the floor archive kept an elite below its floor"
+import csv, sys
+floored = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[1]))]
+plain = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[2]))]
+assert len(floored) > 50 and min(floored) >= -1.0, (len(floored), min(floored))
+assert min(plain) < -1.0, min(plain)
+PY
+status=0
+QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$floor_config" --out "$runs/floor" --threads 1 --quiet \
+  || status=$?
+[[ $status -eq 137 && -e $runs/floor/checkpoint.bin ]] || fail "the floor run was not killed at its checkpoint ($status)"
+"$arm" resume --out "$runs/floor" --threads "$jobs" --quiet || fail "arm-qd resume (floor)"
+cmp -s "$runs/floor-straight/archive.csv" "$runs/floor/archive.csv" \
+  || fail "the resumed floor run's archive differs from the uninterrupted run's"
+sed 's/^floor = /flor = /' "$root/examples/own-task/configs/floor.toml" > "$runs/bad-floor.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-floor.toml" --out "$runs/bad-floor" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'archive.flor' in [archive]"* ]] \
+  || fail "a misspelt floor key gave status $status: $message"
 
 step "the test phase (adapt --test locked)"
 "$arm" adapt --run "$runs/map-elites" --test locked --budget 10 --threads "$jobs" --quiet || fail "arm-qd adapt"
