@@ -223,6 +223,24 @@ assert summary["stop_reason"] == "budget", summary["stop_reason"]
 PY
 }
 
+# killed_and_resumed CONFIG WHAT FILES...: arm-qd runs CONFIG (a checkpoint after every step) into
+# runs/WHAT-straight, then again into runs/WHAT, killed at its first checkpoint and resumed with
+# more threads; each of FILES must be the same in both.
+killed_and_resumed() {
+  local config=$1 what=$2 status=0
+  shift 2
+  "$arm" run --config "$config" --out "$runs/$what-straight" --threads 1 --quiet || fail "arm-qd run ($what)"
+  check_run "$runs/$what-straight"
+  QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$config" --out "$runs/$what" --threads 1 --quiet \
+    || status=$?
+  [[ $status -eq 137 && -e $runs/$what/checkpoint.bin ]] || fail "the $what run was not killed at its checkpoint ($status)"
+  "$arm" resume --out "$runs/$what" --threads "$jobs" --quiet || fail "arm-qd resume ($what)"
+  check_run "$runs/$what"
+  for f in "$@"; do
+    cmp -s "$runs/$what-straight/$f" "$runs/$what/$f" || fail "the resumed $what run's $f differs from the uninterrupted run's"
+  done
+}
+
 step "QD-Meta and MAP-Elites on the arm"
 "$arm" run --config "$root/examples/own-task/configs/qd-meta.toml" --out "$runs/qd-meta" --threads "$jobs" --quiet \
   || fail "arm-qd run (qd-meta)"
@@ -291,36 +309,18 @@ step "the program's own algorithm (random-search): killed at its first checkpoin
 random_config=$runs/random-search.toml
 cp "$root/examples/own-task/configs/random-search.toml" "$random_config"
 printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$random_config"
-"$arm" run --config "$random_config" --out "$runs/random-straight" --threads 1 --quiet || fail "arm-qd run (random-search)"
-check_run "$runs/random-straight"
-status=0
-QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$random_config" --out "$runs/random" --threads 1 --quiet \
-  || status=$?
-[[ $status -eq 137 && -e $runs/random/checkpoint.bin ]] || fail "random-search was not killed at its checkpoint ($status)"
-"$arm" resume --out "$runs/random" --threads "$jobs" --quiet || fail "arm-qd resume (random-search)"
-check_run "$runs/random"
-cmp -s "$runs/random-straight/archive.csv" "$runs/random/archive.csv" \
-  || fail "the resumed random-search archive differs from the uninterrupted run's"
+killed_and_resumed "$random_config" random archive.csv
 
 step "the program's own controller of G: [control] kind = \"cycle\" (docs/tutorials/controller.md)"
 cycle_config=$runs/cycle.toml
 cp "$root/examples/own-task/configs/cycle.toml" "$cycle_config"
 printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$cycle_config"
-"$arm" run --config "$cycle_config" --out "$runs/cycle-straight" --threads 1 --quiet || fail "arm-qd run (cycle)"
-check_run "$runs/cycle-straight"
+killed_and_resumed "$cycle_config" cycle archive.csv meta.csv
 python3 - "$runs/cycle-straight/meta.csv" <<'PY' || fail "the cycle run's meta-generations did not follow its schedule"
 import csv, sys
 g = [int(row["generations"]) for row in csv.DictReader(open(sys.argv[1]))]
 assert len(g) >= 6 and g == [(1, 2, 4)[i % 3] for i in range(len(g))], g
 PY
-status=0
-QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$cycle_config" --out "$runs/cycle" --threads 1 --quiet \
-  || status=$?
-[[ $status -eq 137 && -e $runs/cycle/checkpoint.bin ]] || fail "the cycle run was not killed at its checkpoint ($status)"
-"$arm" resume --out "$runs/cycle" --threads "$jobs" --quiet || fail "arm-qd resume (cycle)"
-for f in archive.csv meta.csv; do
-  cmp -s "$runs/cycle-straight/$f" "$runs/cycle/$f" || fail "the resumed cycle run's $f differs from the uninterrupted run's"
-done
 sed 's/^generations = /generation = /' "$root/examples/own-task/configs/cycle.toml" > "$runs/bad-cycle.toml"
 status=0
 message=$("$arm" run --config "$runs/bad-cycle.toml" --out "$runs/bad-cycle" --quiet 2>&1) || status=$?
@@ -360,8 +360,7 @@ step "the program's own archive: [archive] kind = \"floor\" (docs/tutorials/arch
 floor_config=$runs/floor.toml
 cp "$root/examples/own-task/configs/floor.toml" "$floor_config"
 printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$floor_config"
-"$arm" run --config "$floor_config" --out "$runs/floor-straight" --threads 1 --quiet || fail "arm-qd run (floor)"
-check_run "$runs/floor-straight"
+killed_and_resumed "$floor_config" floor archive.csv
 # Every elite reaches the floor, and the floor mattered: the unfloored run (same grid) keeps some below it.
 python3 - "$runs/floor-straight/archive.csv" "$runs/map-elites/archive.csv" <<'PY' || fail "the floor archive kept an elite below its floor"
 import csv, sys
@@ -370,13 +369,6 @@ plain = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[2]))]
 assert len(floored) > 50 and min(floored) >= -1.0, (len(floored), min(floored))
 assert min(plain) < -1.0, min(plain)
 PY
-status=0
-QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$floor_config" --out "$runs/floor" --threads 1 --quiet \
-  || status=$?
-[[ $status -eq 137 && -e $runs/floor/checkpoint.bin ]] || fail "the floor run was not killed at its checkpoint ($status)"
-"$arm" resume --out "$runs/floor" --threads "$jobs" --quiet || fail "arm-qd resume (floor)"
-cmp -s "$runs/floor-straight/archive.csv" "$runs/floor/archive.csv" \
-  || fail "the resumed floor run's archive differs from the uninterrupted run's"
 sed 's/^floor = /flor = /' "$root/examples/own-task/configs/floor.toml" > "$runs/bad-floor.toml"
 status=0
 message=$("$arm" run --config "$runs/bad-floor.toml" --out "$runs/bad-floor" --quiet 2>&1) || status=$?
