@@ -4,7 +4,10 @@
 // the one config (a misspelt one is refused), gives what the same part gives when registered,
 // and a part the run's algorithm does not read is refused rather than ignored.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +20,7 @@
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/plugin/config.hpp"
 #include "qdmeta/plugin/part_registries.hpp"
+#include "qdmeta/run/run_directory.hpp"
 
 namespace qdmeta {
 namespace {
@@ -212,6 +216,28 @@ TEST(ArchivePart, RunsMapElitesWithTheGridsBits) {
   parts.archive->kind = "grid";
   EXPECT_INPUT_ERROR(build_run(map_elites_config(""), "x.toml", {}, parts),
                      "x.toml: the archive part handed over is named \"grid\", a built-in kind: give it another name");
+}
+
+// A run made with a part, resumed without it: the registry's "not a valid choice" says how to hand
+// it again. Refused before its checkpoint is read, so a config.toml is all the directory needs.
+TEST(PartsOnResume, APartNotHandedAgainIsNamedWithHowToPassIt) {
+  ensure_core_plugins();
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("qdmeta-parts-on-resume-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "config.toml") << qd_meta_config("[control]\nkind = \"cycle\"\n");
+  const std::string config = (dir / "config.toml").string();
+  // The registered kinds listed between depend on what this process registered before.
+  const std::string message = input_error_message([&] { open_for_resume(dir, {}); });
+  EXPECT_TRUE(message.starts_with(config + ": control.kind = \"cycle\" is not a valid choice: use one of \"static\", "
+                                           "\"sarsa\""))
+      << message;
+  EXPECT_TRUE(message.ends_with("; a part that the run in " + dir.string() + " was made with, handed to build_run() as "
+                                "a value, is neither registered here nor handed over again: resume with the same parts, "
+                                "open_for_resume(dir, parts) (RunParts, qdmeta/assembly/run_parts.hpp), or register it"))
+      << message;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
