@@ -6,7 +6,7 @@ ASAN_BUILD ?= build-asan
 DEMO_OUT ?= results/demo
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build run test test-sanitize test-pip test-slurm bench clean
+.PHONY: all deps build run test test-long test-all test-sanitize test-pip test-slurm bench clean
 
 all: build
 
@@ -31,10 +31,18 @@ run: deps $(BUILD)/build.ninja
 	$(BUILD)/qdmeta experiment --config configs/rastrigin/experiment.toml --out $(DEMO_OUT) --replicates $(DEMO_REPLICATES) --evals $(DEMO_EVALS)
 	@echo "Report: $(DEMO_OUT)/report.md (figures in $(DEMO_OUT)/figures); runs in $(DEMO_OUT)/<condition>/seed-<r>/"
 
-# ctest, then the installed package: examples/own-task built against `cmake --install` and run.
+# ctest without the long tests, then the installed package: examples/own-task built against
+# `cmake --install` and run. The long tests (label "long", tests/CMakeLists.txt: the RHex smoke
+# study, the MPI and kill-and-resume end-to-end tests, the study scripts, the robustness matrices,
+# tools/'s pytest) are `make test-long`; `make test-all` runs both, as CI must.
 test: build
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE long
 	JOBS=$(JOBS) bash scripts/test-installed-package.sh $(BUILD)
+
+test-long: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -L long
+
+test-all: test test-long
 
 # pip install . into a fresh virtual environment, then the Python suite; and the suite against
 # build/python under numpy 2 (both need the Python package index).

@@ -55,4 +55,5 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/qdmetaConfig.cmake.in
                               PATH_VARS QDMETA_INSTALL_TOOLSDIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/qdmetaConfigVersion.cmake COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/qdmetaConfig.cmake ${PROJECT_BINARY_DIR}/qdmetaConfigVersion.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/qdmetaLinkCheck.cmake
         DESTINATION ${QDMETA_INSTALL_CMAKEDIR})

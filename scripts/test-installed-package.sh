@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # The installed CMake package, end to end (run by `make test` after ctest): installs the build
-# into a scratch prefix and checks that it serves any consumer: no instruction-set, Eigen or DART
-# flag in its targets' interface, no DART in its headers, Eigen configured by its headers; a
-# program built for the x86-64 baseline (the library is built with -march=native) that asks for
-# no component, configured where DART and MPI cannot be found, runs QD-Meta and MAP-Elites to the
-# archives of the installed `qdmeta`, freeing the library's elite tables; a component the
-# installation lacks, or that names nothing, is refused in one message. Then it builds
+# into a scratch prefix and checks that it serves any consumer: no instruction-set or DART flag in
+# its targets' interface, Eigen's settings in it (a consumer may include Eigen first), no DART in
+# its headers; a program built for the x86-64 baseline (the library is built with -march=native)
+# that includes Eigen before qdmeta and asks for no component, configured where DART and MPI
+# cannot be found, runs QD-Meta and MAP-Elites to the archives of the installed `qdmeta`, freeing
+# the library's elite tables; a component the installation lacks, or that names nothing, is
+# refused in one message, and so is a target that links a component not asked for or uses run_cli without
+# qdmeta::cli. Then it builds
 # examples/own-task against it (also for the baseline) with find_package(qdmeta), and runs that
 # program's command line on its own task: QD-Meta and MAP-Elites runs, an interrupted run resumed
-# to the same archive, arm-parts (the task handed to build_run as a value) killed at a checkpoint
-# and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
+# to the same archive, arm-parts (the task handed to build_run as a value, reading its own [task]
+# keys) killed at a checkpoint and resumed to arm-qd's archive, the program's own mutation operator (SBX, checked against its
 # definition by sbx-check) and algorithm (random search, killed at a checkpoint and resumed to the
-# uninterrupted run's archive), the test phase, an experiment with its report (by the installed
+# uninterrupted run's archive) and controller of G ("cycle": its schedule in meta.csv, killed at a
+# checkpoint and resumed to the same files), feature-map ("polar": each elite's measures
+# recomputed from its genes) and archive ("floor": no elite below it, killed and resumed), the test phase, an experiment with its report (by the installed
 # report.py), misspelt [task] and [mutation] keys refused, and `mpirun -np 2` where the build has MPI.
 # Usage: scripts/test-installed-package.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -42,12 +46,20 @@ for f in bin/qdmeta share/qdmeta/tools/report.py include/qdmeta/cli/run_cli.hpp 
 done
 "$prefix/bin/qdmeta" --version > /dev/null || fail "the installed qdmeta does not start"
 
-step "no flag of the building machine, of Eigen or of DART reaches a consumer"
-if grep -nE -- '-march|-mtune|EIGEN_|BOOST_TEST_DYN_LINK' "$package"/qdmeta*Targets*.cmake; then
+step "no flag of the building machine or of DART reaches a consumer; Eigen's settings do"
+if grep -nE -- '-march|-mtune|BOOST_TEST_DYN_LINK' "$package"/qdmeta*Targets*.cmake; then
   fail "an installed target passes the flags above to its consumers"
 fi
+# Eigen's settings are definitions of qdmeta::qdmeta, so that a consumer's file may include Eigen
+# first (tests/package/portable_consumer.cpp does); no other Eigen definition travels.
+definitions=$(grep -A3 'add_library(qdmeta::qdmeta ' "$package/qdmetaTargets.cmake" | grep INTERFACE_COMPILE_DEFINITIONS || true)
+for d in EIGEN_MAX_ALIGN_BYTES=16 EIGEN_MAX_STATIC_ALIGN_BYTES=16 EIGEN_MALLOC_ALREADY_ALIGNED=0; do
+  [[ $definitions == *"$d"* ]] || fail "qdmeta::qdmeta does not pass $d to its consumers: $definitions"
+done
+[[ $(grep -o 'EIGEN_[A-Z_]*=' "$package"/qdmeta*Targets*.cmake | sort -u | wc -l) -eq 3 ]] \
+  || fail "an installed target passes another Eigen definition: $(grep -o 'EIGEN_[A-Z_]*=[^;\"]*' "$package"/qdmeta*Targets*.cmake)"
 if grep -rln '#include <dart/' "$prefix/include"; then fail "the installed headers above include DART"; fi
-# Eigen's settings come from qdmeta/core/eigen.hpp, which must precede every Eigen header.
+# A file compiled without the target's definitions: qdmeta/core/eigen.hpp precedes every Eigen header.
 while IFS= read -r header; do
   [[ $header == */qdmeta/core/eigen.hpp ]] && continue
   eigen=$(grep -n -m1 '#include <Eigen/' "$header" | cut -d: -f1)
@@ -133,6 +145,42 @@ if [[ -e $package/qdmetaRhexTargets.cmake ]]; then
   [[ $message == *"found: rhex, directory definitions: []"* ]] || fail "finding rhex left definitions: $message"
 fi
 
+step "a target that links a component not asked for, or uses run_cli without qdmeta::cli, is named"
+links=$consumer/links
+mkdir -p "$links/source"
+cat > "$links/source/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(links LANGUAGES CXX)
+find_package(qdmeta REQUIRED)
+add_subdirectory(program)
+CMAKE
+mkdir -p "$links/source/program"
+cat > "$links/source/program/CMakeLists.txt" <<'CMAKE'
+add_executable(my-program main.cpp)
+target_link_libraries(my-program PRIVATE qdmeta::qdmeta ${EXTRA})
+CMAKE
+# links MAIN_CPP EXTRA_TARGETS: prints the configure output as one line; the status is cmake's.
+configure_links() {
+  rm -rf "$links/build"
+  printf '%s\n' "$1" > "$links/source/program/main.cpp"
+  local status=0 output
+  output=$(cmake -S "$links/source" -B "$links/build" -DCMAKE_PREFIX_PATH="$prefix" -DEXTRA="$2" 2>&1) || status=$?
+  tr -s ' \n' ' ' <<< "$output"
+  return "$status"
+}
+plain='int main() { return 0; }'
+cli='#include <qdmeta/cli/run_cli.hpp>
+int main(int argc, char** argv) { return qdmeta::run_cli(argc, argv); }'
+message=$(configure_links "$plain" qdmeta::mpi) && fail "qdmeta::mpi linked without its component: $message"
+[[ $message == *"qdmeta: target my-program links qdmeta::mpi, but find_package(qdmeta) did not ask for its component: write find_package(qdmeta REQUIRED COMPONENTS mpi)"* ]] \
+  || fail "qdmeta::mpi without its component: $message"
+message=$(configure_links "$plain" qdmeta::gpu) && fail "qdmeta::gpu was linked: $message"
+[[ $message == *"target my-program links qdmeta::gpu, which qdmeta does not have"* ]] || fail "qdmeta::gpu: $message"
+message=$(configure_links "$cli" "") && fail "run_cli was used without qdmeta::cli: $message"
+[[ $message == *"target my-program compiles main.cpp, which includes qdmeta's command line (qdmeta/cli/), but does not link qdmeta::cli: write target_link_libraries(my-program PRIVATE qdmeta::cli)"* ]] \
+  || fail "run_cli without qdmeta::cli: $message"
+message=$(configure_links "$cli" qdmeta::cli) || fail "run_cli with qdmeta::cli was refused: $message"
+
 step "a program that asks for qdmeta 0.1 is refused: 0.2 broke its API (CHANGELOG.md)"
 versioned=$consumer/versioned
 mkdir -p "$versioned/source"
@@ -175,6 +223,24 @@ assert summary["stop_reason"] == "budget", summary["stop_reason"]
 PY
 }
 
+# killed_and_resumed CONFIG WHAT FILES...: arm-qd runs CONFIG (a checkpoint after every step) into
+# runs/WHAT-straight, then again into runs/WHAT, killed at its first checkpoint and resumed with
+# more threads; each of FILES must be the same in both.
+killed_and_resumed() {
+  local config=$1 what=$2 status=0
+  shift 2
+  "$arm" run --config "$config" --out "$runs/$what-straight" --threads 1 --quiet || fail "arm-qd run ($what)"
+  check_run "$runs/$what-straight"
+  QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$config" --out "$runs/$what" --threads 1 --quiet \
+    || status=$?
+  [[ $status -eq 137 && -e $runs/$what/checkpoint.bin ]] || fail "the $what run was not killed at its checkpoint ($status)"
+  "$arm" resume --out "$runs/$what" --threads "$jobs" --quiet || fail "arm-qd resume ($what)"
+  check_run "$runs/$what"
+  for f in "$@"; do
+    cmp -s "$runs/$what-straight/$f" "$runs/$what/$f" || fail "the resumed $what run's $f differs from the uninterrupted run's"
+  done
+}
+
 step "QD-Meta and MAP-Elites on the arm"
 "$arm" run --config "$root/examples/own-task/configs/qd-meta.toml" --out "$runs/qd-meta" --threads "$jobs" --quiet \
   || fail "arm-qd run (qd-meta)"
@@ -204,13 +270,15 @@ else
   fail "the interrupted run exited with status $status"
 fi
 
-step "a program that registers nothing (arm-parts): killed at its first checkpoint, resumed"
-parts_config=$runs/parts.toml  # QD-Meta's config with [task] naming the part only
-sed '/^joints = /d' "$root/examples/own-task/configs/qd-meta.toml" > "$parts_config"
+step "a program that registers nothing (arm-parts): arm-qd's config, killed at its first checkpoint, resumed"
+parts_config=$runs/parts.toml  # QD-Meta's config as it is: the task part reads [task] joints
+cp "$root/examples/own-task/configs/qd-meta.toml" "$parts_config"
 printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$parts_config"
+sed 's/^joints = /jionts = /' "$root/examples/own-task/configs/qd-meta.toml" > "$runs/parts-misspelt.toml"
 status=0
-message=$("$example/arm-parts" run "$root/examples/own-task/configs/qd-meta.toml" "$runs/parts-keys" 2>&1) || status=$?
-[[ $status -eq 2 && $message == *"unknown key 'task.joints'"* ]] || fail "arm-parts took a [task] key: $status $message"
+message=$("$example/arm-parts" run "$runs/parts-misspelt.toml" "$runs/parts-keys" 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'task.jionts' in [task] (valid keys: joints, name)"* ]] \
+  || fail "arm-parts and a misspelt [task] key: $status $message"
 status=0
 QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$example/arm-parts" run "$parts_config" "$runs/parts" || status=$?
 [[ $status -eq 137 && -e $runs/parts/checkpoint.bin ]] || fail "arm-parts was not killed at its checkpoint ($status)"
@@ -241,16 +309,71 @@ step "the program's own algorithm (random-search): killed at its first checkpoin
 random_config=$runs/random-search.toml
 cp "$root/examples/own-task/configs/random-search.toml" "$random_config"
 printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$random_config"
-"$arm" run --config "$random_config" --out "$runs/random-straight" --threads 1 --quiet || fail "arm-qd run (random-search)"
-check_run "$runs/random-straight"
+killed_and_resumed "$random_config" random archive.csv
+
+step "the program's own controller of G: [control] kind = \"cycle\" (docs/tutorials/controller.md)"
+cycle_config=$runs/cycle.toml
+cp "$root/examples/own-task/configs/cycle.toml" "$cycle_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$cycle_config"
+killed_and_resumed "$cycle_config" cycle archive.csv meta.csv
+python3 - "$runs/cycle-straight/meta.csv" <<'PY' || fail "the cycle run's meta-generations did not follow its schedule"
+import csv, sys
+g = [int(row["generations"]) for row in csv.DictReader(open(sys.argv[1]))]
+assert len(g) >= 6 and g == [(1, 2, 4)[i % 3] for i in range(len(g))], g
+PY
+sed 's/^generations = /generation = /' "$root/examples/own-task/configs/cycle.toml" > "$runs/bad-cycle.toml"
 status=0
-QDMETA_TEST_SIGNAL_AT_CHECKPOINT=1:KILL "$arm" run --config "$random_config" --out "$runs/random" --threads 1 --quiet \
-  || status=$?
-[[ $status -eq 137 && -e $runs/random/checkpoint.bin ]] || fail "random-search was not killed at its checkpoint ($status)"
-"$arm" resume --out "$runs/random" --threads "$jobs" --quiet || fail "arm-qd resume (random-search)"
-check_run "$runs/random"
-cmp -s "$runs/random-straight/archive.csv" "$runs/random/archive.csv" \
-  || fail "the resumed random-search archive differs from the uninterrupted run's"
+message=$("$arm" run --config "$runs/bad-cycle.toml" --out "$runs/bad-cycle" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'control.generation' in [control]"* ]] \
+  || fail "a misspelt cycle key gave status $status: $message"
+
+step "the program's own feature-map: [feature_map] kind = \"polar\" (docs/tutorials/feature-map.md)"
+"$arm" run --config "$root/examples/own-task/configs/polar.toml" --out "$runs/polar" --threads "$jobs" --quiet \
+  || fail "arm-qd run (polar)"
+check_run "$runs/polar"
+# Each elite's measures, from its genes: the arm's end effector (10 links of length 1/10, each
+# gene an angle in [-pi, pi] relative to the link before), its distance from the base and direction.
+python3 - "$runs/polar/archive.csv" <<'PY' || fail "the polar run's measures are not its elites' distances and directions"
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) > 100, len(rows)
+for row in rows:
+    genes = [float(row[f"solution_{j}"]) for j in range(10)]
+    heading = x = y = 0.0
+    for g in genes:
+        heading += (g - 0.5) * 2 * math.pi
+        x += math.cos(heading) / 10
+        y += math.sin(heading) / 10
+    # The task's base features are float32: (x + 1) / 2 rounded, so compare within float precision.
+    distance = min(math.hypot(x, y), 1.0)
+    direction = (math.atan2(y, x) + math.pi) / (2 * math.pi)
+    assert abs(float(row["measures_0"]) - distance) < 1e-5, (row, distance)
+    assert min(abs(float(row["measures_1"]) - direction), 1 - abs(float(row["measures_1"]) - direction)) < 1e-5, (row, direction)
+PY
+sed 's/^reach = /raech = /' "$root/examples/own-task/configs/polar.toml" > "$runs/bad-polar.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-polar.toml" --out "$runs/bad-polar" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'feature_map.raech' in [feature_map] (valid keys: kind, reach)"* ]] \
+  || fail "a misspelt polar key gave status $status: $message"
+
+step "the program's own archive: [archive] kind = \"floor\" (docs/tutorials/archive.md)"
+floor_config=$runs/floor.toml
+cp "$root/examples/own-task/configs/floor.toml" "$floor_config"
+printf '\n[checkpoint]\nevery_seconds = 0\n' >> "$floor_config"
+killed_and_resumed "$floor_config" floor archive.csv
+# Every elite reaches the floor, and the floor mattered: the unfloored run (same grid) keeps some below it.
+python3 - "$runs/floor-straight/archive.csv" "$runs/map-elites/archive.csv" <<'PY' || fail "the floor archive kept an elite below its floor"
+import csv, sys
+floored = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[1]))]
+plain = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[2]))]
+assert len(floored) > 50 and min(floored) >= -1.0, (len(floored), min(floored))
+assert min(plain) < -1.0, min(plain)
+PY
+sed 's/^floor = /flor = /' "$root/examples/own-task/configs/floor.toml" > "$runs/bad-floor.toml"
+status=0
+message=$("$arm" run --config "$runs/bad-floor.toml" --out "$runs/bad-floor" --quiet 2>&1) || status=$?
+[[ $status -eq 2 && $message == *"unknown key 'archive.flor' in [archive]"* ]] \
+  || fail "a misspelt floor key gave status $status: $message"
 
 step "CMA-MAE: the emitter API by hand (arm-emitters) and algorithm = \"cma-mae\" on the arm"
 "$example/arm-emitters" || fail "arm-emitters"

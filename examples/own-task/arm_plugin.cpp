@@ -7,13 +7,14 @@
 #include "locked_joint.hpp"
 
 namespace arm {
-namespace {
 
 // [task]: every key goes through the ConfigReader, so a misspelt one is refused.
 qdmeta::Task read_arm(qdmeta::ConfigReader& task_table) {
   const auto joints = task_table.integer("joints", 10, 1, 1000);
   return qdmeta::Task(ArmTask(static_cast<int>(joints)));
 }
+
+namespace {
 
 // `qdmeta adapt --test locked`.
 std::unique_ptr<qdmeta::AdaptationTests> read_tests(const toml::table& /*run_config*/, const std::string& /*source*/,

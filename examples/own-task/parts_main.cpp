@@ -1,6 +1,7 @@
 // arm-parts: the arm run by a program that registers nothing. Its task and meta-objective are
-// handed to build_run() as values (qdmeta/assembly/run_parts.hpp), and the config only names
-// them: its [task] holds `name = "arm"` and no other key.
+// handed to build_run() as values (qdmeta/assembly/run_parts.hpp), and the config names them:
+// the task part reads its own [task] keys (`joints`), as the registered arm of arm-qd does, so
+// both programs run the same config files.
 //   arm-parts run CONFIG DIR    a new run into DIR
 //   arm-parts resume DIR        an interrupted run continued from its checkpoint
 #include <qdmeta/assembly/run_parts.hpp>
@@ -13,7 +14,7 @@
 #include <filesystem>
 #include <string>
 
-#include "arm_task.hpp"
+#include "arm_plugin.hpp"
 #include "locked_joint.hpp"
 
 namespace {
@@ -22,7 +23,7 @@ constexpr int kThreads = 2;
 
 qdmeta::RunParts arm_parts() {
   qdmeta::RunParts parts;
-  parts.task = qdmeta::Task(arm::ArmTask(10));  // the config's [task] holds only name = "arm"
+  parts.task_reader = qdmeta::TaskPart{"arm", arm::read_arm};  // made from the config's [task] table
   parts.meta_objective = qdmeta::MetaObjectivePart{"locked-joint", arm::read_locked_joint};  // one per run
   return parts;
 }

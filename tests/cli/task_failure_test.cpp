@@ -62,6 +62,24 @@ TEST(TaskFailure, ARunWithNoValidSolutionSaysSoInWords) {
                       "and mean are not defined): a task marks a solution valid by setting its row's valid flag\n");
 }
 
+TEST(TaskFailure, TheProgressAndSummaryOfARunWithNoValidSolutionShowNoZerosAsBestOrMean) {
+  const fs::path out = cli_test::process_scratch("task_failure") / "never-valid-loud";
+  fs::remove_all(out);
+  const Outcome o = shell(kFaulty + " run --threads 1 --config " +
+                          config_of("never-valid-loud", "[task]\nname = \"never-valid\"").string() + " --out " +
+                          out.string());
+  EXPECT_EQ(o.status, 0) << o.output;
+  // Not a terminal: one progress line per tenth of the budget, each saying there is no elite.
+  EXPECT_NE(o.output.find("100.0%  5000 / 5000 evals"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("no elite yet  ETA"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("evaluations in "), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("; the archive is empty (no elite, so no best or mean)\nresults: " + out.string()),
+            std::string::npos)
+      << o.output;
+  for (const char* zeros : {"best 0", "mean 0", "elites 0", "0 elites"})
+    EXPECT_EQ(o.output.find(zeros), std::string::npos) << zeros << " in " << o.output;
+}
+
 TEST(TaskFailure, AnExperimentNamesTheConditionAndSeedOfTheFailingRun) {
   const fs::path dir = cli_test::process_scratch("task_failure");
   const fs::path config = config_of("throws-in-experiment", "[task]\nname = \"throws\"\nthrow_after = 1000");

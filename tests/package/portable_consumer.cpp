@@ -2,7 +2,9 @@
 // archive.csv, so that the installed-package test can compare them with `qdmeta run`'s. Built
 // for another instruction set than the library: the elite table is allocated by the library and
 // freed here, which aborted with "double free or corruption" while Eigen's heap allocator
-// followed each side's instruction set (docs/library.md, "Programs built with other flags").
+// followed each side's instruction set (docs/library.md, "Portable programs"). Eigen comes first,
+// as clang-format sorts it: the qdmeta target's definitions configure it, whatever the order.
+#include <Eigen/Dense>
 #include <qdmeta/assembly/build.hpp>
 #include <qdmeta/eval/evaluator.hpp>
 #include <qdmeta/io/csv.hpp>
@@ -23,9 +25,10 @@ int main(int argc, char** argv) {
     const auto evaluator = qdmeta::make_evaluator(1);
     while (run.settings.evals(run.algorithm->counters()) < run.settings.budget) run.algorithm->step(*evaluator);
     const qdmeta::EliteTable first = run.algorithm->elites();
+    const Eigen::MatrixX<qdmeta::Real> solutions = first.solutions;  // a column-major copy, made here
     qdmeta::write_elites_csv(argv[3], first);
     qdmeta::EliteTable again = run.algorithm->elites();
-    const bool same = again.size() == first.size() && again.solutions == first.solutions;
+    const bool same = again.size() == first.size() && Eigen::MatrixX<qdmeta::Real>(again.solutions) == solutions;
     again = qdmeta::EliteTable{};  // frees the library's allocation here; `first` at the end
     if (!same || again.solutions.size() != 0) {
       std::fprintf(stderr, "portable-consumer: elites() gave two different tables\n");

@@ -8,6 +8,7 @@
 
 #include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/assembly/core_plugins.hpp"
+#include "qdmeta/assembly/run_parts.hpp"
 #include "qdmeta/assembly/standard_tables.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/plugin/algorithm_registry.hpp"
@@ -21,21 +22,46 @@ namespace {
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
 constexpr std::string_view kBudgetTable = "budget", kBudgetKey = "evaluations";
 
-// The name `key` gives a part handed over: absent, the part's (recorded); any other is refused.
-std::string read_part_name(ConfigReader& r, std::string_view key, const std::string& part_name) {
-  const std::string name = r.string(key, part_name);
-  if (name != part_name) r.not_a_valid_choice(key, name, fmt::format("\"{}\"", part_name), " (the part handed over)");
-  return name;
+// [task] through the part handed over, else through the registered task it names.
+Task read_task(ConfigReader& task_table, const RunParts& parts) {
+  if (parts.task && parts.task_reader)
+    throw InputError(fmt::format("{}: RunParts holds a task and a task_reader: give one of them", task_table.source()));
+  if (parts.task) {
+    read_part_name(task_table, "name", parts.task->name());
+    return *parts.task;
+  }
+  if (!parts.task_reader) return read_registered_task(task_table);
+  const TaskPart& part = *parts.task_reader;
+  read_part_name(task_table, "name", part.name);
+  Task task = part.read(task_table);
+  if (task.name() != part.name)
+    throw InputError(fmt::format("{}: the task part \"{}\" made a task named '{}': they must be the same name",
+                                 task_table.source(), part.name, task.name()));
+  return task;
+}
+
+// A part handed over that the run's algorithm never read (an archive handed to qd-meta): refused,
+// not ignored. A part that was read recorded its name in the resolved config.
+void refuse_unread_parts(const RunParts& parts, const toml::table& resolved, const std::string& source,
+                         const std::string& algorithm) {
+  const struct {
+    const char* table;
+    const char* what;
+    const std::string* kind;
+  } given[] = {{"control", "controller", parts.controller ? &parts.controller->kind : nullptr},
+               {"feature_map", "feature-map", parts.feature_map ? &parts.feature_map->kind : nullptr},
+               {"archive", "archive", parts.archive ? &parts.archive->kind : nullptr}};
+  for (const auto& g : given) {
+    if (g.kind == nullptr) continue;
+    const auto* kind = resolved[g.table]["kind"].as_string();
+    if (kind == nullptr || kind->get() != *g.kind)
+      throw InputError(fmt::format("{}: the {} part \"{}\" was handed over, but algorithm '{}' does not read [{}] "
+                                   "kind \"{}\": leave the part out, or choose an algorithm that takes it",
+                                   source, g.what, *g.kind, algorithm, g.table, *g.kind));
+  }
 }
 
 }  // namespace
-
-std::unique_ptr<MetaObjective> read_meta_objective(AlgorithmBuild& b, ConfigReader& meta_fitness) {
-  const auto& part = b.parts.meta_objective;
-  if (!part) return read_registered_meta_objective(meta_fitness, b.task, b.settings.seed);
-  read_part_name(meta_fitness, "kind", part->kind);
-  return part->read(meta_fitness, b.task, b.settings.seed);
-}
 
 void set_budget(toml::table& config, std::int64_t evaluations) {
   // A [budget] that is not a table stays as it is, for build_run to refuse naming it.
@@ -92,8 +118,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   s.checkpoint_every = checkpoint.number("every_seconds", s.checkpoint_every, 0.0, 1e9);
 
   ConfigReader task_table = root.table("task");
-  Task task = parts.task ? *parts.task : read_registered_task(task_table);
-  if (parts.task) read_part_name(task_table, "name", task.name());
+  Task task = read_task(task_table, parts);
   s.task = task.name();
   ConfigReader mutation_table = root.table("mutation");
   MutationParams mutation;
@@ -112,6 +137,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
   AlgorithmBuild b{root, std::move(task), mutation, s, built, parts};
   AlgorithmMaker make = (*builder)(b);
   root.finish();  // every table opened, the builder's included, whether or not it finished them
+  refuse_unread_parts(parts, built.resolved, source, s.algorithm);
   if (scope == BuildScope::kRun) {
     require_memory(built.memory, memory_limit(), source);
     if (!make) throw Error(fmt::format("{}: the builder of algorithm '{}' returned no maker", source, s.algorithm));

@@ -45,10 +45,9 @@ AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
   add_map_elites_memory(b.built.memory, p, b.task);
   ConfigReader archive_table = b.root.table("archive");
   ConfigReader feature_map_table = b.root.table("feature_map");
-  const Index base_features = b.task.base_feature_size();
-  if (const std::string kind = read_archive_kind(archive_table); kind != "grid") {
-    AnyArchive archive = read_registered_archive(archive_table, kind, b.task, b.built.memory);
-    auto feature_map = read_feature_map_table(feature_map_table, archive_table, base_features, archive.dimensions());
+  if (const std::string kind = read_archive_kind(b, archive_table); kind != "grid") {
+    AnyArchive archive = read_archive(b, archive_table, kind);
+    auto feature_map = read_feature_map(b, feature_map_table, archive_table, archive.dimensions());
     return [p, task = std::move(b.task), feature_map = std::move(feature_map), archive = std::move(archive),
             mutation = b.mutation, seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {
       return std::make_unique<BasicMapElites<AnyArchive>>(p, std::move(task), std::move(feature_map),
@@ -56,8 +55,7 @@ AlgorithmMaker build_map_elites(AlgorithmBuild& b) {
     };
   }
   GridArchiveParams grid = read_grid_table(archive_table);
-  auto feature_map =
-      read_feature_map_table(feature_map_table, archive_table, base_features, static_cast<Index>(grid.bins.size()));
+  auto feature_map = read_feature_map(b, feature_map_table, archive_table, static_cast<Index>(grid.bins.size()));
   GridArchiveParams sized = grid;  // as MapElites makes its archive: solutions, no base features
   sized.solution_size = b.task.genotype_size();
   b.built.memory.add("the archive", "archive.bins (cells) x genes", grid_archive_bytes(sized));
@@ -111,7 +109,7 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
     p.cma_small_population = cma.choice("small_population", p.cma_small_population, kCmaSmallPopulationNames);
   p.count_meta_evaluations = b.settings.counts == BudgetCount::kAll;
   ConfigReader control = b.root.table("control");
-  auto controller = read_control_table(control);
+  auto controller = read_controller(b, control);
   refuse_table(b.root, "feature_map", "qd-meta", "it evolves its own neural feature-maps ([qd_meta], [cma_es])");
   ConfigReader meta_fitness = b.root.table("meta_fitness");
   auto objective = read_meta_objective(b, meta_fitness);

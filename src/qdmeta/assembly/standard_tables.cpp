@@ -126,8 +126,13 @@ std::string read_archive_kind(ConfigReader& a) {
 AnyArchive read_registered_archive(ConfigReader& a, const std::string& kind, const Task& task, MemoryEstimate& memory) {
   const auto reader = archive_registry().find(kind);
   if (reader == nullptr) a.not_a_valid_choice("kind", kind, quoted_names(archive_registry().names()));
+  return read_archive_with(a, kind, *reader, task, memory);
+}
+
+AnyArchive read_archive_with(ConfigReader& a, const std::string& kind, const ArchiveReader& reader, const Task& task,
+                             MemoryEstimate& memory) {
   const ArchiveShape shape{task.genotype_size(), task.base_feature_size(), task.qd_offset()};
-  AnyArchive archive = rethrow_with_source(a, [&] { return (*reader)(a, shape, memory); });
+  AnyArchive archive = rethrow_with_source(a, [&] { return reader(a, shape, memory); });
   if (archive.solution_size() != shape.solution_size || archive.dimensions() < 1 ||
       (archive.base_feature_size() != 0 && archive.base_feature_size() != shape.base_feature_size) || !archive.empty())
     throw InputError(fmt::format("{}: archive kind \"{}\" made an archive of {} genes, {} dimensions and {} base "
@@ -157,12 +162,16 @@ std::unique_ptr<FeatureMap> read_feature_map_table(ConfigReader& f, ConfigReader
                                     "one per entry of bins, each a base-feature index");
     return std::make_unique<SelectFeatureMap>(base_features, std::vector<int>(m.begin(), m.end()));
   }
+  return read_feature_map_with(f, archive, kind, *feature_map_registry().find(kind), base_features, targets);
+}
+
+std::unique_ptr<FeatureMap> read_feature_map_with(ConfigReader& f, const ConfigReader& archive, const std::string& kind,
+                                                  const FeatureMapReader& reader, Index base_features, Index targets) {
   if (archive.has("measures"))
     throw InputError(fmt::format("{}: archive.measures picks base features for feature_map.kind = \"select\"; "
                                  "feature-map \"{}\" makes the target features itself",
                                  archive.source(), kind));
-  const auto reader = feature_map_registry().find(kind);
-  auto map = rethrow_with_source(f, [&] { return (*reader)(f, base_features, targets); });
+  auto map = rethrow_with_source(f, [&] { return reader(f, base_features, targets); });
   if (!map || map->input_size() != base_features || map->output_size() != targets)
     throw InputError(fmt::format("{}: feature-map \"{}\" must map {} base features to {} target features", f.source(),
                                  kind, base_features, targets));
@@ -205,8 +214,12 @@ std::unique_ptr<GenerationController> read_static_control(ConfigReader& c) {
 
 std::unique_ptr<GenerationController> read_control_table(ConfigReader& c) {
   const std::string kind = read_kind(c, {}, controller_registry().names(), "sarsa");
-  const auto reader = controller_registry().find(kind);
-  auto controller = rethrow_with_source(c, [&] { return (*reader)(c); });
+  return read_control_with(c, kind, *controller_registry().find(kind));
+}
+
+std::unique_ptr<GenerationController> read_control_with(ConfigReader& c, const std::string& kind,
+                                                        const ControllerReader& reader) {
+  auto controller = rethrow_with_source(c, [&] { return reader(c); });
   if (!controller) throw InputError(fmt::format("{}: control kind \"{}\" made no controller", c.source(), kind));
   return controller;
 }

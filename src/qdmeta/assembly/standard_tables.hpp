@@ -17,6 +17,7 @@
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
+#include "qdmeta/plugin/part_registries.hpp"
 
 namespace qdmeta {
 
@@ -37,15 +38,27 @@ std::string read_archive_kind(ConfigReader& archive);
 // [archive] kind = NAME of the registry: the archive for `task`, its memory added to `memory`.
 AnyArchive read_registered_archive(ConfigReader& archive, const std::string& kind, const Task& task,
                                    MemoryEstimate& memory);
+// The same with `reader` (a part handed over, assembly/run_parts.hpp): what it made is checked
+// (empty, the task's genes, a dimension) as a registered kind's archive is.
+AnyArchive read_archive_with(ConfigReader& archive, const std::string& kind, const ArchiveReader& reader,
+                             const Task& task, MemoryEstimate& memory);
 
 // [feature_map] kind: "select" (the default: the target features are the base features that
 // [archive] measures picks, one per target feature) or a registered feature-map, from the task's
 // base features to `targets` target features. `archive` is the [archive] table (measures).
 std::unique_ptr<FeatureMap> read_feature_map_table(ConfigReader& feature_map, ConfigReader& archive,
                                                    Index base_features, Index targets);
+// A feature-map of kind `kind` made by `reader` (a registered kind's, or a part's), checked to map
+// `base_features` to `targets`; archive.measures is refused (it is "select"'s key).
+std::unique_ptr<FeatureMap> read_feature_map_with(ConfigReader& feature_map, const ConfigReader& archive,
+                                                  const std::string& kind, const FeatureMapReader& reader,
+                                                  Index base_features, Index targets);
 
 // [control]: kind "sarsa" (the default), "static" or a registered controller.
 std::unique_ptr<GenerationController> read_control_table(ConfigReader& control);
+// A controller of kind `kind` made by `reader` (a registered kind's, or a part's); made, or refused.
+std::unique_ptr<GenerationController> read_control_with(ConfigReader& control, const std::string& kind,
+                                                        const ControllerReader& reader);
 // The keys of kind "sarsa" and "static" (the two built-in controllers' readers).
 SarsaParams read_sarsa_table(ConfigReader& control);
 std::unique_ptr<GenerationController> read_sarsa_control(ConfigReader& control);

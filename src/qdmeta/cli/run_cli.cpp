@@ -79,8 +79,11 @@ ProgressCallback make_progress(bool quiet) {
     const ArchiveStats s = p.algorithm->stats();
     const double rate = p.wall_seconds > 0 ? static_cast<double>(p.algorithm->counters().total()) / p.wall_seconds : 0;
     const double eta = fraction > 0 ? p.wall_seconds * (1 - fraction) / fraction : 0;
-    std::string line = fmt::format("{:>5.1f}%  {} / {} evals  {} evals/s  elites {}  best {:.4g}  mean {:.4g}  ETA {:.0f} s",
-                                   100 * fraction, p.evals, p.budget, human(rate), s.num_elites, s.obj_max, s.obj_mean, eta);
+    const std::string elites = s.num_elites == 0 ? std::string("no elite yet")
+                                                 : fmt::format("elites {}  best {:.4g}  mean {:.4g}", s.num_elites,
+                                                               s.obj_max, s.obj_mean);
+    std::string line = fmt::format("{:>5.1f}%  {} / {} evals  {} evals/s  {}  ETA {:.0f} s", 100 * fraction, p.evals,
+                                   p.budget, human(rate), elites, eta);
     if (tty) fmt::print("\r\033[K{}", line);
     else fmt::print("{}\n", line);
     std::fflush(stdout);
@@ -165,11 +168,15 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
   }
   if (!quiet) {
     if (tty) fmt::print("\n");
-    fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, "
-               "QD-score {:.6g}\nresults: {}\n",
-               r.message, r.counters.total(), r.wall_seconds,
-               human(r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0),
-               r.stats.num_elites, r.stats.coverage, r.stats.obj_max, r.stats.obj_mean, r.stats.qd_score, out.string());
+    // An empty archive has no best or mean: said in words, not as the zeros its statistics hold.
+    const std::string archive =
+        r.stats.num_elites == 0
+            ? std::string("the archive is empty (no elite, so no best or mean)")
+            : fmt::format("{} elites, coverage {:.4f}, best {:.6g}, mean {:.6g}, QD-score {:.6g}", r.stats.num_elites,
+                          r.stats.coverage, r.stats.obj_max, r.stats.obj_mean, r.stats.qd_score);
+    fmt::print("{}: {} evaluations in {:.2f} s ({} evals/s); {}\nresults: {}\n", r.message, r.counters.total(),
+               r.wall_seconds, human(r.wall_seconds > 0 ? static_cast<double>(r.counters.total()) / r.wall_seconds : 0),
+               archive, out.string());
     if (r.reason == StopReason::kInterrupted && built.algorithm->checkpointable())
       fmt::print("continue it with: qdmeta resume --out {}\n", out.string());
   }

@@ -1,7 +1,9 @@
 #pragma once
 // Eigen, configured the same way in qdmeta and in every program built against it, whatever
-// instruction set each is compiled for: every qdmeta header that uses Eigen includes this one
-// before any Eigen header. Matrices cross the boundary both ways (a task's batches, a
+// instruction set each is compiled for. The qdmeta CMake target passes the three settings below
+// as compile definitions to every program that links it, so a file may include Eigen before
+// qdmeta; every qdmeta header that uses Eigen also includes this one first, for a file compiled
+// without them. Matrices cross the boundary both ways (a task's batches, a
 // meta-objective's genotypes freed by QD-Meta, the table from elites() freed by the caller), so
 // two things that Eigen otherwise derives from the instruction set must agree on both sides:
 // - the alignment of fixed-size types, which sets the layout of every struct holding one: 16
@@ -23,7 +25,8 @@
 
 #include <Eigen/Core>
 
-// Refused at compile time what would fail at run time: Eigen included earlier with other settings.
+// Refused at compile time what would fail at run time: a file built without qdmeta's target (or
+// with other values) that included Eigen first, with Eigen's settings for its instruction set.
 #if EIGEN_MAX_ALIGN_BYTES != 16 || EIGEN_MAX_STATIC_ALIGN_BYTES != 16 || EIGEN_MALLOC_ALREADY_ALIGNED != 0
-#error "Eigen was included before qdmeta with other settings: include qdmeta's headers before Eigen's, or define EIGEN_MAX_ALIGN_BYTES=16 EIGEN_MAX_STATIC_ALIGN_BYTES=16 EIGEN_MALLOC_ALREADY_ALIGNED=0 (qdmeta/core/eigen.hpp)"
+#error "Eigen is configured unlike qdmeta: link the CMake target qdmeta::qdmeta (it defines Eigen's settings), or define EIGEN_MAX_ALIGN_BYTES=16 EIGEN_MAX_STATIC_ALIGN_BYTES=16 EIGEN_MALLOC_ALREADY_ALIGNED=0 for the whole program (qdmeta/core/eigen.hpp)"
 #endif

@@ -57,12 +57,34 @@ void start_run_directory(const fs::path& out, const BuiltRun& built, const std::
   write_file_atomic(out / "config.toml", text.str());
 }
 
+namespace {
+
+// A run made with parts handed to build_run() names them in its config: rebuilt without them, a
+// name is "not a valid choice" of the registry's; the message then says how to hand them again
+// (the task's own message says so already).
+BuiltRun build_for_resume(const RunState& state, const RunParts& parts) {
+  try {
+    return build_run(state.config(), state.config_path().string(), {}, parts);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    if (what.find("is not a valid choice") == std::string::npos || what.find("open_for_resume") != std::string::npos ||
+        what.find("(the part handed over)") != std::string::npos)
+      throw;
+    throw InputError(fmt::format("{}; a part that the run in {} was made with, handed to build_run() as a value, is "
+                                 "neither registered here nor handed over again: resume with the same parts, "
+                                 "open_for_resume(dir, parts) (RunParts, qdmeta/assembly/run_parts.hpp), or register it",
+                                 what, state.dir().string()));
+  }
+}
+
+}  // namespace
+
 ResumableRun open_for_resume(const RunState& state, const RunParts& parts) {
   const fs::path& dir = state.dir();
   if (!state.has_run()) throw InputError(fmt::format("{} holds no run (no config.toml)", dir.string()));
   // Refused as it stands: a refused resume changes nothing, a leftover checkpoint included.
   if (state.finished()) throw InputError(fmt::format("the run in {} has already finished: nothing to resume", dir.string()));
-  ResumableRun r{build_run(state.config(), state.config_path().string(), {}, parts), {}};
+  ResumableRun r{build_for_resume(state, parts), {}};
   if (!r.built.algorithm->checkpointable())
     throw InputError(fmt::format("algorithm '{}' cannot resume yet", r.built.settings.algorithm));
   r.cursor = read_checkpoint(dir, r.built.settings.fingerprint, *r.built.algorithm);
