@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "plane_task.hpp"
 #include "qdmeta/algorithms/map_elites.hpp"
 #include "qdmeta/assembly/build.hpp"
 #include "qdmeta/assembly/core_plugins.hpp"
@@ -25,23 +26,7 @@
 namespace qdmeta {
 namespace {
 
-// A task no registry knows, of `genes` genes: fitness minus the sum of the genes, base features
-// the first two genes.
-struct Plane {
-  Index genes = 3;
-  std::string name() const { return "plane"; }
-  Index genotype_size() const { return genes; }
-  Index base_feature_size() const { return 2; }
-  void evaluate(GenotypeView g, EvaluationView out) const {
-    for (Index i = 0; i < g.count; ++i) {
-      out.fitness[i] = 0;
-      for (Index k = 0; k < genes; ++k) out.fitness[i] -= g.row(i)[k];
-      out.base_row(i)[0] = g.row(i)[0];
-      out.base_row(i)[1] = g.row(i)[1];
-      out.valid[i] = 1;
-    }
-  }
-};
+using test::Plane;
 
 TaskPart plane_reading_its_keys() {
   return {"plane", [](ConfigReader& t) { return Task(Plane{t.integer("genes", 3, 1, 100)}); }};

@@ -1,6 +1,7 @@
 // Tests of build_run() with parts handed over as values (src/qdmeta/assembly/run_parts.hpp):
 // a part is used in place of the registry's, the config only names it (a different name is
 // refused), the builder protocol still runs around it, and nothing is registered.
+#include "plane_task.hpp"
 #include "qdmeta/assembly/run_parts.hpp"
 
 #include <gtest/gtest.h>
@@ -22,22 +23,7 @@
 namespace qdmeta {
 namespace {
 
-// A task no registry knows: fitness is minus the sum of the genes, base features the first two.
-struct Plane {
-  Index genes = 3;
-  std::string name() const { return "plane"; }
-  Index genotype_size() const { return genes; }
-  Index base_feature_size() const { return 2; }
-  void evaluate(GenotypeView g, EvaluationView out) const {
-    for (Index i = 0; i < g.count; ++i) {
-      out.fitness[i] = 0;
-      for (Index k = 0; k < genes; ++k) out.fitness[i] -= g.row(i)[k];
-      out.base_row(i)[0] = g.row(i)[0];
-      out.base_row(i)[1] = g.row(i)[1];
-      out.valid[i] = 1;
-    }
-  }
-};
+using test::Plane;
 
 // A meta-objective with no tasks of its own: the mean first gene of the elites.
 class MeanFirstGene final : public MetaObjective {
