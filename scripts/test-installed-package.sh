@@ -223,6 +223,15 @@ assert summary["stop_reason"] == "budget", summary["stop_reason"]
 PY
 }
 
+# refuses_misspelt_key NAME KEY MISSPELT MESSAGE: arm-qd refuses examples/own-task/configs/NAME.toml
+# with KEY spelt MISSPELT, with status 2 and MESSAGE in its one line.
+refuses_misspelt_key() {
+  local name=$1 key=$2 misspelt=$3 expected=$4 status=0 message
+  sed "s/^$key = /$misspelt = /" "$root/examples/own-task/configs/$name.toml" > "$runs/bad-$name.toml"
+  message=$("$arm" run --config "$runs/bad-$name.toml" --out "$runs/bad-$name" --quiet 2>&1) || status=$?
+  [[ $status -eq 2 && $message == *"$expected"* ]] || fail "a misspelt $name key gave status $status: $message"
+}
+
 # killed_and_resumed CONFIG WHAT FILES...: arm-qd runs CONFIG (a checkpoint after every step) into
 # runs/WHAT-straight, then again into runs/WHAT, killed at its first checkpoint and resumed with
 # more threads; each of FILES must be the same in both.
@@ -299,11 +308,7 @@ assert mutation == {"kind": "sbx", "eta": 20.0}, mutation
 assert json.load(open(f"{d}/summary.json"))["num_elites"] > 0
 assert sum(1 for _ in open(f"{d}/archive.csv")) > 1, "archive.csv has no elite"
 PY
-sed 's/^eta = /etta = /' "$root/examples/own-task/configs/sbx.toml" > "$runs/bad-sbx.toml"
-status=0
-message=$("$arm" run --config "$runs/bad-sbx.toml" --out "$runs/bad-sbx" --quiet 2>&1) || status=$?
-[[ $status -eq 2 && $message == *"unknown key 'mutation.etta' in [mutation]"* ]] \
-  || fail "a misspelt sbx key gave status $status: $message"
+refuses_misspelt_key sbx eta etta "unknown key 'mutation.etta' in [mutation]"
 
 step "the program's own algorithm (random-search): killed at its first checkpoint, resumed"
 random_config=$runs/random-search.toml
@@ -321,11 +326,7 @@ import csv, sys
 g = [int(row["generations"]) for row in csv.DictReader(open(sys.argv[1]))]
 assert len(g) >= 6 and g == [(1, 2, 4)[i % 3] for i in range(len(g))], g
 PY
-sed 's/^generations = /generation = /' "$root/examples/own-task/configs/cycle.toml" > "$runs/bad-cycle.toml"
-status=0
-message=$("$arm" run --config "$runs/bad-cycle.toml" --out "$runs/bad-cycle" --quiet 2>&1) || status=$?
-[[ $status -eq 2 && $message == *"unknown key 'control.generation' in [control]"* ]] \
-  || fail "a misspelt cycle key gave status $status: $message"
+refuses_misspelt_key cycle generations generation "unknown key 'control.generation' in [control]"
 
 step "the program's own feature-map: [feature_map] kind = \"polar\" (docs/tutorials/feature-map.md)"
 "$arm" run --config "$root/examples/own-task/configs/polar.toml" --out "$runs/polar" --threads "$jobs" --quiet \
@@ -350,11 +351,7 @@ for row in rows:
     assert abs(float(row["measures_0"]) - distance) < 1e-5, (row, distance)
     assert min(abs(float(row["measures_1"]) - direction), 1 - abs(float(row["measures_1"]) - direction)) < 1e-5, (row, direction)
 PY
-sed 's/^reach = /raech = /' "$root/examples/own-task/configs/polar.toml" > "$runs/bad-polar.toml"
-status=0
-message=$("$arm" run --config "$runs/bad-polar.toml" --out "$runs/bad-polar" --quiet 2>&1) || status=$?
-[[ $status -eq 2 && $message == *"unknown key 'feature_map.raech' in [feature_map] (valid keys: kind, reach)"* ]] \
-  || fail "a misspelt polar key gave status $status: $message"
+refuses_misspelt_key polar reach raech "unknown key 'feature_map.raech' in [feature_map] (valid keys: kind, reach)"
 
 step "the program's own archive: [archive] kind = \"floor\" (docs/tutorials/archive.md)"
 floor_config=$runs/floor.toml
@@ -369,11 +366,7 @@ plain = [float(r["objective"]) for r in csv.DictReader(open(sys.argv[2]))]
 assert len(floored) > 50 and min(floored) >= -1.0, (len(floored), min(floored))
 assert min(plain) < -1.0, min(plain)
 PY
-sed 's/^floor = /flor = /' "$root/examples/own-task/configs/floor.toml" > "$runs/bad-floor.toml"
-status=0
-message=$("$arm" run --config "$runs/bad-floor.toml" --out "$runs/bad-floor" --quiet 2>&1) || status=$?
-[[ $status -eq 2 && $message == *"unknown key 'archive.flor' in [archive]"* ]] \
-  || fail "a misspelt floor key gave status $status: $message"
+refuses_misspelt_key floor floor flor "unknown key 'archive.flor' in [archive]"
 
 step "CMA-MAE: the emitter API by hand (arm-emitters) and algorithm = \"cma-mae\" on the arm"
 "$example/arm-emitters" || fail "arm-emitters"
