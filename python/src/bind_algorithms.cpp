@@ -252,7 +252,7 @@ class PyAlgorithm {
 
 void bind_algorithms(py::module_& m) {
   py::class_<PyAlgorithm>(m, "Algorithm", R"doc(
-Any registered algorithm ("map-elites", "cvt-map-elites", "aurora", "qd-meta"), built from a
+Any registered algorithm ("map-elites", "cvt-map-elites", "aurora", "qd-meta", "cma-me", "cma-mae"), built from a
 config dict with the keys of a TOML config (docs/config.md), e.g.
 {"algorithm": "map-elites", "seed": 1, "archive": {"bins": [50, 50]}}. `task` (a qdmeta.Task)
 replaces [task]; `meta_objective` (a qdmeta.MetaObjective) becomes QD-Meta's [meta_fitness].

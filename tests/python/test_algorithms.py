@@ -356,3 +356,26 @@ def test_map_elites_starts_from_a_given_archive_of_its_shape():
                          task=task, archive=given)
     with pytest.raises(TypeError, match=r"archive must be a qdmeta\.GridArchive, got list"):
         qdmeta.Algorithm(config, task=task, archive=[1])
+
+
+CMA_MAE = {"algorithm": "cma-mae", "seed": 3, "archive": {"bins": [20, 20], "learning_rate": 0.05},
+           "emitters": {"count": 3, "batch_size": 10}}
+
+
+def test_cma_mae_by_hand_with_a_numpy_task_gives_the_bits_of_step_and_shows_its_archive():
+    task = numpy_rastrigin()
+    stepped = qdmeta.Algorithm(CMA_MAE, task=task)
+    by_hand = qdmeta.Algorithm(CMA_MAE, task=task)
+    for _ in range(30):
+        stepped.step(threads=2)
+        x = by_hand.ask()
+        assert x.shape == (30, 20) and x.min() >= 0.0 and x.max() <= 1.0  # 3 emitters of 10, genes in [0, 1]
+        by_hand.tell(*rastrigin(x))
+    assert_same_run(stepped, by_hand)
+    assert by_hand.evaluations["bottom"] == 30 * 30
+    # Its result archive, as the other algorithms': every elite where retrieve finds it.
+    archive = stepped.archive
+    assert isinstance(archive, qdmeta.GridArchive) and len(archive) == stepped.stats.num_elites > 30
+    data = stepped.data()
+    occupied, found = stepped.retrieve(data["solution"][:, :2])
+    assert occupied.all() and np.array_equal(found["objective"], data["objective"])

@@ -184,6 +184,11 @@ QD = {"algorithm": "qd-meta", "seed": 7, "archive": {"bins": [5, 5]},
       "control": {"kind": "sarsa", "min_generations": 1, "max_generations": 3},
       "qd_meta": {"meta_population": 3, "batch_size": 30, "initial_population": 100, "database_capacity": 2000}}
 
+CMA_ME = {"algorithm": "cma-me", "seed": 7, "archive": {"bins": [10, 10]}, "emitters": {"count": 2, "batch_size": 8}}
+CMA_MAE = {"algorithm": "cma-mae", "seed": 7, "emitters": {"count": 2, "batch_size": 8, "restart_rule": "every-n",
+                                                          "restart_every": 2},
+           "archive": {"kind": "cvt", "learning_rate": 0.1}, "cvt": {"centroids": 50, "samples": 2000, "cache": False}}
+
 
 def assert_same_algorithm(a, b):
     assert a.generation == b.generation and a.evaluations == b.evaluations
@@ -193,8 +198,9 @@ def assert_same_algorithm(a, b):
 
 @pytest.mark.parametrize("how", ["pickle", "deepcopy"])
 @pytest.mark.parametrize("config,objective,steps,more", [
-    (ME, None, 4, 5), (CVT, None, 3, 4), (AURORA, None, 3, 4), (QD, first_gene_mean, 2, 3), (QD, None, 2, 2)],
-    ids=["map-elites", "cvt-map-elites", "aurora", "qd-meta-python-objective", "qd-meta-builtin"])
+    (ME, None, 4, 5), (CVT, None, 3, 4), (AURORA, None, 3, 4), (QD, first_gene_mean, 2, 3), (QD, None, 2, 2),
+    (CMA_ME, None, 5, 6), (CMA_MAE, None, 5, 6)],
+    ids=["map-elites", "cvt-map-elites", "aurora", "qd-meta-python-objective", "qd-meta-builtin", "cma-me", "cma-mae-cvt"])
 def test_a_pickled_algorithm_continues_to_the_same_bits(config, objective, steps, more, how):
     if objective is None and config is QD:
         config = dict(QD, task={"name": "rastrigin", "dimensions": 6})
