@@ -1,6 +1,6 @@
 // Tests of src/qdmeta/plugin/config.{hpp,cpp} (ConfigReader over toml++ tables, load_toml):
 // exact messages for bad input (after fmt's EXPECT_THROW_MSG) and defaults recorded in the
-// resolved table. build_run over whole configs: tests/experiment/build_test.cpp.
+// resolved table. build_run over whole configs: tests/assembly/build_test.cpp.
 #include "expect_input_error.hpp"
 #include "qdmeta/plugin/config.hpp"
 

@@ -42,6 +42,7 @@ TEST_F(SummaryTest, WhatWriteSummaryWroteReadsBackKeyByKey) {
   const std::optional<RunSummary> s = read_summary(dir_);
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->stop_reason, StopReason::kInterrupted);
+  EXPECT_EQ(stop_reason_of(dir_), StopReason::kInterrupted);  // 0.2.0's name for it
   std::vector<std::string> keys, expected;
   for (const auto& [key, value] : s->values) keys.push_back(key);
   for (const auto& c : summary_head_table().columns()) expected.emplace_back(c.key());
@@ -70,6 +71,7 @@ TEST_F(SummaryTest, WhatWriteSummaryWroteReadsBackKeyByKey) {
 TEST_F(SummaryTest, NoSummaryIsNothing) {
   EXPECT_FALSE(read_summary(dir_).has_value());
   EXPECT_FALSE(read_summary(dir_ / "missing").has_value());
+  EXPECT_FALSE(stop_reason_of(dir_).has_value());
 }
 
 TEST_F(SummaryTest, ASummaryOfAnOlderProgramNeedsOnlyItsStopReason) {

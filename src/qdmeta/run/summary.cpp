@@ -105,4 +105,9 @@ std::optional<RunSummary> read_summary(const std::filesystem::path& dir) {
   return parse_summary(read_regular_file(path, kMaxTextFileBytes), path.string());
 }
 
+std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir) {
+  const std::optional<RunSummary> summary = read_summary(dir);
+  return summary ? std::optional(summary->stop_reason) : std::nullopt;
+}
+
 }  // namespace qdmeta

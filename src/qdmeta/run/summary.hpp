@@ -50,5 +50,7 @@ RunSummary parse_summary(std::string_view text, const std::string& where);
 // The summary.json of the run in `dir`; nullopt when there is none (a run still going, or
 // killed). InputError naming the file when it is unreadable.
 std::optional<RunSummary> read_summary(const std::filesystem::path& dir);
+// Its stop reason alone: the 0.2.0 name, kept for one minor version.
+std::optional<StopReason> stop_reason_of(const std::filesystem::path& dir);
 
 }  // namespace qdmeta
