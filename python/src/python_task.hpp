@@ -23,6 +23,8 @@ class PythonTask {
   double qd_offset() const { return qd_offset_; }
   // One instance serves every thread: calls take the GIL, so they run one at a time.
   bool shareable() const { return true; }
+  // A Python exception reaches Python as raised (the function sees whole batches: no row to name).
+  static constexpr bool kOwnErrors = true;
   // Takes the GIL. A Python exception raised by the function propagates as
   // pybind11::error_already_set (its traceback kept), a KeyboardInterrupt as PythonInterrupt
   // (python_interrupt.hpp); a bad result is a pybind11::value_error.

@@ -40,8 +40,8 @@ TEST(TaskFailure, ATaskThatThrowsEndsTheRunInOneLineNamingTheGenerationAndTheChe
   // Rows 0-499 are generation 1, then 100 a generation: row 1,000 is the first of generation 7.
   const Outcome o = run("throws-later", "[task]\nname = \"throws\"\nthrow_after = 1000");
   EXPECT_EQ(o.status, 4) << o.output;
-  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in generation 7 of the run (task 'throws'): simulator "
-                      "diverged; its last checkpoint is kept: fix the task, then continue with: qdmeta resume --out " +
+  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in generation 7 of the run: task 'throws' threw on row 0 "
+                      "of the batch: simulator diverged; its last checkpoint is kept: fix the task, then continue with: qdmeta resume --out " +
                           out_dir("throws-later") + "\n");
   EXPECT_TRUE(fs::exists(fs::path(out_dir("throws-later")) / "checkpoint.bin"));
 }
@@ -49,7 +49,8 @@ TEST(TaskFailure, ATaskThatThrowsEndsTheRunInOneLineNamingTheGenerationAndTheChe
 TEST(TaskFailure, ATaskThatThrowsBeforeTheFirstCheckpointSaysToRunAgain) {
   const Outcome o = run("throws-first", "[task]\nname = \"throws\"\nthrow_after = 0");
   EXPECT_EQ(o.status, 4) << o.output;
-  EXPECT_NE(o.output.find("evaluation failed in generation 1 of the run (task 'throws'): simulator diverged; no "
+  EXPECT_NE(o.output.find("evaluation failed in generation 1 of the run: task 'throws' threw on row 0 of the batch: "
+                          "simulator diverged; no "
                           "checkpoint was written yet: fix the task, then run it again into " + out_dir("throws-first")),
             std::string::npos)
       << o.output;
@@ -89,7 +90,8 @@ TEST(TaskFailure, AnExperimentNamesTheConditionAndSeedOfTheFailingRun) {
   const Outcome o = shell(kFaulty + " experiment --quiet --threads 1 --no-report --config " +
                           (dir / "experiment.toml").string() + " --out " + (dir / "experiment-out").string());
   EXPECT_EQ(o.status, 4) << o.output;
-  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in condition 'throwing' seed 1 (run): simulator diverged; the "
+  EXPECT_EQ(o.output, "qdmeta: error: evaluation failed in condition 'throwing' seed 1 (run): task 'throws' threw on "
+                      "row 0 of the batch: simulator diverged; the "
                       "finished runs and this run's last checkpoint are kept: fix the task, then run the same command "
                       "again to continue\n");
 }

@@ -1,12 +1,14 @@
 // Tests of src/qdmeta/core/task.{hpp,cpp}: the Task value wrapper around user task types —
 // optional members and their defaults, size checks, output checks (NaN fitness, base features
-// outside [0, 1]) on valid rows only, and clone() independence.
+// outside [0, 1]) on valid rows only, clone() independence, and a task's own exception named by
+// the batch row that threw.
 #include "qdmeta/core/task.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -305,6 +307,144 @@ TEST(Task, ViewsSliceRows) {
   EXPECT_EQ(out.base_features(3, 1), 0.25f);
   EXPECT_EQ(out.valid[3], 1);
   EXPECT_EQ(out.size(), 4);
+}
+
+// Throws its own exception (not a qdmeta::Error) on every row whose first gene is `marker`, after
+// writing the rows before it, as a simulator that diverges on one controller does.
+struct ThrowsOnMarker {
+  Real marker = 0.5f;
+  std::string name() const { return "diverges"; }
+  Index genotype_size() const { return 1; }
+  Index base_feature_size() const { return 1; }
+  void evaluate(GenotypeView g, EvaluationView e) const {
+    for (Index i = 0; i < g.count; ++i) {
+      if (g.row(i)[0] == marker) throw std::runtime_error("simulator diverged");
+      e.fitness[i] = 0;
+      e.base_row(i)[0] = g.row(i)[0];
+      e.valid[i] = 1;
+    }
+  }
+};
+
+// As ThrowsOnMarker, but its errors are its caller's business (as the Python module's tasks).
+struct ThrowsOnMarkerItself : ThrowsOnMarker {
+  static constexpr bool kOwnErrors = true;
+};
+
+RowMatrix genes_with_marker_at(Index rows, Index marked, Real marker) {
+  RowMatrix g(rows, 1);
+  for (Index r = 0; r < rows; ++r) g(r, 0) = r == marked ? marker : 0.25f;
+  return g;
+}
+
+std::string message_of_failure(const Task& task, GenotypeView g) {
+  EvaluationBatch out;
+  out.resize(g.count, task.base_feature_size());
+  try {
+    task.evaluate(g, out.view());
+  } catch (const TaskFailed& e) {
+    return e.what();
+  }
+  return "no TaskFailed";
+}
+
+TEST(Task, AnExceptionOfTheTasksOwnNamesTheRowThatThrewAndNestsTheOriginal) {
+  const Task task{ThrowsOnMarker{}};
+  const RowMatrix g = genes_with_marker_at(40, 37, 0.5f);
+  EvaluationBatch out;
+  out.resize(40, 1);
+  try {
+    task.evaluate({g.data(), 40, 1}, out.view());
+    FAIL() << "no exception";
+  } catch (const TaskFailed& e) {
+    EXPECT_STREQ(e.what(), "task 'diverges' threw on row 37 of the batch: simulator diverged");
+    EXPECT_EQ(e.task(), "diverges");
+    EXPECT_EQ(e.row(), 37);
+    try {
+      e.rethrow_nested();
+    } catch (const std::runtime_error& original) {
+      EXPECT_STREQ(original.what(), "simulator diverged");
+    }
+  }
+}
+
+TEST(Task, TheRowNamedIsTheBatchRowWhenTheTaskSeesABlockOfIt) {
+  // An evaluator hands a task rows 32-39 of a batch of 40: the message names row 37, not 5.
+  const Task task{ThrowsOnMarker{}};
+  const RowMatrix g = genes_with_marker_at(40, 37, 0.5f);
+  const GenotypeView batch{g.data(), 40, 1};
+  EXPECT_EQ(message_of_failure(task, batch.rows(32, 8)), "task 'diverges' threw on row 37 of the batch: simulator diverged");
+  EXPECT_EQ(message_of_failure(task, batch.rows(32, 8).rows(4, 4)),
+            "task 'diverges' threw on row 37 of the batch: simulator diverged");
+}
+
+TEST(Task, ABadOutputNamesTheBatchRowToo) {
+  BadTask bad;
+  bad.fault = BadTask::Fault::kNanFitness;
+  bad.bad_row = 2;
+  const Task task{bad};
+  RowMatrix g(10, 2);
+  g.setConstant(0.5f);
+  EvaluationBatch out;
+  out.resize(4, 3);
+  try {
+    task.evaluate(GenotypeView{g.data(), 10, 2}.rows(6, 4), out.view());
+    FAIL() << "no exception";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "task 'bad-task': fitness of solution 8 is nan");
+  }
+}
+
+TEST(Task, AnExceptionThatIsNotAStdExceptionIsNamedToo) {
+  struct ThrowsAnInt : MinimalTask {
+    void evaluate(GenotypeView, EvaluationView) const { throw 42; }
+  };
+  const Task task{ThrowsAnInt{}};
+  const RowMatrix g(1, 3);
+  EXPECT_EQ(message_of_failure(task, {g.data(), 1, 3}),
+            "task 'task' threw on row 0 of the batch: an exception that is not a std::exception");
+}
+
+TEST(Task, QdmetasOwnErrorsAndATaskThatKeepsItsErrorsPassUnchanged) {
+  struct ThrowsInputError : MinimalTask {
+    void evaluate(GenotypeView, EvaluationView) const { throw InputError("a bad key"); }
+  };
+  const RowMatrix g3(2, 3);
+  EvaluationBatch out;
+  out.resize(2, 2);
+  try {
+    Task{ThrowsInputError{}}.evaluate({g3.data(), 2, 3}, out.view());
+    FAIL() << "no exception";
+  } catch (const TaskFailed&) {
+    FAIL() << "wrapped";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "a bad key");
+  }
+  const RowMatrix g = genes_with_marker_at(4, 1, 0.5f);
+  out.resize(4, 1);
+  try {
+    Task{ThrowsOnMarkerItself{}}.evaluate({g.data(), 4, 1}, out.view());
+    FAIL() << "no exception";
+  } catch (const TaskFailed&) {
+    FAIL() << "wrapped";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "simulator diverged");
+  }
+}
+
+TEST(Task, RowsThatThrowOnlyTogetherAreNamedAsABlock) {
+  // Throws when handed more than 3 rows at once: no row throws alone.
+  struct ThrowsOnBigBlocks : MinimalTask {
+    void evaluate(GenotypeView g, EvaluationView e) const {
+      if (g.count > 3) throw std::runtime_error("out of scratch memory");
+      MinimalTask::evaluate(g, e);
+    }
+  };
+  const Task task{ThrowsOnBigBlocks{}};
+  const RowMatrix g(20, 3);
+  EXPECT_EQ(message_of_failure(task, GenotypeView{g.data(), 20, 3}.rows(10, 5)),
+            "task 'task' threw on rows 10-14 of the batch (no row threw alone, or the search for it ran out of time): "
+            "out of scratch memory");
 }
 
 }  // namespace

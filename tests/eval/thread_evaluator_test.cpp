@@ -4,8 +4,12 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
+#include "qdmeta/core/error.hpp"
+#include "qdmeta/core/evaluation_batch.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 
@@ -75,6 +79,46 @@ TEST(ThreadEvaluator, BatchesOfAnExpensiveTaskAreShared) {
   for (int batch = 0; batch < 3; ++batch) evaluator->evaluate(task, {g.data(), 400, 1}, out.view());
   EXPECT_EQ(user.log->threads.size(), 2u);
   for (Index r = 0; r < 400; ++r) ASSERT_EQ(out.fitness[r], 2 * g(r, 0)) << r;
+}
+
+// A task that throws its own exception on the row whose gene is 0.5 names that row of the whole
+// batch, though each worker saw a chunk of 8 rows (and counted from 0 within it).
+TEST(ThreadEvaluator, ATasksExceptionNamesTheRowOfTheWholeBatch) {
+  struct ThrowsOnHalf {
+    std::string name() const { return "diverges"; }
+    Index genotype_size() const { return 1; }
+    Index base_feature_size() const { return 1; }
+    void evaluate(GenotypeView g, EvaluationView e) const {
+      for (Index i = 0; i < g.count; ++i) {
+        if (g.row(i)[0] == 0.5f) throw std::runtime_error("simulator diverged");
+        e.fitness[i] = 0;
+        e.base_row(i)[0] = g.row(i)[0];
+        e.valid[i] = 1;
+      }
+    }
+  };
+  const Task task{ThrowsOnHalf{}};
+  RowMatrix g(40, 1);
+  g.setConstant(0.25f);
+  g(37, 0) = 0.5f;
+  EvaluationBatch out;
+  out.resize(40, 1);
+  for (const int threads : {1, 2}) {
+    const auto evaluator = make_thread_evaluator(threads, 8);
+    try {
+      evaluator->evaluate(task, {g.data(), 40, 1}, out.view());
+      FAIL() << "no exception with " << threads << " threads";
+    } catch (const TaskFailed& e) {
+      EXPECT_STREQ(e.what(), "task 'diverges' threw on row 37 of the batch: simulator diverged") << threads;
+    }
+    const EvaluationJob job{&task, {g.data(), 40, 1}, out.view()};
+    try {
+      evaluator->evaluate_jobs({&job, 1});
+      FAIL() << "no exception from evaluate_jobs with " << threads << " threads";
+    } catch (const TaskFailed& e) {
+      EXPECT_EQ(e.row(), 37) << threads;
+    }
+  }
 }
 
 }  // namespace

@@ -103,16 +103,24 @@ Error write_failed(const Error& e, const fs::path& out, bool end_progress_line) 
 int task_failed(const std::exception& e, const BuiltRun& built, const fs::path& out, bool end_progress_line) {
   if (end_progress_line) fmt::print("\n");
   std::fflush(stdout);
-  std::vector<std::string> names;
-  for (const Task& t : built.evaluation_tasks) names.push_back(fmt::format("'{}'", t.name()));
+  // TaskFailed names its task and row; another exception (from a meta-objective's or operator's
+  // own code) names every task the run evaluates.
+  std::string what = e.what();
+  if (dynamic_cast<const TaskFailed*>(&e) == nullptr) {
+    std::vector<std::string> names;
+    for (const Task& t : built.evaluation_tasks) names.push_back(fmt::format("'{}'", t.name()));
+    what = fmt::format(" (task {}): {}", fmt::join(names, ", "), what);
+  } else {
+    what = ": " + what;
+  }
   const std::string kept =
       fs::exists(out / kCheckpointFile)
           ? fmt::format("its last checkpoint is kept: fix the task, then continue with: qdmeta resume --out {}",
                         out.string())
           : fmt::format("no checkpoint was written yet: fix the task, then run it again into {}", out.string());
   fmt::print(stderr, "qdmeta: error: {}\n",
-             one_line(fmt::format("evaluation failed in generation {} of the run (task {}): {}; {}",
-                                  built.algorithm->generation() + 1, fmt::join(names, ", "), e.what(), kept)));
+             one_line(fmt::format("evaluation failed in generation {} of the run{}; {}",
+                                  built.algorithm->generation() + 1, what, kept)));
   return kExitEvaluationFailed;
 }
 
@@ -136,6 +144,10 @@ int execute(BuiltRun& built, const fs::path& out, int threads, bool quiet, const
     throw;
   } catch (const StepInterrupted&) {
     throw;
+  } catch (const TaskFailed& e) {
+    const int status = task_failed(e, built, out, tty && !quiet);
+    d.release_survivors();
+    return status;
   } catch (const EvaluationAborted& e) {
     // Printed here, not by main: this path must stay one line and finish before mpirun's SIGKILL.
     const std::string who = d.silent_ranks();
@@ -440,17 +452,8 @@ int command_experiment(const ExperimentArgs& a) {
     if (!a.quiet) fmt::print("interrupted: run the same command again to continue\n");
     return kExitInterrupted;
   };
-  ExperimentResult r;
-  try {
-    r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
-  } catch (const ToolInterrupted&) {
-    return interrupted();
-  } catch (const Error&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    // Not qdmeta's own: a task's code threw. Finished runs stand; this one resumes from its last checkpoint.
+  // Not qdmeta's own: a task's code threw. Finished runs stand; this one resumes from its last checkpoint.
+  const auto evaluation_failed = [&](const std::exception& e) {
     if (tty && !a.quiet) fmt::print("\n");
     std::fflush(stdout);
     fmt::print(stderr, "qdmeta: error: {}\n",
@@ -459,6 +462,20 @@ int command_experiment(const ExperimentArgs& a) {
                                     "to continue",
                                     current->condition, current->replicate, current->phase, e.what())));
     return kExitEvaluationFailed;
+  };
+  ExperimentResult r;
+  try {
+    r = run_experiment(spec, a.out, a.threads, progress, &g_stop, options);
+  } catch (const ToolInterrupted&) {
+    return interrupted();
+  } catch (const TaskFailed& e) {
+    return evaluation_failed(e);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    return evaluation_failed(e);
   }
   if (!a.quiet) {
     if (tty) fmt::print("\n");
@@ -630,6 +647,9 @@ int parse_and_run(int argc, char** argv) {
     if (*adapt_cmd) return command_adapt(adapt);
     if (*experiment_cmd) return command_experiment(experiment);
     if (*report_cmd) return command_report_alone(report_dir, report_out, report_quiet);
+  } catch (const TaskFailed& e) {  // in a command without a run to keep (adapt's tests)
+    fmt::print(stderr, "qdmeta: error: {}\n", one_line(fmt::format("evaluation failed: {}", e.what())));
+    return kExitEvaluationFailed;
   } catch (const std::bad_alloc&) {
     // The config's memory is estimated before a run starts; this is what the estimate missed.
     fmt::print(stderr, "qdmeta: error: out of memory (std::bad_alloc): the config asks for more memory than this "

@@ -4,8 +4,10 @@
 // leaves by std::quick_exit when rank 0 is gone or a signal comes while its compute thread runs,
 // since neither MPI_Finalize nor joining that thread would return); the CLI turns it into a
 // one-line message and exit status 2.
+#include <exception>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace qdmeta {
 
@@ -26,6 +28,22 @@ class InputError : public Error {
 class EvaluationAborted : public Error {
  public:
   explicit EvaluationAborted(const std::string& message) : Error(message) {}
+};
+
+// A task's own code threw (anything but a qdmeta::Error) while evaluating a batch. Names the
+// task and the batch row that threw, and nests the original (std::rethrow_if_nested). The step
+// it happened in is undone, so a run can continue from its last checkpoint once the task is fixed.
+class TaskFailed : public Error, public std::nested_exception {
+ public:
+  TaskFailed(const std::string& message, std::string task, long long row)
+      : Error(message), task_(std::move(task)), row_(row) {}
+  const std::string& task() const { return task_; }
+  // The batch row that threw, or -1 when none threw alone (the rows of `what()` then threw together).
+  long long row() const { return row_; }
+
+ private:
+  std::string task_;
+  long long row_;
 };
 
 // Raised from inside a step to stop it at the user's request (Ctrl-C while a task's own code

@@ -2,8 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <string>
 
 #include "qdmeta/core/error.hpp"
 
@@ -31,7 +36,54 @@ bool all_outputs_in_range(const EvaluationView& out) {
   return ok != 0;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The text of the exception in flight (inside a catch block).
+std::string what_of_current_exception() {
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
+}
+
 }  // namespace
+
+// A task's own exception names the batch row that threw: the block's rows are evaluated again one
+// by one until one throws. For a task that evaluates its rows in order this costs about what the
+// failed call did before it threw; the search gives up after twice that (at least a second),
+// naming the block's rows instead.
+void Task::evaluate_naming_failures(GenotypeView genotypes, EvaluationView out) const {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    impl_->evaluate(genotypes, out);
+  } catch (const Error&) {
+    throw;  // qdmeta's own: it already says what failed
+  } catch (...) {
+    if (impl_->own_errors) throw;
+    const double failed_call = seconds_since(start);
+    const std::string what = what_of_current_exception();
+    long long row = genotypes.count == 1 ? genotypes.first_row : -1;
+    const auto search = std::chrono::steady_clock::now();
+    for (Index i = 0; row < 0 && genotypes.count > 1 && i < genotypes.count; ++i) {
+      if (seconds_since(search) > std::max(1.0, 2 * failed_call)) break;
+      try {
+        impl_->evaluate(genotypes.rows(i, 1), out.rows(i, 1));
+      } catch (...) {
+        row = genotypes.first_row + i;
+      }
+    }
+    const std::string where =
+        row >= 0 ? fmt::format("row {} of the batch", row)
+                 : fmt::format("rows {}-{} of the batch (no row threw alone, or the search for it ran out of time)",
+                               genotypes.first_row, genotypes.first_row + genotypes.count - 1);
+    throw TaskFailed(fmt::format("task '{}' threw on {}: {}", name(), where, what), name(), row);
+  }
+}
 
 void Task::evaluate(GenotypeView genotypes, EvaluationView out) const {
   if (genotypes.genotype_size != genotype_size())
@@ -43,17 +95,18 @@ void Task::evaluate(GenotypeView genotypes, EvaluationView out) const {
   if (out.count != genotypes.count)
     throw Error(fmt::format("task '{}': {} genotypes but room for {} evaluations", name(), genotypes.count,
                             out.count));
-  impl_->evaluate(genotypes, out);
+  evaluate_naming_failures(genotypes, out);
   if (all_outputs_in_range(out)) return;
   for (Index i = 0; i < out.count; ++i) {
     if (!out.valid[i]) continue;
     if (!std::isfinite(out.fitness[i]))
-      throw Error(fmt::format("task '{}': fitness of solution {} is {}", name(), i, out.fitness[i]));
+      throw Error(fmt::format("task '{}': fitness of solution {} is {}", name(), genotypes.first_row + i,
+                                out.fitness[i]));
     const Real* b = out.base_row(i);
     for (Index j = 0; j < out.base_feature_size; ++j)
       if (!(b[j] >= 0 && b[j] <= 1))
-        throw Error(fmt::format("task '{}': base feature {} of solution {} is {}, outside [0, 1]{}", name(), j, i,
-                                b[j], kBaseFeatureRangeHint));
+        throw Error(fmt::format("task '{}': base feature {} of solution {} is {}, outside [0, 1]{}", name(), j,
+                                genotypes.first_row + i, b[j], kBaseFeatureRangeHint));
   }
 }
 

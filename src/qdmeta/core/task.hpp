@@ -26,8 +26,9 @@ struct GenotypeView {
   const Real* data = nullptr;
   Index count = 0;
   Index genotype_size = 0;
+  Index first_row = 0;  // the batch row of this block's first row: messages name batch rows
   const Real* row(Index i) const { return data + i * genotype_size; }
-  GenotypeView rows(Index first, Index n) const { return {row(first), n, genotype_size}; }
+  GenotypeView rows(Index first, Index n) const { return {row(first), n, genotype_size, first_row + first}; }
 };
 
 // Where a task writes its results, in batch order. Base features are row-major (count x size).
@@ -45,7 +46,9 @@ struct EvaluationView {
 
 // What a user's task must provide. Optional members: `std::string name() const`,
 // `bool shareable() const` (true: one instance may serve all threads; default false, so each
-// worker gets a copy), `double qd_offset() const` (QD-score offset, default 0).
+// worker gets a copy), `double qd_offset() const` (QD-score offset, default 0),
+// `static constexpr bool kOwnErrors = true` (its exceptions reach the caller as thrown, with no
+// row located: the Python module's tasks, whose exceptions are Python's).
 template <class T>
 concept UserTask = std::copy_constructible<T> && requires(const T& t, GenotypeView g, EvaluationView e) {
   { t.genotype_size() } -> std::convertible_to<Index>;
@@ -68,7 +71,9 @@ class Task {
   double qd_offset() const { return impl_->qd_offset; }
 
   // Evaluates a batch, then checks what the task wrote: finite fitness, base features in
-  // [0, 1], for every valid row. Throws Error naming the task, the row and the value.
+  // [0, 1], for every valid row. Throws Error naming the task, the row and the value. An
+  // exception of the task's own (not a qdmeta::Error) becomes TaskFailed, naming the row that
+  // threw (found by evaluating the block's rows one by one) and nesting the original.
   void evaluate(GenotypeView genotypes, EvaluationView out) const;
 
   // An independent copy for a worker that may not share this instance.
@@ -89,6 +94,7 @@ class Task {
     Index base_feature_size = 0;
     bool shareable = false;
     double qd_offset = 0.0;
+    bool own_errors = false;
     virtual ~Concept() = default;
     virtual void evaluate(GenotypeView, EvaluationView) const = 0;
     virtual std::shared_ptr<Concept> clone() const = 0;
@@ -103,12 +109,14 @@ class Task {
       base_feature_size = static_cast<Index>(task.base_feature_size());
       if constexpr (requires { { task.shareable() } -> std::convertible_to<bool>; }) shareable = task.shareable();
       if constexpr (requires { { task.qd_offset() } -> std::convertible_to<double>; }) qd_offset = task.qd_offset();
+      if constexpr (requires { { T::kOwnErrors } -> std::convertible_to<bool>; }) own_errors = T::kOwnErrors;
     }
     void evaluate(GenotypeView g, EvaluationView e) const override { task.evaluate(g, e); }
     std::shared_ptr<Concept> clone() const override { return std::make_shared<Model<T>>(task); }
   };
   explicit Task(std::shared_ptr<Concept> impl) : impl_(std::move(impl)) {}
   void validate_sizes() const;
+  void evaluate_naming_failures(GenotypeView genotypes, EvaluationView out) const;
 
   std::shared_ptr<Concept> impl_;
 };

@@ -168,7 +168,7 @@ void MpiEvaluator::handshake(const std::string& config, int threads) {
 void MpiEvaluator::send_piece(const Piece& p, std::int64_t id, int worker) {
   const GenotypeView g = p.job->genotypes.rows(p.first, p.rows);
   mpi::Packer packer;
-  packer.put(mpi::WorkHeader{request_, id, p.task, p.rows, g.genotype_size});
+  packer.put(mpi::WorkHeader{request_, id, p.task, p.rows, g.genotype_size, g.first_row});
   packer.put(g.data, static_cast<std::size_t>(p.rows * g.genotype_size));
   outbox_.send(std::move(packer.bytes()), worker, mpi::kWork, MPI_COMM_WORLD);
 }

@@ -37,6 +37,7 @@ struct WorkHeader {
   std::int64_t task = 0;     // index into the evaluation-task list
   std::int64_t rows = 0;
   std::int64_t genes = 0;
+  std::int64_t first_row = 0;  // the piece's first row within its batch, for messages
 };
 
 struct ResultHeader {

@@ -64,7 +64,7 @@ std::vector<char> failed(const mpi::WorkHeader& h, const std::string& message) {
 std::vector<char> evaluate(const Work& w, const Task& task, Evaluator& evaluator) {
   EvaluationBatch out;
   out.resize(w.header.rows, task.base_feature_size());
-  evaluator.evaluate(task, {w.genes.data(), w.header.rows, w.header.genes}, out.view());
+  evaluator.evaluate(task, {w.genes.data(), w.header.rows, w.header.genes, w.header.first_row}, out.view());
   mpi::Packer p;
   p.put(mpi::ResultHeader{w.header.request, w.header.piece, w.header.rows, task.base_feature_size()});
   p.put(out.fitness.data(), static_cast<std::size_t>(out.size()));
