@@ -101,10 +101,10 @@ def tables(path=CSV):
     return "\n".join(out) + "\n"
 
 
-def replaced(doc_text, table_text):
-    head, rest = doc_text.split(BEGIN + "\n", 1)
-    _, tail = rest.split(END, 1)
-    return head + BEGIN + "\n" + table_text + END + tail
+def replaced(doc_text, table_text, begin=BEGIN, end=END):
+    head, rest = doc_text.split(begin + "\n", 1)
+    _, tail = rest.split(end, 1)
+    return head + begin + "\n" + table_text + end + tail
 
 
 def main(argv):

@@ -8,6 +8,7 @@
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
+#include "tasks/rhex_mujoco_variants.hpp"
 
 namespace qdmeta {
 namespace {
@@ -46,19 +47,26 @@ BENCHMARK(BM_RhexEpisode)
 // DART and MuJoCo side by side (docs/fidelity.md, "RHex on MuJoCo"): the tripod's 5 s episode
 // with rigid and with compliant legs on each engine (bench/README.md). MuJoCo only where built
 // with it.
-void BM_RhexEngine(benchmark::State& state) {
-  RhexParams params;
-  params.episode.engine = static_cast<rhex::Engine>(state.range(0));
-  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
-  try {  // refused settings, or an engine this build lacks: one short episode says
+// False (the benchmark skipped, saying why) where `params` are refused or name an engine this
+// build lacks: one short episode says.
+bool runs(benchmark::State& state, const RhexParams& params) {
+  try {
     RhexParams probe = params;
-    probe.episode.duration = 0.05;
+    probe.episode.duration = 10 * probe.episode.time_step;
     const auto genes = rhex::tripod_genes();
     RhexTask(probe).episode(genes.data(), {});
   } catch (const InputError& e) {
     state.SkipWithError(e.what());
-    return;
+    return false;
   }
+  return true;
+}
+
+void BM_RhexEngine(benchmark::State& state) {
+  RhexParams params;
+  params.episode.engine = static_cast<rhex::Engine>(state.range(0));
+  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+  if (!runs(state, params)) return;
   const rhex::EpisodeResult result = time_tripod_episode(state, params);
   state.SetLabel(std::string(enum_to_string(rhex::kEngineNames, params.episode.engine)) + "/" +
                  std::string(enum_to_string(rhex::kLegModelNames, params.episode.legs)));
@@ -67,6 +75,25 @@ void BM_RhexEngine(benchmark::State& state) {
 BENCHMARK(BM_RhexEngine)
     ->ArgsProduct({{0, 1}, {0, 1}})
     ->ArgNames({"engine", "legs"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// MuJoCo's option variants (bench/tasks/rhex_mujoco_variants.hpp; their agreement with the
+// faithful setting and with DART: rhex_mujoco_settings): the tripod's episode per variant and leg
+// model (bench/README.md, "MuJoCo's settings").
+void BM_RhexMujocoVariant(benchmark::State& state) {
+  const bench::MujocoVariant variant = bench::rhex_mujoco_variants().at(static_cast<std::size_t>(state.range(0)));
+  RhexParams params;
+  params.episode.legs = static_cast<rhex::LegModel>(state.range(1));
+  bench::apply(variant, params.episode);
+  if (!runs(state, params)) return;
+  const rhex::EpisodeResult result = time_tripod_episode(state, params);
+  state.SetLabel(variant.name + "/" + std::string(enum_to_string(rhex::kLegModelNames, params.episode.legs)));
+  state.counters["steps"] = result.walk_steps + result.settle_steps;
+}
+BENCHMARK(BM_RhexMujocoVariant)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, static_cast<int>(bench::rhex_mujoco_variants().size()) - 1, 1), {0, 1}})
+    ->ArgNames({"variant", "legs"})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 

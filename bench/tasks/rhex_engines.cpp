@@ -24,6 +24,7 @@
 #include "tasks/key_value_args.hpp"
 #include "tasks/paired_stats.hpp"
 #include "tasks/rhex_study_environments.hpp"
+#include "tasks/rhex_time_step.hpp"
 
 namespace {
 
@@ -84,10 +85,7 @@ int main(int argc, char** argv) {
         RhexParams p;
         p.episode.engine = m.engine;
         p.episode.legs = m.legs;
-        p.episode.time_step = m.time_step;
-        // The settling rule counts steps: the same 5 s at most, 0.15 s quiet, at any step.
-        p.episode.settle_steps = static_cast<int>(std::lround(p.episode.settle_steps * 0.005 / p.episode.time_step));
-        p.episode.stable_steps = static_cast<int>(std::lround(p.episode.stable_steps * 0.005 / p.episode.time_step));
+        bench::set_time_step(p.episode, m.time_step);  // the same 5 s of settling at most, 0.15 s quiet
         p.episode.duration = std::stod(args["seconds"]);
         const RhexTask task(p);
         const Index n = m.fine ? static_cast<Index>(fine) : m.subset ? static_cast<Index>(subset) : count;

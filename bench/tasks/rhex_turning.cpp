@@ -16,6 +16,7 @@
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 #include "tasks/key_value_args.hpp"
 #include "tasks/paired_stats.hpp"
+#include "tasks/rhex_time_step.hpp"
 
 namespace {
 
@@ -52,10 +53,7 @@ int main(int argc, char** argv) {
       const auto [engine, dt] = runs[k];
       RhexParams p;
       p.episode.engine = engine;
-      p.episode.time_step = dt;
-      // The settling rule counts steps: the same 5 s at most, 0.15 s quiet, at any step.
-      p.episode.settle_steps = static_cast<int>(std::lround(p.episode.settle_steps * 0.005 / p.episode.time_step));
-      p.episode.stable_steps = static_cast<int>(std::lround(p.episode.stable_steps * 0.005 / p.episode.time_step));
+      bench::set_time_step(p.episode, dt);  // the same 5 s of settling at most, 0.15 s quiet
       if (k == 1) p.episode.collision = collision;
       p.episode.legs = legs;
       p.episode.duration = std::stod(args["seconds"]);

@@ -75,6 +75,32 @@ TEST(RhexMujoco, ModelHasTheRobotsPartsAndMass) {
   EXPECT_EQ(Model(s, RhexEnvironment::obstacle(ObstacleCourse::kRubble)).m->ngeom, 1 + 275 + 3 + 48);
 }
 
+// The solver options reach the compiled model; the faithful (default) ones are MuJoCo's defaults,
+// named in the MJCF only where the model has always named them (integrator and cone).
+void expect_options(const rhex::EpisodeSettings& s, mjtSolver solver, int iterations, double tolerance, mjtCone cone,
+                    mjtIntegrator integrator, int noslip_iterations) {
+  const Model model(s);
+  ASSERT_NE(model.m, nullptr);
+  EXPECT_EQ(model.m->opt.solver, solver);
+  EXPECT_EQ(model.m->opt.iterations, iterations);
+  EXPECT_EQ(model.m->opt.tolerance, tolerance);
+  EXPECT_EQ(model.m->opt.cone, cone);
+  EXPECT_EQ(model.m->opt.integrator, integrator);
+  EXPECT_EQ(model.m->opt.noslip_iterations, noslip_iterations);
+}
+
+TEST(RhexMujoco, SolverOptionsReachTheModel) {
+  rhex::EpisodeSettings s;
+  const std::string faithful = rhex::rhex_mjcf(s, {});
+  for (const char* attribute : {"solver=", "iterations=", "tolerance=", "noslip_iterations="})
+    EXPECT_EQ(faithful.find(attribute), std::string::npos) << attribute;
+  expect_options(s, mjSOL_NEWTON, 100, 1e-8, mjCONE_PYRAMIDAL, mjINT_EULER, 0);
+  s.mujoco = {rhex::MujocoOptions::Solver::kCg, 20, 1e-5, true, true, 10};
+  expect_options(s, mjSOL_CG, 20, 1e-5, mjCONE_ELLIPTIC, mjINT_IMPLICIT, 10);
+  s.mujoco.solver = rhex::MujocoOptions::Solver::kPgs;
+  expect_options(s, mjSOL_PGS, 20, 1e-5, mjCONE_ELLIPTIC, mjINT_IMPLICIT, 10);
+}
+
 // The compliant legs' plate joints carry DART's implicit spring in MuJoCo's parts (rhex_mjcf.cpp):
 // armature h c + h^2 k and a velocity actuator of gain c + h k per joint, each leg 7 of them.
 TEST(RhexMujoco, PlateJointsCarryDartsImplicitSpring) {

@@ -31,6 +31,20 @@ enum class LegModel {
 };
 inline constexpr EnumNames<LegModel, 2> kLegModelNames{{{LegModel::kRigid, "rigid"}, {LegModel::kCompliant, "compliant"}}};
 
+// MuJoCo's solver and integrator options (engine = mujoco only). The defaults are MuJoCo's own
+// and the faithful setting the engine cross-check measured (docs/fidelity.md, "RHex on MuJoCo");
+// bench/tasks/rhex_mujoco_settings.cpp measures the others against it. Not a config key.
+struct MujocoOptions {
+  enum class Solver { kPgs, kCg, kNewton };
+  Solver solver = Solver::kNewton;
+  int iterations = 100;          // at most, per step
+  double tolerance = 1e-8;       // the solver stops below this relative improvement
+  bool elliptic_cone = false;    // false: the pyramidal cone (DART's friction box is nearer to it)
+  bool implicit = false;         // MuJoCo's implicit-in-velocity integrator; false: semi-implicit Euler
+  int noslip_iterations = 0;     // MuJoCo's no-slip pass after the solver; 0: none
+  bool operator==(const MujocoOptions&) const = default;
+};
+
 struct EpisodeSettings {
   double time_step = 0.005;       // s, also the control cycle
   double duration = 5.0;          // s of walking
@@ -45,6 +59,7 @@ struct EpisodeSettings {
   // Compliant legs: enforce the plate joints' limits [0, pi/64]. Their rest angle lies exactly on
   // the lower limit, so every plate joint is then a constraint row of every step's LCP.
   bool plate_joint_limits = true;
+  MujocoOptions mujoco;           // MuJoCo's own solver settings
   bool record_poses = false;      // keep every step's body pose (gait export, tests)
   int steps() const { return static_cast<int>(duration / time_step + 0.5); }
   void validate() const;

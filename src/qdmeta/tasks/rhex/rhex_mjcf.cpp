@@ -149,6 +149,20 @@ std::string robot(const EpisodeSettings& settings, const RhexEnvironment& enviro
   return out + "</body>\n";
 }
 
+// The <option> attributes of the solver options that differ from MuJoCo's defaults (none in the
+// faithful setting, whose MJCF text is then what it always was).
+std::string solver_options(const MujocoOptions& o) {
+  const MujocoOptions defaults;
+  std::string out;
+  if (o.solver != defaults.solver)
+    out += fmt::format(" solver=\"{}\"", o.solver == MujocoOptions::Solver::kPgs ? "PGS" : "CG");
+  if (o.iterations != defaults.iterations) out += fmt::format(" iterations=\"{}\"", o.iterations);
+  if (o.tolerance != defaults.tolerance) out += fmt::format(" tolerance=\"{:.17g}\"", o.tolerance);
+  if (o.noslip_iterations != defaults.noslip_iterations)
+    out += fmt::format(" noslip_iterations=\"{}\"", o.noslip_iterations);
+  return out;
+}
+
 }  // namespace
 
 std::string leg_body_name(int leg, int plate) { return fmt::format("leg_{}_plate_{}", leg, plate); }
@@ -161,7 +175,7 @@ std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& en
   const std::string solref = fmt::format("{:.17g} {:.17g}", -stiffness, -damping);
   return fmt::format(R"(<mujoco model="rhex">
 <compiler angle="radian" inertiafromgeom="false"/>
-<option timestep="{:.17g}" gravity="0 0 -9.81" integrator="Euler" cone="pyramidal" {}/>
+<option timestep="{:.17g}" gravity="0 0 -9.81" integrator="{}" cone="{}" {}{}/>
 <size njmax="{}" nconmax="{}"/>
 <default>
 <geom friction="{:.17g} 0.005 0.0001" condim="3" solref="{}" solimp="0.99 0.999 0.001"/>
@@ -173,7 +187,9 @@ std::string rhex_mjcf(const EpisodeSettings& settings, const RhexEnvironment& en
 {}{}</worldbody>
 {}</mujoco>
 )",
-                     settings.time_step, settings.legs == LegModel::kCompliant ? "jacobian=\"sparse\"" : "",
+                     settings.time_step, settings.mujoco.implicit ? "implicit" : "Euler",
+                     settings.mujoco.elliptic_cone ? "elliptic" : "pyramidal",
+                     settings.legs == LegModel::kCompliant ? "jacobian=\"sparse\"" : "", solver_options(settings.mujoco),
                      4 * kMaxContacts, kMaxContacts, kFriction, solref, solref, terrain(environment.course),
                      robot(settings, environment),
                      plate_dampers(settings, environment));
