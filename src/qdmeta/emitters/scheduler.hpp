@@ -4,7 +4,9 @@
 // measures, adds every row to the archive under the thresholds (thresholded_add.hpp), and tells
 // each emitter the outcomes of its own rows. ThresholdParams{alpha = 1, threshold_min = -inf} is
 // CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
-// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it.
+// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it, and
+// archive.clear() resets them to threshold_min (as pyribs, whose empty cells score against
+// threshold_min whatever their threshold was).
 //
 //   GridArchive archive(grid_params);
 //   Scheduler scheduler(archive, ThresholdParams{0.01, 0.0},
@@ -51,7 +53,10 @@ template <CellIndexedArchive A>
 class Scheduler {
  public:
   Scheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> emitters)
-      : archive_(archive), thresholds_(archive.cells(), thresholds), emitters_(std::move(emitters)) {
+      : archive_(archive),
+        thresholds_(archive.cells(), thresholds),
+        seen_clears_(archive.clears()),
+        emitters_(std::move(emitters)) {
     if (emitters_.empty()) throw InputError("Scheduler emitters is empty: give at least one emitter");
     Index rows = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
@@ -70,7 +75,11 @@ class Scheduler {
   std::size_t emitter_count() const { return emitters_.size(); }
   const Emitter& emitter(std::size_t i) const { return *emitters_[i]; }
   A& archive() { return archive_; }
-  const CellThresholds& thresholds() const { return thresholds_; }
+  // threshold_min in every cell since the archive's last clear().
+  const CellThresholds& thresholds() const {
+    follow_clears();
+    return thresholds_;
+  }
   // The last ask()'s rows (all zero before the first ask()).
   const RowMatrix& solutions() const { return solutions_; }
   // The last tell's outcomes, one per row.
@@ -93,6 +102,7 @@ class Scheduler {
   // row, empty: all valid) marks rows that enter no cell (a task's invalid solutions).
   void tell(std::span<const Real> objectives, RowsView measures, std::span<const std::uint8_t> valid = {}) {
     if (!awaiting_tell_) throw InputError("Scheduler::tell: called without a pending ask; call ask() first");
+    follow_clears();
     add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, valid}, outcomes_);
     awaiting_tell_ = false;
     Index row = 0;
@@ -111,7 +121,7 @@ class Scheduler {
   // scheduler built alike.
   void save(BinaryWriter& out) const {
     out.tag("emitter scheduler");
-    thresholds_.save(out);
+    thresholds().save(out);
     for (const auto& emitter : emitters_) emitter->save(out);
     out.boolean(awaiting_tell_);
     out.matrix(solutions_);
@@ -119,6 +129,7 @@ class Scheduler {
   void load(BinaryReader& in) {
     in.expect_tag("emitter scheduler");
     thresholds_.load(in);
+    seen_clears_ = archive_.clears();  // the checkpoint's thresholds are those after its clears
     for (auto& emitter : emitters_) emitter->load(in);
     awaiting_tell_ = in.boolean("scheduler pending flag");
     RowMatrix solutions;
@@ -131,8 +142,17 @@ class Scheduler {
   }
 
  private:
+  // Resets the thresholds once per archive clear() since they last looked; mutable, as reading
+  // them must not show thresholds the cleared archive no longer has.
+  void follow_clears() const {
+    if (archive_.clears() == seen_clears_) return;
+    thresholds_.clear();
+    seen_clears_ = archive_.clears();
+  }
+
   A& archive_;
-  CellThresholds thresholds_;
+  mutable CellThresholds thresholds_;
+  mutable std::uint64_t seen_clears_;
   std::vector<std::unique_ptr<Emitter>> emitters_;
   RowMatrix solutions_;
   std::vector<ThresholdOutcome> outcomes_;
