@@ -7,7 +7,7 @@ The C++ library behind the `qdmeta` command line, from Python:
 - ``MetaObjective(function, name)``: QD-Meta's meta-fitness written in numpy.
 - ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``: iterated
   over, ``retrieve(measures)``, ``sample_elites(n)``, as pyribs's archives.
-- ``EvolutionStrategyEmitter``, ``GaussianEmitter`` and ``Scheduler``: CMA-ME and CMA-MAE's
+- ``EvolutionStrategyEmitter``, ``GaussianEmitter``, ``IsoLineEmitter`` and ``Scheduler``: CMA-ME and CMA-MAE's
   ask/tell loop with pyribs's names, over an archive made with ``learning_rate`` and
   ``threshold_min``.
 - ``Algorithm(config, task=..., meta_objective=..., variation=...)``: any registered algorithm,
@@ -36,6 +36,7 @@ from ._qdmeta import (  # noqa: F401  (the public names)
     GaussianEmitter,
     GridArchive,
     InputError,
+    IsoLineEmitter,
     MetaObjective,
     ProximityArchive,
     SlidingBoundariesArchive,
@@ -70,6 +71,7 @@ _arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "
 _arguments.shorten_argument_errors(Task, "__init__", "evaluate")
 _arguments.shorten_argument_errors(EvolutionStrategyEmitter, "__init__")
 _arguments.shorten_argument_errors(GaussianEmitter, "__init__")
+_arguments.shorten_argument_errors(IsoLineEmitter, "__init__")
 _arguments.shorten_argument_errors(Scheduler, "__init__", "tell")
 run = _arguments.check_paths(run, "run", out_dir=1)
 resume = _arguments.check_paths(resume, "resume", out_dir=0)
@@ -86,6 +88,7 @@ __all__ = [
     "GaussianEmitter",
     "GridArchive",
     "InputError",
+    "IsoLineEmitter",
     "MetaObjective",
     "ProximityArchive",
     "Scheduler",

@@ -1,5 +1,5 @@
 // CMA-ME and CMA-MAE with pyribs's names (emitters/): qdmeta.EvolutionStrategyEmitter,
-// qdmeta.GaussianEmitter and qdmeta.Scheduler over a GridArchive or CvtArchive whose
+// qdmeta.GaussianEmitter, qdmeta.IsoLineEmitter and qdmeta.Scheduler over a GridArchive or CvtArchive whose
 // learning_rate and threshold_min give the thresholds. Each emitter asks with its own stream
 // (seed=), as pyribs seeds each emitter; all three pickle, and an unpickled scheduler (with its
 // archives and emitters, pickled together) continues to the same bits.
@@ -109,7 +109,7 @@ std::pair<double, double> common_gene_bounds(py::handle bounds, Index genes) {
   const auto upper = [&](std::size_t i) { return pairs[i].second.value_or(inf); };
   for (std::size_t i = 1; i < pairs.size(); ++i)
     if (lower(i) != lower(0) || upper(i) != upper(0))
-      throw InputError("bounds differ between genes: qdmeta's GaussianEmitter clamps every gene to one range");
+      throw InputError("bounds differ between genes: qdmeta's Gaussian and iso+line emitters clamp every gene to one range");
   return {lower(0), upper(0)};
 }
 
@@ -320,6 +320,26 @@ N(0, sigma^2) per gene (x0 plus that noise while the archive is empty), clamped 
            py::arg("archive"), py::kw_only(), py::arg("sigma"), py::arg("x0") = py::none(),
            py::arg("bounds") = py::none(), py::arg("batch_size") = 64, py::arg("seed") = py::none());
   bind_emitter_pickle<GaussianEmitterHandle>(gaussian);
+
+  py::class_<IsoLineEmitterHandle, EmitterHandle, std::shared_ptr<IsoLineEmitterHandle>> iso_line(
+      m, "IsoLineEmitter", R"doc(
+The iso+line operator (Vassiliades & Mouret 2018) as an emitter, as pyribs's IsoLineEmitter: each
+row is x_i + iso_sigma N(0, I) + line_sigma N(0, 1) (x_j - x_i) for two random elites x_i, x_j
+(x0 plus the isotropic noise while the archive is empty), clamped to bounds (one (lower, upper)
+pair per gene, all equal here, or None). seed None draws one from the system.)doc");
+  iso_line
+      .def(py::init([](py::object archive, double iso_sigma, double line_sigma, py::handle x0, py::handle bounds,
+                       py::handle batch_size, py::handle seed) {
+             if (x0.is_none()) throw InputError("x0 is None: give the first parent, one value per gene");
+             const auto [lower, upper] = common_gene_bounds(bounds, archive_solution_dim(archive));
+             return new_emitter<IsoLineEmitterHandle>(
+                 archive, "IsoLineEmitter",
+                 py::make_tuple(x0, iso_sigma, line_sigma, batch_size_argument(batch_size, 64), lower, upper), seed);
+           }),
+           py::arg("archive"), py::kw_only(), py::arg("iso_sigma") = 0.01, py::arg("line_sigma") = 0.2,
+           py::arg("x0") = py::none(), py::arg("bounds") = py::none(), py::arg("batch_size") = 64,
+           py::arg("seed") = py::none());
+  bind_emitter_pickle<IsoLineEmitterHandle>(iso_line);
 
   py::class_<SchedulerHandle>(m, "Scheduler", R"doc(
 CMA-ME / CMA-MAE's ask/tell loop, as pyribs's Scheduler: ask() stacks every emitter's batch (an

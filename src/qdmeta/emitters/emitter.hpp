@@ -31,6 +31,11 @@ struct EmitterResults {
 // or returns false when the archive is empty (scheduler.hpp's elite_picker).
 using ElitePicker = std::function<bool(Rng& rng, std::vector<double>& genes)>;
 
+// The checks the variation emitters share (Gaussian, iso+line): x0 non-empty and finite, and
+// upper > lower; InputError naming `params` ("GaussianEmitterParams") and the field.
+void check_x0_and_bounds(std::string_view params, const std::vector<double>& x0, double lower_bound,
+                         double upper_bound);
+
 class Emitter {
  public:
   virtual ~Emitter() = default;
@@ -66,6 +71,22 @@ class BatchEmitter : public Emitter {
 
  private:
   std::string name_;
+};
+
+// An emitter that learns nothing from tell() (Gaussian, iso+line): its checkpoint is its batch,
+// under `tag`.
+class StatelessEmitter : public BatchEmitter {
+ public:
+  void tell(const EmitterResults& results) override;
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
+
+ protected:
+  StatelessEmitter(Index rows, Index genes, std::string_view name, std::string_view tag)
+      : BatchEmitter(rows, genes, name), tag_(tag) {}
+
+ private:
+  std::string tag_;
 };
 
 }  // namespace qdmeta
