@@ -50,6 +50,7 @@ class HandleEmitter final : public Emitter {
   Index solution_size() const override { return h_->emitter->solution_size(); }
   const RowMatrix& ask(Rng& /*scheduler's*/) override { return h_->emitter->ask(h_->rng); }
   void tell(const EmitterResults& results) override { h_->emitter->tell(results); }
+  std::int64_t ended_runs() const override { return h_->emitter->ended_runs(); }
   void save(BinaryWriter& out) const override { h_->save(out); }
   void load(BinaryReader& in) override { h_->load(in); }
 

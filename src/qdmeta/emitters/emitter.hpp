@@ -45,6 +45,10 @@ class Emitter {
   virtual const RowMatrix& ask(Rng& rng) = 0;
   // The outcomes of the last ask()'s rows; InputError when no ask() is pending or the sizes differ.
   virtual void tell(const EmitterResults& results) = 0;
+  // How many of its runs have ended (restarts done or due after the last tell), which a
+  // BanditScheduler of reselect "terminated" follows; -1 for an emitter without runs (a
+  // BanditScheduler then reselects it at every ask, as pyribs's does).
+  virtual std::int64_t ended_runs() const { return -1; }
   // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
   virtual void save(BinaryWriter& out) const = 0;
   virtual void load(BinaryReader& in) = 0;
