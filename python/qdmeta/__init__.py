@@ -7,9 +7,9 @@ The C++ library behind the `qdmeta` command line, from Python:
 - ``MetaObjective(function, name)``: QD-Meta's meta-fitness written in numpy.
 - ``GridArchive``, ``CvtArchive`` (with ``cvt_centroids``), ``UnstructuredArchive``: iterated
   over, ``retrieve(measures)``, ``sample_elites(n)``, as pyribs's archives.
-- ``EvolutionStrategyEmitter``, ``GaussianEmitter`` and ``Scheduler``: CMA-ME and CMA-MAE's
-  ask/tell loop with pyribs's names, over an archive made with ``learning_rate`` and
-  ``threshold_min``.
+- ``EvolutionStrategyEmitter``, ``GaussianEmitter``, ``IsoLineEmitter``, ``Scheduler`` and
+  ``BanditScheduler``: CMA-ME and CMA-MAE's ask/tell loop with pyribs's names, over an archive
+  made with ``learning_rate`` and ``threshold_min``.
 - ``Algorithm(config, task=..., meta_objective=..., variation=...)``: any registered algorithm,
   driven by ``ask()``/``tell()`` or ``step()``; ``archive`` and ``retrieve(measures)`` show its
   archive; ``variation`` gives MAP-Elites a variation operator written in numpy.
@@ -30,12 +30,14 @@ tutorial.
 from ._qdmeta import (  # noqa: F401  (the public names)
     Algorithm,
     ArchiveStats,
+    BanditScheduler,
     CvtArchive,
     Error,
     EvolutionStrategyEmitter,
     GaussianEmitter,
     GridArchive,
     InputError,
+    IsoLineEmitter,
     MetaObjective,
     ProximityArchive,
     SlidingBoundariesArchive,
@@ -70,7 +72,9 @@ _arguments.shorten_argument_errors(Algorithm, "__init__", "tell", "tell_jobs", "
 _arguments.shorten_argument_errors(Task, "__init__", "evaluate")
 _arguments.shorten_argument_errors(EvolutionStrategyEmitter, "__init__")
 _arguments.shorten_argument_errors(GaussianEmitter, "__init__")
+_arguments.shorten_argument_errors(IsoLineEmitter, "__init__")
 _arguments.shorten_argument_errors(Scheduler, "__init__", "tell")
+_arguments.shorten_argument_errors(BanditScheduler, "__init__", "tell")
 run = _arguments.check_paths(run, "run", out_dir=1)
 resume = _arguments.check_paths(resume, "resume", out_dir=0)
 cvt_centroids = _arguments.check_paths(cvt_centroids, "cvt_centroids", cache_dir=4)
@@ -79,6 +83,7 @@ Algorithm.run = _arguments.check_paths(Algorithm.run, "Algorithm.run", out_dir=2
 __all__ = [
     "Algorithm",
     "ArchiveStats",
+    "BanditScheduler",
     "CQDScoreResult",
     "CvtArchive",
     "Error",
@@ -86,6 +91,7 @@ __all__ = [
     "GaussianEmitter",
     "GridArchive",
     "InputError",
+    "IsoLineEmitter",
     "MetaObjective",
     "ProximityArchive",
     "Scheduler",

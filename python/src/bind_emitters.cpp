@@ -1,5 +1,5 @@
 // CMA-ME and CMA-MAE with pyribs's names (emitters/): qdmeta.EvolutionStrategyEmitter,
-// qdmeta.GaussianEmitter and qdmeta.Scheduler over a GridArchive or CvtArchive whose
+// qdmeta.GaussianEmitter, qdmeta.IsoLineEmitter and qdmeta.Scheduler over a GridArchive or CvtArchive whose
 // learning_rate and threshold_min give the thresholds. Each emitter asks with its own stream
 // (seed=), as pyribs seeds each emitter; all three pickle, and an unpickled scheduler (with its
 // archives and emitters, pickled together) continues to the same bits.
@@ -109,7 +109,7 @@ std::pair<double, double> common_gene_bounds(py::handle bounds, Index genes) {
   const auto upper = [&](std::size_t i) { return pairs[i].second.value_or(inf); };
   for (std::size_t i = 1; i < pairs.size(); ++i)
     if (lower(i) != lower(0) || upper(i) != upper(0))
-      throw InputError("bounds differ between genes: qdmeta's GaussianEmitter clamps every gene to one range");
+      throw InputError("bounds differ between genes: qdmeta's Gaussian and iso+line emitters clamp every gene to one range");
   return {lower(0), upper(0)};
 }
 
@@ -135,112 +135,6 @@ std::shared_ptr<H> emitter_from_state(const py::tuple& s) {
   const std::string bytes = s[4].cast<std::string>();
   BinaryReader in(bytes, "the pickled emitter");
   h->load(in);
-  in.finish();
-  return h;
-}
-
-// qdmeta.Scheduler: the C++ scheduler over the archive's type, with the Python objects it uses.
-struct SchedulerHandle {
-  py::object archive, result_archive;
-  py::list emitters;
-  std::variant<std::unique_ptr<Scheduler<GridArchive>>, std::unique_ptr<Scheduler<CvtArchive>>> scheduler;
-
-  Index rows() const { return std::visit([](const auto& s) { return s->batch_size(); }, scheduler); }
-  Index measure_dim() const {
-    return std::visit([](const auto& s) { return s->archive().dimensions(); }, scheduler);
-  }
-};
-
-template <class A>
-std::unique_ptr<Scheduler<A>> scheduler_over(ArchiveHandle<A>& archive, const py::list& emitters) {
-  std::vector<std::unique_ptr<Emitter>> wrapped;
-  for (const auto e : emitters) wrapped.push_back(std::make_unique<HandleEmitter>(e.cast<std::shared_ptr<EmitterHandle>>()));
-  return std::make_unique<Scheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped));
-}
-
-void add_to_result_archive(py::handle result, const EliteBatch& batch) {
-  if (py::isinstance<ArchiveHandle<GridArchive>>(result))
-    result.cast<ArchiveHandle<GridArchive>&>().archive.add_batch(batch);
-  else
-    result.cast<ArchiveHandle<CvtArchive>&>().archive.add_batch(batch);
-}
-
-Index measure_dim_of(py::handle archive) {
-  if (py::isinstance<ArchiveHandle<GridArchive>>(archive)) return archive.cast<ArchiveHandle<GridArchive>&>().archive.dimensions();
-  return archive.cast<ArchiveHandle<CvtArchive>&>().archive.dimensions();
-}
-
-SchedulerHandle make_scheduler(py::object archive, py::handle emitters, py::object result_archive) {
-  SchedulerHandle h;
-  const Index genes = archive_solution_dim(archive);  // TypeError unless a Grid or CVT archive
-  h.emitters = py::list(py::reinterpret_borrow<py::object>(emitters));
-  if (h.emitters.empty()) throw InputError("emitters is empty: give the Scheduler at least one emitter");
-  for (std::size_t i = 0; i < h.emitters.size(); ++i) {
-    if (!py::isinstance<EmitterHandle>(h.emitters[i]))
-      throw py::type_error(fmt::format("emitters[{}] is not a qdmeta emitter", i));
-    if (!h.emitters[i].cast<EmitterHandle&>().archive.is(archive))
-      throw InputError(fmt::format("emitters[{}] was made over another archive: give each emitter the scheduler's archive", i));
-    for (std::size_t j = 0; j < i; ++j)
-      if (h.emitters[j].is(h.emitters[i]))
-        throw InputError(fmt::format("emitters[{}] is emitters[{}]: give each emitter once", i, j));
-  }
-  if (!result_archive.is_none()) {
-    if (result_archive.is(archive)) throw InputError("result_archive is the archive: give another archive or None");
-    if (archive_solution_dim(result_archive) != genes || measure_dim_of(result_archive) != measure_dim_of(archive))
-      throw InputError("result_archive has another solution_dim or measure_dim than the archive");
-  }
-  if (py::isinstance<ArchiveHandle<GridArchive>>(archive))
-    h.scheduler = scheduler_over(archive.cast<ArchiveHandle<GridArchive>&>(), h.emitters);
-  else
-    h.scheduler = scheduler_over(archive.cast<ArchiveHandle<CvtArchive>&>(), h.emitters);
-  h.archive = std::move(archive);
-  h.result_archive = std::move(result_archive);
-  return h;
-}
-
-void tell(SchedulerHandle& h, py::handle objective, py::handle measures) {
-  const Index rows = h.rows();
-  const FloatArray o = float_rows(objective, rows, -1, "objective");
-  const FloatArray m = float_rows(measures, rows, h.measure_dim(), "measures");
-  for (Index r = 0; r < rows; ++r) {
-    if (!std::isfinite(o.data()[r]))
-      throw InputError(fmt::format("Scheduler.tell: objective[{}] = {} is invalid: must be finite", r, o.data()[r]));
-    for (Index d = 0; d < h.measure_dim(); ++d)
-      if (!std::isfinite(m.data()[r * h.measure_dim() + d]))
-        throw InputError(fmt::format("Scheduler.tell: measures[{}, {}] = {} is invalid: must be finite", r, d,
-                                     m.data()[r * h.measure_dim() + d]));
-  }
-  const std::span<const Real> objectives(o.data(), static_cast<std::size_t>(rows));
-  const RowsView measure_rows(m.data(), rows, h.measure_dim());
-  std::visit(
-      [&](auto& s) {
-        s->tell(objectives, measure_rows);
-        if (!h.result_archive.is_none())
-          add_to_result_archive(h.result_archive, EliteBatch{s->solutions(), objectives, measure_rows, {}, {}});
-      },
-      h.scheduler);
-}
-
-py::tuple scheduler_state(const SchedulerHandle& h) {
-  BinaryWriter out;
-  std::visit([&](const auto& s) { s->save(out); }, h.scheduler);
-  const py::int_ format(kFormat);
-  const py::bytes bytes(out.bytes());
-  const py::int_ checksum(state_checksum({format, bytes}));
-  return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum);
-}
-
-SchedulerHandle scheduler_from_state(const py::tuple& s) {
-  const char* who = "unpickling a qdmeta.Scheduler";
-  if (s.size() != 6 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
-      !py::isinstance<py::list>(s[2]) || !py::isinstance<py::bytes>(s[4]))
-    throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
-  check_state_checksum(s[5], state_checksum({s[0], s[4]}), who);
-  SchedulerHandle h = make_scheduler(py::reinterpret_borrow<py::object>(s[1]), s[2],
-                                     py::reinterpret_borrow<py::object>(s[3]));
-  const std::string bytes = s[4].cast<std::string>();
-  BinaryReader in(bytes, "the pickled Scheduler");
-  std::visit([&](auto& scheduler) { scheduler->load(in); }, h.scheduler);
   in.finish();
   return h;
 }
@@ -321,44 +215,26 @@ N(0, sigma^2) per gene (x0 plus that noise while the archive is empty), clamped 
            py::arg("bounds") = py::none(), py::arg("batch_size") = 64, py::arg("seed") = py::none());
   bind_emitter_pickle<GaussianEmitterHandle>(gaussian);
 
-  py::class_<SchedulerHandle>(m, "Scheduler", R"doc(
-CMA-ME / CMA-MAE's ask/tell loop, as pyribs's Scheduler: ask() stacks every emitter's batch (an
-(n, solution_dim) float32 array, emitters in order); tell(objective, measures) adds every row to
-the archive under its thresholds (learning_rate, threshold_min), tells each emitter its rows'
-outcomes, and adds them to result_archive when given. The archive keeps each cell's best elite
-whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresholds`).)doc")
-      .def(py::init(&make_scheduler), py::arg("archive"), py::arg("emitters"),
-           py::arg("result_archive") = py::none())
-      .def("ask",
-           [](SchedulerHandle& h) {
-             Rng unused;  // each emitter asks with its own stream
-             return std::visit(
-                 [&](auto& s) {
-                   const RowMatrix& x = s->ask(unused);
-                   return rows_copy(x.data(), x.rows(), x.cols());
-                 },
-                 h.scheduler);
-           },
-           "The next batch: an (n, solution_dim) float32 array, every emitter's rows in emitter order")
-      .def("tell", &tell, py::arg("objective"), py::arg("measures"),
-           "The objective (n,) and measures (n, measure_dim) of the last ask()'s rows, in its order")
-      .def_property_readonly("archive", [](const SchedulerHandle& h) { return h.archive; })
-      .def_property_readonly("result_archive", [](const SchedulerHandle& h) { return h.result_archive; })
-      .def_property_readonly("emitters", [](const SchedulerHandle& h) { return py::list(h.emitters); })
-      .def_property_readonly("thresholds",
-                             [](const SchedulerHandle& h) {
-                               return std::visit(
-                                   [](const auto& s) {
-                                     const CellThresholds& t = s->thresholds();
-                                     auto out = new_array<double>({t.cells()});  // numpy 2: not array_t(n)
-                                     for (Index c = 0; c < t.cells(); ++c) out.mutable_data()[c] = t.threshold(c);
-                                     return out;
-                                   },
-                                   h.scheduler);
-                             },
-                             "Each cell's CMA-MAE threshold (threshold_min where never reached), by cell index")
-      .def(py::pickle([](const SchedulerHandle& h) { return scheduler_state(h); },
-                      [](const py::tuple& s) { return scheduler_from_state(s); }));
+  py::class_<IsoLineEmitterHandle, EmitterHandle, std::shared_ptr<IsoLineEmitterHandle>> iso_line(
+      m, "IsoLineEmitter", R"doc(
+The iso+line operator (Vassiliades & Mouret 2018) as an emitter, as pyribs's IsoLineEmitter: each
+row is x_i + iso_sigma N(0, I) + line_sigma N(0, 1) (x_j - x_i) for two random elites x_i, x_j
+(x0 plus the isotropic noise while the archive is empty), clamped to bounds (one (lower, upper)
+pair per gene, all equal here, or None). seed None draws one from the system.)doc");
+  iso_line
+      .def(py::init([](py::object archive, double iso_sigma, double line_sigma, py::handle x0, py::handle bounds,
+                       py::handle batch_size, py::handle seed) {
+             if (x0.is_none()) throw InputError("x0 is None: give the first parent, one value per gene");
+             const auto [lower, upper] = common_gene_bounds(bounds, archive_solution_dim(archive));
+             return new_emitter<IsoLineEmitterHandle>(
+                 archive, "IsoLineEmitter",
+                 py::make_tuple(x0, iso_sigma, line_sigma, batch_size_argument(batch_size, 64), lower, upper), seed);
+           }),
+           py::arg("archive"), py::kw_only(), py::arg("iso_sigma") = 0.01, py::arg("line_sigma") = 0.2,
+           py::arg("x0") = py::none(), py::arg("bounds") = py::none(), py::arg("batch_size") = 64,
+           py::arg("seed") = py::none());
+  bind_emitter_pickle<IsoLineEmitterHandle>(iso_line);
+
 }
 
 }  // namespace qdmeta::python

@@ -1,5 +1,6 @@
 // qdmeta.SlidingBoundariesArchive: Fontaine et al.'s sliding-boundaries grid, with pyribs's
 // SlidingBoundariesArchive's names, arguments and add() result.
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -11,6 +12,7 @@
 
 #include "bindings.hpp"
 #include "double_arrays.hpp"
+#include "pickled_state.hpp"
 #include "qdmeta/archive/sliding_boundaries_archive.hpp"
 #include "qdmeta/core/error.hpp"
 
@@ -41,6 +43,57 @@ py::dict elite_data(const SlidingBoundariesArchive& a) {
   return all;
 }
 
+SlidingBoundariesArchive make_sliding(Index solution_dim, std::vector<Index> dims,
+                                      std::vector<std::pair<double, double>> ranges, double epsilon,
+                                      double qd_score_offset, Index remap_frequency, Index buffer_capacity) {
+  SlidingBoundariesParams p;
+  p.solution_size = solution_dim;
+  p.dims = std::move(dims);
+  for (const auto& [lower, upper] : ranges) {
+    p.lower_bounds.push_back(lower);
+    p.upper_bounds.push_back(upper);
+  }
+  p.epsilon = epsilon;
+  p.qd_offset = qd_score_offset;
+  p.remap_frequency = remap_frequency;
+  p.buffer_capacity = buffer_capacity;
+  return SlidingBoundariesArchive(p);
+}
+
+constexpr int kFormat = 1;  // of the pickled state tuple
+
+// (format, the constructor's arguments, the archive's checkpoint, checksum): an unpickled
+// archive adds and remaps to the same bits as the original.
+py::tuple sliding_state(const SlidingBoundariesArchive& a) {
+  const SlidingBoundariesParams& p = a.params();
+  py::list ranges;
+  for (std::size_t i = 0; i < p.dims.size(); ++i) ranges.append(py::make_tuple(p.lower_bounds[i], p.upper_bounds[i]));
+  BinaryWriter out;
+  a.save(out);
+  const py::int_ format(kFormat);
+  const py::tuple params = py::make_tuple(p.solution_size, py::cast(p.dims), ranges, p.epsilon, p.qd_offset,
+                                          p.remap_frequency, p.buffer_capacity);
+  const py::bytes bytes(out.bytes());
+  return py::make_tuple(format, params, bytes, py::int_(state_checksum({format, params, bytes})));
+}
+
+SlidingBoundariesArchive sliding_from_state(const py::tuple& s) {
+  const char* who = "unpickling a qdmeta.SlidingBoundariesArchive";
+  if (s.size() != 4 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+      !py::isinstance<py::tuple>(s[1]) || py::len(s[1]) != 7 || !py::isinstance<py::bytes>(s[2]))
+    throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+  check_state_checksum(s[3], state_checksum({s[0], s[1], s[2]}), who);
+  const auto p = s[1].cast<py::tuple>();
+  SlidingBoundariesArchive a = make_sliding(p[0].cast<Index>(), p[1].cast<std::vector<Index>>(),
+                                            p[2].cast<std::vector<std::pair<double, double>>>(), p[3].cast<double>(),
+                                            p[4].cast<double>(), p[5].cast<Index>(), p[6].cast<Index>());
+  const std::string bytes = s[2].cast<std::string>();
+  BinaryReader in(bytes, "the pickled SlidingBoundariesArchive");
+  a.load(in);
+  in.finish();
+  return a;
+}
+
 }  // namespace
 
 void bind_sliding_boundaries_archive(py::module_& m) {
@@ -49,21 +102,7 @@ The sliding-boundaries archive (Fontaine et al. 2019), as pyribs's SlidingBounda
 grid whose boundaries start evenly spaced over `ranges` and, every remap_frequency solutions,
 move to the quantiles of the measures of the last buffer_capacity solutions, the elites and the
 buffer then added again. add() takes its rows one at a time, in order.)doc")
-      .def(py::init([](Index solution_dim, std::vector<Index> dims, std::vector<std::pair<double, double>> ranges,
-                       double epsilon, double qd_score_offset, Index remap_frequency, Index buffer_capacity) {
-             SlidingBoundariesParams p;
-             p.solution_size = solution_dim;
-             p.dims = std::move(dims);
-             for (const auto& [lower, upper] : ranges) {
-               p.lower_bounds.push_back(lower);
-               p.upper_bounds.push_back(upper);
-             }
-             p.epsilon = epsilon;
-             p.qd_offset = qd_score_offset;
-             p.remap_frequency = remap_frequency;
-             p.buffer_capacity = buffer_capacity;
-             return SlidingBoundariesArchive(p);
-           }),
+      .def(py::init(&make_sliding),
            py::kw_only(), py::arg("solution_dim"), py::arg("dims"), py::arg("ranges"), py::arg("epsilon") = 1e-6,
            py::arg("qd_score_offset") = 0.0, py::arg("remap_frequency") = 100, py::arg("buffer_capacity") = 1000)
       .def(
@@ -116,7 +155,9 @@ buffer then added again. add() takes its rows one at a time, in order.)doc")
                              [](const SlidingBoundariesArchive& a) { return a.params().remap_frequency; })
       .def_property_readonly("buffer_capacity",
                              [](const SlidingBoundariesArchive& a) { return a.params().buffer_capacity; })
-      .def_property_readonly("qd_score_offset", [](const SlidingBoundariesArchive& a) { return a.params().qd_offset; });
+      .def_property_readonly("qd_score_offset", [](const SlidingBoundariesArchive& a) { return a.params().qd_offset; })
+      .def(py::pickle([](const SlidingBoundariesArchive& a) { return sliding_state(a); },
+                      [](const py::tuple& s) { return sliding_from_state(s); }));
 }
 
 }  // namespace qdmeta::python

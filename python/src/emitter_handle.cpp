@@ -11,6 +11,7 @@
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/emitters/evolution_strategy_emitter.hpp"
 #include "qdmeta/emitters/gaussian_emitter.hpp"
+#include "qdmeta/emitters/iso_line_emitter.hpp"
 #include "qdmeta/emitters/scheduler.hpp"
 
 namespace py = pybind11;
@@ -83,6 +84,16 @@ void build_emitter(EmitterHandle& h, py::object archive, const std::string& kind
     p.upper_bound = v[4].cast<double>();
     p.validate();
     h.emitter = std::make_unique<GaussianEmitter>(std::move(p), std::move(picker));
+  } else if (kind == "IsoLineEmitter" && v.size() == 6) {
+    IsoLineEmitterParams p;
+    p.x0 = x0_of(archive, v[0]);
+    p.iso_sigma = v[1].cast<double>();
+    p.line_sigma = v[2].cast<double>();
+    p.batch_size = v[3].cast<int>();
+    p.lower_bound = v[4].cast<double>();
+    p.upper_bound = v[5].cast<double>();
+    p.validate();
+    h.emitter = std::make_unique<IsoLineEmitter>(std::move(p), std::move(picker));
   } else {
     throw InputError(fmt::format("build_emitter: no emitter {} of {} parameters", kind, v.size()));
   }

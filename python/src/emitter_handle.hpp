@@ -1,6 +1,6 @@
 #pragma once
 // A CMA-ME / CMA-MAE emitter as Python holds it (qdmeta.EvolutionStrategyEmitter,
-// qdmeta.GaussianEmitter): the C++ emitter (emitters/), its own random stream (pyribs seeds each
+// qdmeta.GaussianEmitter, qdmeta.IsoLineEmitter): the C++ emitter (emitters/), its own random stream (pyribs seeds each
 // emitter on its own), the Python archive it draws elites from (kept alive beside it) and the
 // constructor's arguments, from which unpickling rebuilds it.
 #include <pybind11/pybind11.h>
@@ -17,7 +17,7 @@ namespace qdmeta::python {
 
 struct EmitterHandle {
   pybind11::object archive;       // a qdmeta.GridArchive or CvtArchive
-  std::string kind;               // "EvolutionStrategyEmitter" or "GaussianEmitter"
+  std::string kind;               // "EvolutionStrategyEmitter", "GaussianEmitter" or "IsoLineEmitter"
   pybind11::tuple parameters;     // build_emitter()'s, as pickled
   std::unique_ptr<Emitter> emitter;
   Rng rng;
@@ -30,6 +30,7 @@ struct EmitterHandle {
 // One C++ type per Python class (pybind11 binds a type once).
 struct EvolutionStrategyEmitterHandle final : EmitterHandle {};
 struct GaussianEmitterHandle final : EmitterHandle {};
+struct IsoLineEmitterHandle final : EmitterHandle {};
 
 // Makes `h` the emitter `kind` of `parameters` (see emitter_handle.cpp for their order) over
 // `archive`; InputError naming the argument when one is invalid.
@@ -49,6 +50,7 @@ class HandleEmitter final : public Emitter {
   Index solution_size() const override { return h_->emitter->solution_size(); }
   const RowMatrix& ask(Rng& /*scheduler's*/) override { return h_->emitter->ask(h_->rng); }
   void tell(const EmitterResults& results) override { h_->emitter->tell(results); }
+  std::int64_t ended_runs() const override { return h_->emitter->ended_runs(); }
   void save(BinaryWriter& out) const override { h_->save(out); }
   void load(BinaryReader& in) override { h_->load(in); }
 

@@ -58,6 +58,7 @@ PYBIND11_MODULE(_qdmeta, m) {
   qdmeta::python::bind_tasks(m);
   qdmeta::python::bind_archives(m);
   qdmeta::python::bind_emitters(m);
+  qdmeta::python::bind_schedulers(m);
   qdmeta::python::bind_algorithms(m);
   qdmeta::python::bind_runs(m);
   qdmeta::python::bind_metrics(m);

@@ -289,7 +289,7 @@ void CvtArchive::load(BinaryReader& in) {
     in.fail(fmt::format("CVT archive of {} cells ({}-D, {} genes) does not fit this run's of {} cells ({}-D, {} genes)",
                         cells, dims, genes, this->cells(), dimensions(), params_.solution_size));
   const SavedElites saved = read_elites(in, false, "CVT");
-  clear();
+  remove_all();  // a load is not a clear (EliteStore::clears)
   // Re-added one at a time (cells found again, lists made afresh), checking each lands where it was.
   for (Index i = 0; i < saved.size(); ++i) {
     add({saved.solutions.row(i).data(), static_cast<std::size_t>(saved.solutions.cols())},

@@ -112,6 +112,7 @@ class CvtArchive : private CvtCentroidSearch, private EliteStore {
   AddStatus add_to_cell(Index cell, const Real* solution, Real objective, const Real* measures,
                         const NeighbourLists& lists, Index row);
   using EliteStore::clear;
+  using EliteStore::clears;
 
   using EliteStore::filled_cells;
   using EliteStore::measures;

@@ -27,6 +27,11 @@ void EliteStore::store(Index cell, const Real* solution, Real objective, const R
 }
 
 void EliteStore::clear() {
+  remove_all();
+  ++clears_;
+}
+
+void EliteStore::remove_all() {
   for (Index c : filled_) occupied_[static_cast<std::size_t>(c)] = 0;
   filled_.clear();
 }
@@ -100,7 +105,7 @@ SavedElites EliteStore::read_elites(BinaryReader& in, bool with_base, std::strin
 }
 
 void EliteStore::restore(const SavedElites& saved, const BinaryReader& in) {
-  clear();
+  remove_all();
   const bool with_base = saved.base_features.rows() == saved.size() && shape_.base_feature_size > 0;
   for (Index i = 0; i < saved.size(); ++i) {
     const auto c = static_cast<Index>(saved.cells[static_cast<std::size_t>(i)]);

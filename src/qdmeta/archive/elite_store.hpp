@@ -78,8 +78,11 @@ class EliteStore {
     store(cell, solution, objective, measures, base_features);
     return status;
   }
-  // Empties every cell (the storage stays allocated).
+  // Empties every cell (the storage stays allocated) and counts the clear.
   void clear();
+  // How many times clear() has emptied the store (loading a checkpoint does not count): what
+  // holds per-cell state beside the archive (a Scheduler's thresholds) resets when it changes.
+  std::uint64_t clears() const { return clears_; }
 
   // Over the filled cells in fill order; coverage over cells().
   ArchiveStats stats() const;
@@ -90,9 +93,13 @@ class EliteStore {
   // (with_base) base features. `label` names the fields in read errors ("archive", "CVT").
   void save_elites(BinaryWriter& out, bool with_base) const;
   SavedElites read_elites(BinaryReader& in, bool with_base, std::string_view label) const;
-  // Clears the store and puts saved elites back in their cells, in order; fails `in` on a cell
+  // Empties the store (not counted as a clear) and puts saved elites back in their cells, in order; fails `in` on a cell
   // out of range or repeated.
   void restore(const SavedElites& saved, const BinaryReader& in);
+
+ protected:
+  // Empties every cell without counting a clear (a checkpoint's restore).
+  void remove_all();
 
  private:
   void store(Index cell, const Real* solution, Real objective, const Real* measures, const Real* base_features);
@@ -104,6 +111,7 @@ class EliteStore {
   RowMatrix measures_;
   RowMatrix base_;
   std::vector<Index> filled_;
+  std::uint64_t clears_ = 0;
 };
 
 }  // namespace qdmeta

@@ -75,6 +75,7 @@ class GridArchive : private EliteStore {
   // as the map rebuild does).
   using EliteStore::place;
   using EliteStore::clear;
+  using EliteStore::clears;
 
   using EliteStore::base_features;
   using EliteStore::filled_cells;

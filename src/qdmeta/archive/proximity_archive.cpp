@@ -172,6 +172,46 @@ ProximityAddResult ProximityArchive::add(std::span<const double> solutions, std:
   return result;
 }
 
+void ProximityArchive::save(BinaryWriter& out) const {
+  out.tag("proximity archive");
+  out.value(static_cast<std::int64_t>(params_.solution_size));
+  out.value(static_cast<std::int64_t>(params_.measure_size));
+  out.value(threshold_);
+  out.value(static_cast<std::int64_t>(adds_without_novel_));
+  out.values(solutions_);
+  out.values(objectives_);
+  out.values(measures_);
+}
+
+void ProximityArchive::load(BinaryReader& in) {
+  in.expect_tag("proximity archive");
+  const auto s = in.value<std::int64_t>("proximity solution size");
+  const auto d = in.value<std::int64_t>("proximity measure size");
+  if (s != params_.solution_size || d != params_.measure_size)
+    in.fail(fmt::format("the saved proximity archive has {} genes and {} measures; this one {} and {}", s, d,
+                        params_.solution_size, params_.measure_size));
+  const auto threshold = in.value<double>("novelty threshold");
+  const auto without_novel = in.value<std::int64_t>("adds without a novel one");
+  auto solutions = in.values<double>("proximity solutions");
+  auto objectives = in.values<double>("proximity objectives");
+  auto measures = in.values<double>("proximity measures");
+  const std::size_t n = objectives.size();
+  if (solutions.size() != n * static_cast<std::size_t>(s) || measures.size() != n * static_cast<std::size_t>(d))
+    in.fail(fmt::format("the saved proximity archive's solutions or measures do not fit its {} elites", n));
+  const auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  if (!std::isfinite(threshold) || threshold < 0.0 || without_novel < 0 || !finite(solutions) || !finite(objectives) ||
+      !finite(measures))
+    in.fail("the saved proximity archive holds a value out of range or not finite: the saved state is damaged");
+  threshold_ = threshold;
+  adds_without_novel_ = static_cast<Index>(without_novel);
+  solutions_ = std::move(solutions);
+  objectives_ = std::move(objectives);
+  measures_ = std::move(measures);
+  tree_ = n == 0 ? nullptr : std::make_shared<const KdTree>(measures_, static_cast<std::size_t>(params_.measure_size));
+}
+
 ArchiveStats ProximityArchive::stats() const {
   return archive_stats(
       [&](auto&& visit) {

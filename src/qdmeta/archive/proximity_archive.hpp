@@ -16,6 +16,7 @@
 
 #include "qdmeta/archive/archive_stats.hpp"
 #include "qdmeta/archive/kd_tree.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
@@ -68,6 +69,12 @@ class ProximityArchive {
   std::span<const double> measures() const { return measures_; }
   // pyribs's statistics; every elite is its own cell, so coverage is 1 once one is there.
   ArchiveStats stats() const;
+
+  // Checkpoints for bit-exact continuation: the elites, the threshold and its decay count.
+  // load() requires an archive of the same solution and measure sizes (InputError otherwise)
+  // and refuses a non-finite value.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   // The min(k, size()) nearest elites to `point`, nearest first, with their distances.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "qdmeta/archive/archive_stats.hpp"
+#include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
@@ -58,6 +59,12 @@ class SlidingBoundariesArchive {
   double objective(Index cell) const { return objectives_[static_cast<std::size_t>(cell)]; }
   std::span<const double> measures(Index cell) const;
   ArchiveStats stats() const;
+
+  // Checkpoints for bit-exact continuation (sliding_boundaries_checkpoint.cpp): boundaries,
+  // buffer, elites and counts. load() requires an archive of the same solution size and dims
+  // (InputError otherwise) and refuses a saved state that does not hold together.
+  void save(BinaryWriter& out) const;
+  void load(BinaryReader& in);
 
  private:
   struct Entry {

@@ -31,6 +31,11 @@ struct EmitterResults {
 // or returns false when the archive is empty (scheduler.hpp's elite_picker).
 using ElitePicker = std::function<bool(Rng& rng, std::vector<double>& genes)>;
 
+// The checks the variation emitters share (Gaussian, iso+line): x0 non-empty and finite, and
+// upper > lower; InputError naming `params` ("GaussianEmitterParams") and the field.
+void check_x0_and_bounds(std::string_view params, const std::vector<double>& x0, double lower_bound,
+                         double upper_bound);
+
 class Emitter {
  public:
   virtual ~Emitter() = default;
@@ -40,6 +45,10 @@ class Emitter {
   virtual const RowMatrix& ask(Rng& rng) = 0;
   // The outcomes of the last ask()'s rows; InputError when no ask() is pending or the sizes differ.
   virtual void tell(const EmitterResults& results) = 0;
+  // How many of its runs have ended (restarts done or due after the last tell), which a
+  // BanditScheduler of reselect "terminated" follows; -1 for an emitter without runs (a
+  // BanditScheduler then reselects it at every ask, as pyribs's does).
+  virtual std::int64_t ended_runs() const { return -1; }
   // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
   virtual void save(BinaryWriter& out) const = 0;
   virtual void load(BinaryReader& in) = 0;
@@ -66,6 +75,22 @@ class BatchEmitter : public Emitter {
 
  private:
   std::string name_;
+};
+
+// An emitter that learns nothing from tell() (Gaussian, iso+line): its checkpoint is its batch,
+// under `tag`.
+class StatelessEmitter : public BatchEmitter {
+ public:
+  void tell(const EmitterResults& results) override;
+  void save(BinaryWriter& out) const override;
+  void load(BinaryReader& in) override;
+
+ protected:
+  StatelessEmitter(Index rows, Index genes, std::string_view name, std::string_view tag)
+      : BatchEmitter(rows, genes, name), tag_(tag) {}
+
+ private:
+  std::string tag_;
 };
 
 }  // namespace qdmeta

@@ -83,6 +83,8 @@ class EvolutionStrategyEmitter : public BatchEmitter {
   std::int64_t restarts() const { return restarts_; }
   // True from a tell whose restart rule fired until the next ask() restarts CMA-ES.
   bool restart_pending() const { return restart_pending_; }
+  // restarts(), plus the one a fired rule has made due (pyribs counts it at the tell).
+  std::int64_t ended_runs() const override { return restarts_ + (restart_pending_ ? 1 : 0); }
   // The parents of the last tell (the "filter" rule's mu when it is the rule).
   int last_parents() const { return last_parents_; }
   // The random-direction rankers' direction in measure space (empty before the first ask()).

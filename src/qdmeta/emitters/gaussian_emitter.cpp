@@ -12,18 +12,11 @@
 namespace qdmeta {
 
 void GaussianEmitterParams::validate() const {
-  if (x0.empty()) throw InputError("GaussianEmitterParams.x0 is empty: give the first parent, one value per gene");
-  for (std::size_t j = 0; j < x0.size(); ++j) {
-    if (!std::isfinite(x0[j])) throw InputError(fmt::format("GaussianEmitterParams.x0[{}] = {} is invalid: must be finite", j, x0[j]));
-  }
+  check_x0_and_bounds("GaussianEmitterParams", x0, lower_bound, upper_bound);
   if (!std::isfinite(sigma) || sigma <= 0.0) {
     throw InputError(fmt::format("GaussianEmitterParams.sigma = {} is invalid: must be finite and > 0", sigma));
   }
   require_at_least("GaussianEmitterParams.batch_size", batch_size, 1);
-  if (std::isnan(lower_bound) || std::isnan(upper_bound) || !(upper_bound > lower_bound)) {
-    throw InputError(fmt::format("GaussianEmitterParams.upper_bound = {} is invalid: must be > lower_bound = {}",
-                                 upper_bound, lower_bound));
-  }
 }
 
 namespace {
@@ -34,7 +27,8 @@ const GaussianEmitterParams& checked(const GaussianEmitterParams& p) {
 }  // namespace
 
 GaussianEmitter::GaussianEmitter(GaussianEmitterParams params, ElitePicker pick_elite)
-    : BatchEmitter(checked(params).batch_size, static_cast<Index>(params.x0.size()), "GaussianEmitter"),
+    : StatelessEmitter(checked(params).batch_size, static_cast<Index>(params.x0.size()), "GaussianEmitter",
+                       "gaussian emitter"),
       params_(std::move(params)),
       pick_elite_(std::move(pick_elite)),
       parent_(params_.x0.size()) {}
@@ -50,21 +44,6 @@ const RowMatrix& GaussianEmitter::ask(Rng& rng) {
   }
   awaiting_tell_ = true;
   return batch_;
-}
-
-void GaussianEmitter::tell(const EmitterResults& results) {
-  check_tell(results);
-  awaiting_tell_ = false;
-}
-
-void GaussianEmitter::save(BinaryWriter& out) const {
-  out.tag("gaussian emitter");
-  save_batch(out);
-}
-
-void GaussianEmitter::load(BinaryReader& in) {
-  in.expect_tag("gaussian emitter");
-  load_batch(in);
 }
 
 }  // namespace qdmeta

@@ -20,16 +20,13 @@ struct GaussianEmitterParams {
   void validate() const;
 };
 
-class GaussianEmitter : public BatchEmitter {
+class GaussianEmitter : public StatelessEmitter {
  public:
   GaussianEmitter(GaussianEmitterParams params, ElitePicker pick_elite);
 
   const GaussianEmitterParams& params() const { return params_; }
   // Per row: the elite draw, then solution_size() normals in gene order.
   const RowMatrix& ask(Rng& rng) override;
-  void tell(const EmitterResults& results) override;
-  void save(BinaryWriter& out) const override;
-  void load(BinaryReader& in) override;
 
  private:
   GaussianEmitterParams params_;

@@ -4,13 +4,16 @@
 // measures, adds every row to the archive under the thresholds (thresholded_add.hpp), and tells
 // each emitter the outcomes of its own rows. ThresholdParams{alpha = 1, threshold_min = -inf} is
 // CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
-// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it.
+// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it, and
+// archive.clear() resets them to threshold_min (as pyribs, whose empty cells score against
+// threshold_min whatever their threshold was).
 //
 //   GridArchive archive(grid_params);
 //   Scheduler scheduler(archive, ThresholdParams{0.01, 0.0},
 //                       make_evolution_strategy_emitters(archive, emitter_params, 5));
 //   const RowMatrix& x = scheduler.ask(rng);   // evaluate each row...
 //   scheduler.tell(objectives, measures);
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -51,7 +54,11 @@ template <CellIndexedArchive A>
 class Scheduler {
  public:
   Scheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> emitters)
-      : archive_(archive), thresholds_(archive.cells(), thresholds), emitters_(std::move(emitters)) {
+      : archive_(archive),
+        thresholds_(archive.cells(), thresholds),
+        seen_clears_(archive.clears()),
+        emitters_(std::move(emitters)),
+        active_(emitters_.size(), 1) {
     if (emitters_.empty()) throw InputError("Scheduler emitters is empty: give at least one emitter");
     Index rows = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
@@ -66,11 +73,28 @@ class Scheduler {
     outcomes_.resize(static_cast<std::size_t>(rows));
   }
 
+  // The rows of the next (or pending) ask: the active emitters' batches.
   Index batch_size() const { return solutions_.rows(); }
   std::size_t emitter_count() const { return emitters_.size(); }
+  // Which emitters ask() asks and tell() tells, one flag per emitter: all unless set_active()
+  // (a BanditScheduler's choice) says otherwise.
+  const std::vector<std::uint8_t>& active() const { return active_; }
+  // Only between a tell and the next ask; at least one emitter; InputError otherwise.
+  void set_active(std::vector<std::uint8_t> active) {
+    if (awaiting_tell_) throw InputError("Scheduler::set_active: called between ask and tell");
+    if (active.size() != emitters_.size() || std::find(active.begin(), active.end(), 1) == active.end())
+      throw InputError(fmt::format("Scheduler::set_active: give {} flags, at least one set", emitters_.size()));
+    active_ = std::move(active);
+    solutions_.setZero(active_rows(), solutions_.cols());
+  }
+  bool awaiting_tell() const { return awaiting_tell_; }
   const Emitter& emitter(std::size_t i) const { return *emitters_[i]; }
   A& archive() { return archive_; }
-  const CellThresholds& thresholds() const { return thresholds_; }
+  // threshold_min in every cell since the archive's last clear().
+  const CellThresholds& thresholds() const {
+    follow_clears();
+    return thresholds_;
+  }
   // The last ask()'s rows (all zero before the first ask()).
   const RowMatrix& solutions() const { return solutions_; }
   // The last tell's outcomes, one per row.
@@ -80,8 +104,9 @@ class Scheduler {
   const RowMatrix& ask(Rng& rng) {
     if (awaiting_tell_) throw InputError("Scheduler::ask: called twice without tell; tell the last batch's results first");
     Index row = 0;
-    for (auto& emitter : emitters_) {
-      const RowMatrix& batch = emitter->ask(rng);
+    for (std::size_t i = 0; i < emitters_.size(); ++i) {
+      if (!active_[i]) continue;
+      const RowMatrix& batch = emitters_[i]->ask(rng);
       solutions_.middleRows(row, batch.rows()) = batch;
       row += batch.rows();
     }
@@ -93,10 +118,14 @@ class Scheduler {
   // row, empty: all valid) marks rows that enter no cell (a task's invalid solutions).
   void tell(std::span<const Real> objectives, RowsView measures, std::span<const std::uint8_t> valid = {}) {
     if (!awaiting_tell_) throw InputError("Scheduler::tell: called without a pending ask; call ask() first");
+    follow_clears();
+    outcomes_.resize(static_cast<std::size_t>(solutions_.rows()));
     add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, valid}, outcomes_);
     awaiting_tell_ = false;
     Index row = 0;
-    for (auto& emitter : emitters_) {
+    for (std::size_t i = 0; i < emitters_.size(); ++i) {
+      if (!active_[i]) continue;
+      Emitter* emitter = emitters_[i].get();
       const Index rows = emitter->batch_size();
       const auto first = static_cast<std::size_t>(row);
       const auto count = static_cast<std::size_t>(rows);
@@ -111,7 +140,7 @@ class Scheduler {
   // scheduler built alike.
   void save(BinaryWriter& out) const {
     out.tag("emitter scheduler");
-    thresholds_.save(out);
+    thresholds().save(out);
     for (const auto& emitter : emitters_) emitter->save(out);
     out.boolean(awaiting_tell_);
     out.matrix(solutions_);
@@ -119,21 +148,38 @@ class Scheduler {
   void load(BinaryReader& in) {
     in.expect_tag("emitter scheduler");
     thresholds_.load(in);
+    seen_clears_ = archive_.clears();  // the checkpoint's thresholds are those after its clears
     for (auto& emitter : emitters_) emitter->load(in);
     awaiting_tell_ = in.boolean("scheduler pending flag");
     RowMatrix solutions;
     in.matrix(solutions, "scheduler batch");
-    if (solutions.rows() != solutions_.rows() || solutions.cols() != solutions_.cols()) {
+    if (solutions.rows() != active_rows() || solutions.cols() != solutions_.cols()) {
       in.fail(fmt::format("the scheduler batch is {}x{}, expected {}x{}", solutions.rows(), solutions.cols(),
-                          solutions_.rows(), solutions_.cols()));
+                          active_rows(), solutions_.cols()));
     }
     solutions_ = std::move(solutions);
   }
 
  private:
+  Index active_rows() const {
+    Index rows = 0;
+    for (std::size_t i = 0; i < emitters_.size(); ++i) rows += active_[i] ? emitters_[i]->batch_size() : 0;
+    return rows;
+  }
+
+  // Resets the thresholds once per archive clear() since they last looked; mutable, as reading
+  // them must not show thresholds the cleared archive no longer has.
+  void follow_clears() const {
+    if (archive_.clears() == seen_clears_) return;
+    thresholds_.clear();
+    seen_clears_ = archive_.clears();
+  }
+
   A& archive_;
-  CellThresholds thresholds_;
+  mutable CellThresholds thresholds_;
+  mutable std::uint64_t seen_clears_;
   std::vector<std::unique_ptr<Emitter>> emitters_;
+  std::vector<std::uint8_t> active_;
   RowMatrix solutions_;
   std::vector<ThresholdOutcome> outcomes_;
   bool awaiting_tell_ = false;

@@ -4,6 +4,7 @@
 // the thresholds beside it, keyed by the archive's cell index, give each row the status and
 // improvement value that the emitters rank by.
 #include <concepts>
+#include <cstdint>
 #include <limits>
 #include <span>
 
@@ -19,6 +20,7 @@ namespace qdmeta {
 template <class A>
 concept CellIndexedArchive = EliteArchive<A> && requires(const A& ca, const Real* measures) {
   { ca.index_of(measures) } -> std::convertible_to<Index>;
+  { ca.clears() } -> std::convertible_to<std::uint64_t>;  // Scheduler resets its thresholds on a clear
 };
 
 // Adds the valid rows of `batch` to `archive` (its add_batch checks the batch first and throws
