@@ -68,6 +68,8 @@ TEST(QdMetaBottomLevel, KeysOfTheOtherBottomLevelAreRefusedByName) {
       {kHead + "[archive]\nthreshold_min = -10\n", "archive.threshold_min does not apply to algorithm \"qd-meta\": " + why},
       {kHead + "[qd_meta]\nbottom_level = \"cma-me\"\n",
        "qd_meta.bottom_level = \"cma-me\" is not a valid choice: use one of \"map-elites\", \"cma-mae\""},
+      {cma + "[emitters]\ncount = 100\nbatch_size = 100001\n",
+       "emitters.count x emitters.batch_size = 10000100 is above the 10^7 rows a map's generation may have"},
       {cma + "[emitters]\nrestart_every = 5\n",
        "emitters.restart_every applies only to restart_rule = \"every-n\" (here \"basic\")"},
   };

@@ -99,6 +99,10 @@ void read_qd_meta_emitters(AlgorithmBuild& b, ConfigReader& archive, const GridA
   p.emitters = read_cma_mae_emitters(emitters, archive, b.task, std::move(ranges));
   p.emitters.name = "qd-meta";
   p.batch_size = Index{p.emitters.emitters} * p.emitters.emitter.batch_size;
+  if (p.batch_size > 10'000'000)
+    throw InputError(fmt::format("{}: emitters.count x emitters.batch_size = {} is above the 10^7 rows a map's "
+                                 "generation may have",
+                                 emitters.source(), p.batch_size));
 }
 
 // The paper's bottom level: the keys of qd_meta.bottom_level = "cma-mae" are refused by name.
