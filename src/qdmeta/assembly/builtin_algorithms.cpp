@@ -97,7 +97,6 @@ void read_qd_meta_emitters(AlgorithmBuild& b, ConfigReader& archive, const GridA
   std::vector<double> ranges;
   for (std::size_t d = 0; d < grid.bins.size(); ++d) ranges.push_back(grid.upper_of(d) - grid.lower_of(d));
   p.emitters = read_cma_mae_emitters(emitters, archive, b.task, std::move(ranges));
-  p.emitters.name = "qd-meta";
   p.batch_size = Index{p.emitters.emitters} * p.emitters.emitter.batch_size;
   if (p.batch_size > 10'000'000)
     throw InputError(fmt::format("{}: emitters.count x emitters.batch_size = {} is above the 10^7 rows a map's "
