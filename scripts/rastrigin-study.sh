@@ -20,6 +20,9 @@
 #                                         their CMA-ES ran it (SD 0.0025 and 0.05), CVT-MAP-Elites
 #                                         on their centroid file, QD-Meta with their 2g - 1 database
 #                                         inputs; 20 replicates
+#   cma-mae-inner  experiment-cma-mae-inner.toml  QD-Meta Translation and Dimension over CMA-MAE's
+#                                         emitters (qd_meta.bottom_level = "cma-mae"), and CMA-MAE
+#                                         alone; 10 replicates (not the paper's)
 #
 # --centroids FILE (or QDMETA_AUTHORS_CENTROIDS=FILE), study authors: the authors' centroid file
 # centroids_10000_20.dat, which the repository does not hold (docs/fidelity.md says where to get
@@ -80,7 +83,9 @@ case $study in
   lambda-stated-sd) config=${config:-configs/rastrigin/experiment-lambda-stated-sd.toml} ;;
   stated-sd) config=${config:-configs/rastrigin/experiment-stated-sd.toml} ;;
   authors) config=${config:-configs/rastrigin/experiment-authors.toml} ;;
-  *) echo "rastrigin-study: --study must be paper, lambda, lambda-stated-sd, stated-sd or authors" >&2; usage ;;
+  cma-mae-inner) config=${config:-configs/rastrigin/experiment-cma-mae-inner.toml} ;;
+  *) echo "rastrigin-study: --study must be paper, lambda, lambda-stated-sd, stated-sd, authors or cma-mae-inner" >&2
+     usage ;;
 esac
 [[ -f $config ]] || fail "$config: no such experiment file"
 [[ $evals =~ ^[1-9][0-9]*$ ]] || fail "--evals must be a positive integer"

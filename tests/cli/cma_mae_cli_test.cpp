@@ -155,6 +155,34 @@ TEST(CmaMaeCli, AKilledRunResumesToTheSameBits) {
   }
 }
 
+// Runs `config` (20,000 evaluations) on one thread into `one`, on two, and killed after its
+// `checkpoint`-th checkpoint and resumed on two: the three give the same bits.
+void expect_thread_independent_and_resumable(const fs::path& config, const std::string& name, int checkpoint,
+                                             const fs::path& one) {
+  const fs::path two = fresh_dir(name + "-two"), killed = fresh_dir(name + "-killed");
+  const Outcome o = run(config, one);
+  ASSERT_EQ(o.status, 0) << o.output;
+  ASSERT_EQ(run(config, two, "--threads 2").status, 0);
+  expect_same_run(one, two);
+  signalled_at_checkpoint(std::string(QDMETA_BINARY) + " run --config " + config.string() + " --out " + killed.string() +
+                              " --evals 20000 --quiet --threads 1",
+                          checkpoint, "KILL");
+  ASSERT_TRUE(fs::exists(killed / "checkpoint.bin"));
+  ASSERT_FALSE(fs::exists(killed / "summary.json")) << name << " finished before it was killed";
+  ASSERT_EQ(qdmeta_cli("resume --out " + killed.string() + " --threads 2 --quiet").status, 0);
+  expect_same_run(one, killed);
+}
+
+// QD-Meta over CMA-MAE (qd_meta.bottom_level = "cma-mae"), killed after its 20th meta-generation.
+TEST(CmaMaeCli, QdMetaOverCmaMaeIsThreadIndependentAndResumesToTheSameBits) {
+  const fs::path config = write_config(
+      "qd-meta-cma-mae",
+      "algorithm = \"qd-meta\"\n[task]\nname = \"rastrigin\"\ndimensions = 20\n[qd_meta]\nbottom_level = \"cma-mae\"\n"
+      "meta_population = 3\ninitial_population = 200\n[emitters]\ncount = 4\nbatch_size = 10\n[control]\n"
+      "kind = \"static\"\ngenerations = 2\n[archive]\nbins = [20, 20]\n[checkpoint]\nevery_seconds = 0\n");
+  expect_thread_independent_and_resumable(config, "qdm", 20, fresh_dir("qdm-one"));
+}
+
 // CVT cells (200 centroids, made once and cached): each elite's cell is its own, its measures
 // its genes (Rastrigin's base features), and resuming or a second thread changes no bit.
 TEST(CmaMaeCli, CvtArchiveRunIsExactResumableAndThreadIndependent) {
@@ -163,17 +191,8 @@ TEST(CmaMaeCli, CvtArchiveRunIsExactResumableAndThreadIndependent) {
       "cvt", small_config("cma-mae", "", "kind = \"cvt\"\n",
                           "[cvt]\ncentroids = 200\nsamples = 4000\ninit_samples = 2000\niterations = 5\ncache_dir = \"" +
                               cache.string() + "\"\n[checkpoint]\nevery_seconds = 0\n"));
-  const fs::path one = fresh_dir("cvt-one"), two = fresh_dir("cvt-two"), killed = fresh_dir("cvt-killed");
-  const Outcome o = run(config, one);
-  ASSERT_EQ(o.status, 0) << o.output;
-  ASSERT_EQ(run(config, two, "--threads 2").status, 0);
-  expect_same_run(one, two);
-  signalled_at_checkpoint(std::string(QDMETA_BINARY) + " run --config " + config.string() + " --out " + killed.string() +
-                              " --evals 20000 --quiet --threads 1",
-                          100, "KILL");
-  ASSERT_TRUE(fs::exists(killed / "checkpoint.bin"));
-  ASSERT_EQ(qdmeta_cli("resume --out " + killed.string() + " --threads 2 --quiet").status, 0);
-  expect_same_run(one, killed);
+  const fs::path one = fresh_dir("cvt-one");
+  expect_thread_independent_and_resumable(config, "cvt", 100, one);
 
   const EliteTable t = read_elites_csv(one / "archive.csv");
   EXPECT_GT(t.size(), 150);

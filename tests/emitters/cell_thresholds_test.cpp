@@ -131,6 +131,27 @@ TEST(CellThresholds, ResultArchiveKeepsTheBestWhileThresholdsAnneal) {
   EXPECT_EQ(thresholds.threshold(0), 2.5);
 }
 
+// A warm start from elites (QD-Meta's rebuilt maps): as offering each at learning rate 1, whatever
+// alpha is; it never lowers a threshold, and an elite at or below threshold_min leaves its cell
+// unreached. The annealing then goes on from there.
+TEST(CellThresholds, RaiseToIsAnOfferAtLearningRateOne) {
+  CellThresholds t(3, mae(0.5, -10.0));
+  t.raise_to(0, -4.0);
+  t.raise_to(1, -10.0);
+  t.raise_to(2, -3.0);
+  t.raise_to(2, -6.0);
+  EXPECT_EQ(t.threshold(0), -4.0);
+  EXPECT_TRUE(t.reached(0));
+  EXPECT_EQ(t.threshold(1), -10.0);
+  EXPECT_FALSE(t.reached(1));
+  EXPECT_EQ(t.threshold(2), -3.0);
+  const ThresholdOutcome o = t.offer(0, -2.0);  // improvement 2, then (1 - 0.5) -4 + 0.5 -2 = -3
+  EXPECT_EQ(o.status, AddStatus::kImproved);
+  EXPECT_EQ(o.improvement, 2.0);
+  EXPECT_EQ(t.threshold(0), -3.0);
+  EXPECT_INPUT_ERROR(t.raise_to(3, 0.0), "CellThresholds::raise_to: cell = 3 is outside [0, 3)");
+}
+
 TEST(CellThresholds, RefusesBadSettingsNamingTheKey) {
   EXPECT_INPUT_ERROR(mae(1.5, 0.0).validate(), "ThresholdParams.alpha = 1.5 is out of range: must be in [0, 1]");
   EXPECT_INPUT_ERROR(mae(-0.1, 0.0).validate(), "ThresholdParams.alpha = -0.1 is out of range: must be in [0, 1]");

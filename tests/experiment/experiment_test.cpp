@@ -83,6 +83,30 @@ TEST(Experiment, ShippedExperimentFilesLoad) {
     EXPECT_EQ(stated.conditions[i].slug, paper.conditions[i].slug);
     EXPECT_EQ(sigma(stated.conditions[i]), 0.05);
   }
+  // QD-Meta over CMA-MAE: the headline study's QD-Meta conditions but for their bottom level (and
+  // [mutation] and qd_meta.batch_size, which it replaces by 10 emitters of 40 rows), and CMA-MAE
+  // alone, all at the headline study's budget.
+  const ExperimentSpec inner = load_experiment(dir / "experiment-cma-mae-inner.toml", std::nullopt, std::nullopt);
+  EXPECT_EQ(inner.replicates, 10);
+  ASSERT_EQ(inner.conditions.size(), 3u);
+  EXPECT_EQ(inner.conditions[0].slug, "qd-meta-translation-cma-mae");
+  EXPECT_EQ(inner.conditions[1].slug, "qd-meta-dimension-cma-mae");
+  for (std::size_t i = 0; i < 2; ++i) {
+    toml::table ours = inner.conditions[i].effective_config();
+    toml::table gaussian = paper.conditions[1 - i].effective_config();  // Translation, Dimension
+    EXPECT_EQ(ours["qd_meta"]["bottom_level"].value<std::string>(), "cma-mae");
+    EXPECT_EQ(ours["emitters"]["count"].value_or(0) * ours["emitters"]["batch_size"].value_or(0),
+              gaussian["qd_meta"]["batch_size"].value_or(-1));
+    for (toml::table* t : {&ours, &gaussian}) {
+      for (const char* table : {"emitters", "mutation"}) t->erase(table);
+      for (const char* key : {"bottom_level", "batch_size"}) t->get_as<toml::table>("qd_meta")->erase(key);
+      for (const char* key : {"learning_rate", "threshold_min"}) t->get_as<toml::table>("archive")->erase(key);
+    }
+    EXPECT_EQ(ours, gaussian) << inner.conditions[i].name;
+  }
+  EXPECT_EQ(inner.conditions[2].effective_config()["algorithm"].value<std::string>(), "cma-mae");
+  for (const auto& c : inner.conditions)
+    EXPECT_EQ(c.effective_config()["budget"]["evaluations"].value<std::int64_t>(), 100'000'000) << c.name;
 }
 
 std::string file_text(const fs::path& p) {

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "qdmeta/algorithms/map_elites.hpp"
+#include "qdmeta/algorithms/qd_meta_emitters.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/parallel.hpp"
 #include "qdmeta/core/params.hpp"
@@ -26,6 +27,12 @@ void QdMetaParams::validate() const {
     throw InputError(fmt::format("qd_meta.sigmoid_scale = {} is out of range: must be a positive number", sigmoid_scale));
   if (!(cma_sigma > 0 && std::isfinite(cma_sigma)))
     throw InputError(fmt::format("cma_es.sigma = {} is out of range: must be a positive number", cma_sigma));
+  if (bottom_level != BottomLevel::kCmaMae) return;
+  emitters.validate();
+  if (const Index rows = Index{emitters.emitters} * emitters.emitter.batch_size; batch_size != rows)
+    throw InputError(fmt::format("qd_meta.batch_size = {} must be emitters.count x emitters.batch_size = {} with "
+                                 "qd_meta.bottom_level = \"cma-mae\" (a generation is one batch of every emitter)",
+                                 batch_size, rows));
 }
 
 namespace {
@@ -87,6 +94,13 @@ void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArch
         4 * k * k * sizeof(double) + lambda * k * sizeof(double));
   m.add("the initial population", "qd_meta.initial_population x genes",
         offspring_bytes(static_cast<double>(p.initial_population), task));
+  if (p.bottom_level == BottomLevel::kCmaMae) {
+    const double cells = lambda * grid_cells(grid);
+    m.add("the maps' acceptance thresholds", "qd_meta.meta_population x archive.bins (cells)",
+          cells * (sizeof(double) + 1));
+    m.add("the maps' emitters' CMA-ES", "qd_meta.meta_population x emitters.count x genes^2",
+          lambda * static_cast<double>(p.emitters.emitters) * 4 * n * n * sizeof(double));
+  }
 }
 
 QdMeta::QdMeta(QdMetaParams params, Task task, std::unique_ptr<MetaObjective> meta_objective,
@@ -107,6 +121,12 @@ QdMeta::QdMeta(QdMetaParams params, Task task, std::unique_ptr<MetaObjective> me
   if (task_.base_feature_size() < 1)
     throw InputError(fmt::format("qd-meta: task '{}' has no base features to build feature-maps from", task_.name()));
   const auto lambda = static_cast<std::size_t>(params_.meta_population);
+  if (params_.bottom_level == BottomLevel::kCmaMae) {
+    if (static_cast<Index>(params_.emitters.emitter.x0.size()) != task_.genotype_size())
+      throw InputError(fmt::format("qd-meta: emitters' x0 has {} values, the task {} genes",
+                                   params_.emitters.emitter.x0.size(), task_.genotype_size()));
+    schedulers_.resize(lambda);
+  }
   archives_.assign(lambda, best_archive_);
   maps_.resize(lambda);
   offspring_.resize(lambda);
@@ -194,8 +214,9 @@ bool QdMeta::take_results() {
     for_each_map(lambda, true, [&](Index i) {
       const auto m = static_cast<std::size_t>(i);
       const RowMatrix& block = blocks_[m];
-      const EvaluationBatch& e = block_evaluations_[m];
-      insert_batch(archives_[m], *maps_[m], block, e, targets_[m]);
+      EvaluationBatch& e = block_evaluations_[m];
+      if (schedulers_.empty()) insert_batch(archives_[m], *maps_[m], block, e, targets_[m]);
+      else tell_map_emitters(*schedulers_[m], *maps_[m], e, targets_[m]);
       offspring_[m].middleRows(g * batch, batch) = block;
       evaluations_[m].fitness.segment(g * batch, batch) = e.fitness;
       evaluations_[m].base_features.middleRows(g * batch, batch) = e.base_features;
@@ -248,6 +269,10 @@ void QdMeta::begin_meta_generation() {
   if (generations < 1) throw Error(fmt::format("controller '{}' chose {} generations", controller_->name(), generations));
   generations_ = generations;
   next_generation_ = 0;
+  for (std::size_t m = 0; m < schedulers_.size(); ++m) {  // kCmaMae: each map's emitters, from its own stream
+    Rng rng = Rng::stream(seed_, {key(StreamKey::kEmitterStart), t, static_cast<std::uint64_t>(m)});
+    schedulers_[m] = start_map_emitters(archives_[m], params_.emitters, rng);
+  }
   const Index n = task_.genotype_size();
   const Index batch = params_.batch_size;
   for (std::size_t m = 0; m < static_cast<std::size_t>(lambda); ++m) {
@@ -259,12 +284,14 @@ void QdMeta::begin_meta_generation() {
   phase_ = Phase::kGenerations;
 }
 
-// Generation g of map i, from its own stream (seed, variation, t, map, g).
+// Generation g of map i, from its own stream (seed, variation, t, map, g): its emitters' batch,
+// or offspring of its elites (random genotypes while it is empty).
 void QdMeta::vary_map(Index i, int g) {
   const auto m = static_cast<std::size_t>(i);
   Rng rng = Rng::stream(seed_, {key(StreamKey::kVariation), static_cast<std::uint64_t>(meta_generation_),
                                 static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(g)});
-  if (archives_[m].empty()) random_genotypes(blocks_[m], rng);
+  if (!schedulers_.empty()) blocks_[m] = schedulers_[m]->ask(rng);
+  else if (archives_[m].empty()) random_genotypes(blocks_[m], rng);
   else generate_offspring(archives_[m], mutation_, rng, blocks_[m]);
 }
 

@@ -2,7 +2,8 @@
 // QD-Meta (paper Algorithm 1, docs/specification.md, QD-Meta). CMA-ES evolves feature-maps (meta-genotypes);
 // each meta-generation every sampled feature-map gets a fresh grid archive rebuilt from the
 // database of all solutions so far, evolves it for G MAP-Elites generations (G from the
-// controller), and is scored by the meta-objective; CMA-ES and the controller then update.
+// controller), and is scored by the meta-objective; CMA-ES and the controller then update. With
+// bottom_level = kCmaMae the G generations are CMA-MAE's instead (algorithms/qd_meta_emitters.hpp).
 // One step() is one meta-generation (the first also evaluates the initial population, which
 // only seeds the database).
 //
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "qdmeta/algorithms/algorithm.hpp"
+#include "qdmeta/algorithms/cma_mae.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/control/controller.hpp"
 #include "qdmeta/core/meta_objective.hpp"
@@ -40,6 +42,12 @@ enum class DatabaseInputs { kBaseFeatures, kAuthors2gMinus1 };
 inline constexpr EnumNames<DatabaseInputs, 2> kDatabaseInputsNames{
     {{DatabaseInputs::kBaseFeatures, "base-features"}, {DatabaseInputs::kAuthors2gMinus1, "authors-2g-1"}}};
 
+// How each map fills its archive in its G generations: the paper's MAP-Elites ([mutation] of
+// uniformly drawn elites), or CMA-MAE's emitters (algorithms/qd_meta_emitters.hpp; not the paper's).
+enum class BottomLevel { kMapElites, kCmaMae };
+inline constexpr EnumNames<BottomLevel, 2> kBottomLevelNames{
+    {{BottomLevel::kMapElites, "map-elites"}, {BottomLevel::kCmaMae, "cma-mae"}}};
+
 struct QdMetaParams {
   Index meta_population = 10;          // lambda, feature-maps per meta-generation (1 is a (1,1)-ES)
   Index batch_size = 400;              // offspring per MAP-Elites generation
@@ -54,6 +62,10 @@ struct QdMetaParams {
   CmaSmallPopulation cma_small_population = CmaSmallPopulation::kOneOne;
   DatabaseInputs database_inputs = DatabaseInputs::kBaseFeatures;
   bool count_meta_evaluations = false; // does the controller's "evaluations spent" include them
+  BottomLevel bottom_level = BottomLevel::kMapElites;
+  // kCmaMae: every map's emitters and thresholds; batch_size must be emitters x emitter.batch_size
+  // (a generation is one ask of every emitter), and emitter.x0 serves only an empty archive.
+  CmaMaeParams emitters;
   void validate() const;
 };
 
@@ -88,6 +100,12 @@ class QdMeta final : public Algorithm {
   const std::vector<GridArchive>& map_archives() const { return archives_; }
   double best_meta_fitness() const { return record_.meta_fitness_best; }
   const std::vector<double>& meta_fitness() const { return meta_fitness_; }
+  // Map i's feature-map of the last meta-generation (null before the first).
+  const NeuralFeatureMap* feature_map(Index i) const { return maps_[static_cast<std::size_t>(i)].get(); }
+  // bottom_level = kCmaMae: map i's scheduler of the last meta-generation (null before the first).
+  const Scheduler<GridArchive>* emitters(Index i) const {
+    return schedulers_.empty() ? nullptr : schedulers_[static_cast<std::size_t>(i)].get();
+  }
 
  protected:
   void next_request(std::vector<EvaluationJob>& jobs) override;
@@ -122,6 +140,7 @@ class QdMeta final : public Algorithm {
   Database database_;
   std::vector<GridArchive> archives_;              // one per feature-map of the meta-generation
   std::vector<std::unique_ptr<NeuralFeatureMap>> maps_;
+  std::vector<std::unique_ptr<Scheduler<GridArchive>>> schedulers_;  // kCmaMae: per map, made afresh each meta-generation
   std::vector<RowMatrix> offspring_;               // per map: all its new genotypes this meta-generation
   std::vector<EvaluationBatch> evaluations_;       // per map: their evaluations
   std::vector<RowMatrix> blocks_;                  // per map: the current generation's genotypes

@@ -138,4 +138,13 @@ AlgorithmMaker build_cma_me(AlgorithmBuild& build) { return build_emitter_algori
 
 AlgorithmMaker build_cma_mae(AlgorithmBuild& build) { return build_emitter_algorithm(build, "cma-mae", kCmaMaeDefaults); }
 
+CmaMaeParams read_cma_mae_emitters(ConfigReader& emitters, ConfigReader& archive, const Task& task,
+                                   std::vector<double> measure_ranges) {
+  CmaMaeParams p = read_emitters_table(emitters, task, kCmaMaeDefaults);
+  read_thresholds(archive, "cma-mae", task, p.thresholds);
+  p.emitter.measure_ranges = std::move(measure_ranges);
+  naming_source(emitters, [&] { p.validate(); });
+  return p;
+}
+
 }  // namespace qdmeta

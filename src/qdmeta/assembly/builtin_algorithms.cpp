@@ -88,11 +88,43 @@ AlgorithmMaker build_cvt_map_elites(AlgorithmBuild& b) {
   };
 }
 
+// qd_meta.bottom_level = "cma-mae": [emitters] and the thresholds on [archive] as "cma-mae" reads
+// them; a generation of a map is one batch of every emitter, and [mutation] has nothing to vary.
+void read_qd_meta_emitters(AlgorithmBuild& b, ConfigReader& archive, const GridArchiveParams& grid, QdMetaParams& p) {
+  refuse_table(b.root, "mutation", "qd-meta", "with qd_meta.bottom_level = \"cma-mae\" its emitters make each batch");
+  b.built.resolved.erase("mutation");  // build_run() recorded its defaults, which do not apply
+  ConfigReader emitters = b.root.table("emitters");
+  std::vector<double> ranges;
+  for (std::size_t d = 0; d < grid.bins.size(); ++d) ranges.push_back(grid.upper_of(d) - grid.lower_of(d));
+  p.emitters = read_cma_mae_emitters(emitters, archive, b.task, std::move(ranges));
+  p.batch_size = Index{p.emitters.emitters} * p.emitters.emitter.batch_size;
+  if (p.batch_size > 10'000'000)
+    throw InputError(fmt::format("{}: emitters.count x emitters.batch_size = {} is above the 10^7 rows a map's "
+                                 "generation may have",
+                                 emitters.source(), p.batch_size));
+}
+
+// The paper's bottom level: the keys of qd_meta.bottom_level = "cma-mae" are refused by name.
+void refuse_qd_meta_emitters(const ConfigReader& root, const ConfigReader& archive) {
+  const char* why = "it is read only with qd_meta.bottom_level = \"cma-mae\"";
+  refuse_table(root, "emitters", "qd-meta", why);
+  for (const char* key : {"learning_rate", "threshold_min"})
+    if (archive.has(key))
+      throw InputError(fmt::format("{}: archive.{} does not apply to algorithm \"qd-meta\": {}", archive.source(), key, why));
+}
+
 AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   ConfigReader q = b.root.table("qd_meta");
   QdMetaParams p;
+  // Read only where written (as database_inputs below).
+  if (q.has("bottom_level")) p.bottom_level = q.choice("bottom_level", p.bottom_level, kBottomLevelNames);
+  const bool emitters = p.bottom_level == BottomLevel::kCmaMae;
   p.meta_population = q.integer("meta_population", p.meta_population, 1, 10'000);
-  p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
+  if (emitters && q.has("batch_size"))
+    throw InputError(fmt::format("{}: qd_meta.batch_size does not apply with qd_meta.bottom_level = \"cma-mae\": a "
+                                 "generation is emitters.count x emitters.batch_size rows per map",
+                                 q.source()));
+  if (!emitters) p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
   p.initial_population = q.integer("initial_population", p.initial_population, 1, 100'000'000);
   p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
   p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
@@ -122,6 +154,8 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
                                  "grids, so its archive kind is \"grid\"",
                                  archive_table.source(), kind));
   GridArchiveParams grid = read_grid_table(archive_table);
+  if (emitters) read_qd_meta_emitters(b, archive_table, grid, p);
+  else refuse_qd_meta_emitters(b.root, archive_table);
   add_qd_meta_memory(b.built.memory, p, grid, b.task, controller->max_generations());
   return [p, task = std::move(b.task), objective = std::move(objective), grid = std::move(grid), mutation = b.mutation,
           controller = std::move(controller), seed = b.settings.seed]() mutable -> std::unique_ptr<Algorithm> {

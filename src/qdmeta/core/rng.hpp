@@ -170,6 +170,7 @@ enum class StreamKey : std::uint64_t {
   kTest = 6,
   kCentroids = 7,
   kAutoencoder = 8,
+  kEmitterStart = 9,  // QD-Meta over CMA-MAE: each map's emitters' first means
 };
 inline std::uint64_t key(StreamKey k) { return static_cast<std::uint64_t>(k); }
 

@@ -52,6 +52,16 @@ ThresholdOutcome CellThresholds::offer(Index cell, double objective) {
   return outcome;
 }
 
+void CellThresholds::raise_to(Index cell, double objective) {
+  if (cell < 0 || cell >= cells()) {
+    throw InputError(fmt::format("CellThresholds::raise_to: cell = {} is outside [0, {})", cell, cells()));
+  }
+  const auto e = static_cast<std::size_t>(cell);
+  if (!(objective > thresholds_[e])) return;
+  thresholds_[e] = objective;
+  reached_[e] = 1;
+}
+
 void CellThresholds::clear() {
   std::fill(thresholds_.begin(), thresholds_.end(), params_.threshold_min);
   std::fill(reached_.begin(), reached_.end(), std::uint8_t{0});

@@ -55,6 +55,10 @@ class CellThresholds {
   // Every cell back to threshold_min, unreached.
   void clear();
 
+  // A warm start from an elite already in `cell` (QD-Meta's rebuilt maps): t_e becomes
+  // `objective` and the cell reached when it beats t_e, as offering it at learning rate 1 would.
+  void raise_to(Index cell, double objective);
+
   // Checkpoints: the params, every threshold and reached flag. load() requires the same cell
   // count and params and throws InputError otherwise.
   void save(BinaryWriter& out) const;

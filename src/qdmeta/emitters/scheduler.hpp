@@ -100,6 +100,14 @@ class Scheduler {
   // The last tell's outcomes, one per row.
   std::span<const ThresholdOutcome> outcomes() const { return outcomes_; }
 
+  // A warm start over an archive that already holds elites (QD-Meta's rebuilt maps): each filled
+  // cell's threshold starts at its elite's objective (CellThresholds::raise_to), the others at
+  // threshold_min.
+  void start_thresholds_at_elites() {
+    thresholds_.clear();
+    for (Index cell : archive_.filled_cells()) thresholds_.raise_to(cell, archive_.objective(cell));
+  }
+
   // Every emitter's batch, stacked in emitter order; valid until the next ask() or load().
   const RowMatrix& ask(Rng& rng) {
     if (awaiting_tell_) throw InputError("Scheduler::ask: called twice without tell; tell the last batch's results first");
@@ -115,12 +123,15 @@ class Scheduler {
   }
 
   // The objectives and measures of the last ask()'s rows, in its order; `valid` (one flag per
-  // row, empty: all valid) marks rows that enter no cell (a task's invalid solutions).
-  void tell(std::span<const Real> objectives, RowsView measures, std::span<const std::uint8_t> valid = {}) {
+  // row, empty: all valid) marks rows that enter no cell (a task's invalid solutions);
+  // `base_features` go along into an archive that keeps them.
+  void tell(std::span<const Real> objectives, RowsView measures, std::span<const std::uint8_t> valid = {},
+            RowsView base_features = {}) {
     if (!awaiting_tell_) throw InputError("Scheduler::tell: called without a pending ask; call ask() first");
     follow_clears();
     outcomes_.resize(static_cast<std::size_t>(solutions_.rows()));
-    add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, {}, valid}, outcomes_);
+    add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, base_features, valid},
+                        outcomes_);
     awaiting_tell_ = false;
     Index row = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
