@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -13,71 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "qdmeta/assembly/build.hpp"
+#include "experiment/config_kinds.hpp"
 #include "qdmeta/plugin/config.hpp"
-#ifdef QDMETA_TEST_RHEX
-#include "qdmeta/tasks/rhex/rhex_config.hpp"
-#endif
 
 namespace qdmeta {
 namespace {
 
-// Every kind of run a config can describe: each algorithm with each of its alternatives.
-std::vector<std::string> every_kind_of_config() {
-  std::vector<std::string> tasks = {"rastrigin"};
-#ifdef QDMETA_TEST_RHEX
-  tasks.push_back("rhex");
-#endif
-  std::vector<std::string> configs;
-  for (const std::string& task : tasks) {
-    const std::string head = "[task]\nname = \"" + task + "\"\n";
-    for (const char* mutation : {"gaussian", "discrete-step", "uniform-resample", "iso-line"})
-      configs.push_back(head + "[mutation]\nkind = \"" + mutation + "\"\n");
-    configs.push_back("algorithm = \"map-elites\"\n" + head);
-    for (const char* points : {"uniform", "random-descriptors"})
-      configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\npoints = \"" + points + "\"\ncache = false\n");
-    // Keys read only where written (so older runs' resolved configs stay as they were).
-    configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\ncache = false\ncentroids_file = \"unread.dat\"\n");
-    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\ndatabase_inputs = \"authors-2g-1\"\n[cma_es]\nsmall_population = \"authors\"\n");
-    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\nbottom_level = \"cma-mae\"\n");
-    configs.push_back("algorithm = \"aurora\"\n" + head);
-    for (const char* emitters : {"cma-me", "cma-mae"}) {
-      configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head);
-      configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head +
-                        "[emitters]\nrestart_rule = \"every-n\"\n[archive]\nkind = \"cvt\"\n[cvt]\ncache = false\n");
-    }
-    const std::vector<std::string> metas =
-        task == "rastrigin" ? std::vector<std::string>{"translation", "dimension"} : std::vector<std::string>{"damage", "obstacle"};
-    for (const std::string& meta : metas)
-      for (const char* control : {"sarsa", "static"})
-        configs.push_back("algorithm = \"qd-meta\"\n" + head + "[meta_fitness]\nkind = \"" + meta + "\"\n[control]\nkind = \"" +
-                          control + "\"\n");
-  }
-  return configs;
-}
-
-std::vector<ConfigKeyRecord> keys_the_code_reads() {
-#ifdef QDMETA_TEST_RHEX
-  register_rhex_task();
-#endif
-  std::vector<ConfigKeyRecord> log;
-  {
-    const ScopedConfigKeyLog recording(log);
-    for (const std::string& text : every_kind_of_config()) {
-      const toml::table config = toml::parse(text);
-      build_run(config, "generated", {}, BuildScope::kTasksOnly);
-    }
-  }
-  // QDMETA_DUMP_CONFIG_KEYS=FILE: the log as TSV, to update the reference from.
-  if (const char* dump = std::getenv("QDMETA_DUMP_CONFIG_KEYS")) {
-    std::ofstream out(dump);
-    for (const auto& r : log) out << r.key << '\t' << r.type << '\t' << r.fallback << '\t' << r.range << '\n';
-  }
-  return log;
-}
-
 struct DocRow {
-  std::string key, type, fallback, range;
+  std::string key, type, fallback, range, meaning;
   bool fallback_in_code;  // in backticks: compared; prose ("drawn from the seed") is not
   int line;
 };
@@ -118,14 +60,17 @@ std::vector<DocRow> documented_keys() {
     if (c.size() < 5) continue;
     const std::string key = without_backticks(c[0]);
     rows.push_back({section.empty() ? key : section + "." + key, c[1], without_backticks(c[2]), without_backticks(c[3]),
-                    c[2].find('`') != std::string::npos, number});
+                    c[4], c[2].find('`') != std::string::npos, number});
   }
   return rows;
 }
 
 bool matches(const DocRow& row, const ConfigKeyRecord& r) {
   const bool range = row.range == r.range || row.range.starts_with(r.range + "; ");
-  return row.key == r.key && row.type == r.type && (!row.fallback_in_code || row.fallback == r.fallback) && range;
+  // A key read through a descriptor (core/params.hpp) carries its meaning: the row must state it.
+  const bool meaning = r.doc.empty() || row.meaning == r.doc;
+  return row.key == r.key && row.type == r.type && (!row.fallback_in_code || row.fallback == r.fallback) && range &&
+         meaning;
 }
 
 TEST(ConfigDocs, EveryKeyTheCodeReadsIsARowWithItsTypeDefaultAndRange) {
@@ -142,7 +87,8 @@ TEST(ConfigDocs, EveryKeyTheCodeReadsIsARowWithItsTypeDefaultAndRange) {
       found = found || matches(row, r);
     }
     const std::string expected =
-        fmt::format("| `{}` | {} | `{}` | {} | ... |", r.key.substr(r.key.rfind('.') + 1), r.type, r.fallback, r.range);
+        fmt::format("| `{}` | {} | `{}` | {} | {} |", r.key.substr(r.key.rfind('.') + 1), r.type, r.fallback, r.range,
+                    r.doc.empty() ? "..." : r.doc);
     if (!found && reported.insert(expected).second)
       ADD_FAILURE() << (documented ? "docs/config.md's row differs from the code for " : "docs/config.md lacks ") << r.key
                     << ": the code reads\n  " << expected;

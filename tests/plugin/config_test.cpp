@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -167,6 +168,32 @@ TEST(ConfigReader, OutOfRangeMessages) {
   EXPECT_EQ(e.integer("lo", 5, 1, 10), 1);
   EXPECT_EQ(e.integer("hi", 5, 1, 10), 10);
   EXPECT_EQ(e.number("f", 0.5, 0.0, 1.0), 1.0);
+}
+
+// A parameter declared once is read with its own range and recorded with its meaning; read from
+// a table it does not belong to, it is a programming error, not a config's.
+TEST(ConfigReader, ReadsADeclaredParameterFromItsOwnTableOnly) {
+  constexpr IntParam kCount{"job", "count", 1, 10, "how many"};
+  constexpr RealParam kShare{"job", "share", 0.0, 1.0, Open::kLower, "what share"};
+  const toml::table t = toml::parse("[job]\ncount = 11\nshare = 0.5\n");
+  toml::table resolved;
+  ConfigReader r(t, "test.toml", resolved);
+  ConfigReader job = r.table("job");
+  std::vector<ConfigKeyRecord> log;
+  {
+    const ScopedConfigKeyLog recording(log);
+    EXPECT_INPUT_ERROR(job.integer(kCount, 3), "test.toml: job.count = 11 is out of range: must be in [1, 10]");
+    EXPECT_EQ(job.number(kShare, 1.0), 0.5);
+  }
+  ASSERT_EQ(log.size(), 2u);
+  EXPECT_EQ(log[0].key, "job.count");
+  EXPECT_EQ(log[0].range, "1 to 10");
+  EXPECT_EQ(log[0].doc, "how many");
+  EXPECT_EQ(log[1].range, "(0, 1]");
+  EXPECT_EQ(log[1].doc, "what share");
+  EXPECT_THROW(r.integer(kCount, 3), std::logic_error);
+  EXPECT_INPUT_ERROR(require(kShare, 0.0), "job.share = 0 is out of range: must be in (0, 1]");
+  EXPECT_INPUT_ERROR(require(kCount, std::size_t{11}), "job.count = 11 is out of range: must be in [1, 10]");
 }
 
 TEST(ConfigReader, IntegersListChecks) {

@@ -1,7 +1,5 @@
 #include "qdmeta/algorithms/aurora.hpp"
 
-#include <fmt/format.h>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
@@ -17,15 +15,21 @@
 namespace qdmeta {
 
 void AuroraParams::validate() const {
-  require_range("aurora.batch_size", batch_size, Index{1}, Index{10'000'000});
-  require_range("aurora.initial_population", initial_population, Index{1}, Index{100'000'000});
-  require_range("aurora.latent_size", latent_size, Index{1}, Index{1'000});
-  require_range("aurora.size_control_gain", size_control_gain, 0.0, 1.0);
-  require_range("aurora.threshold_factor", threshold_factor, 1e-12, 1e12);
-  require_range("aurora.rebuild_every", rebuild_every, 1, 100'000'000);
-  require_range("aurora.retrain_period_step", retrain_period_step, 1, 100'000'000);
-  require_range("aurora.retrain_period_max", retrain_period_max, 1, 100'000'000);
-  // The autoencoder's and the archive's own checks name the remaining keys.
+  require(kBatchSize, batch_size);
+  require(kInitialPopulation, initial_population);
+  require(AutoencoderParams::kLatentSize, latent_size);
+  require(AutoencoderParams::kLearningRate, learning_rate);
+  require(AutoencoderParams::kMaxEpochs, max_epochs);
+  require(AutoencoderParams::kMaxTrainingRows, max_training_rows);
+  require(UnstructuredArchiveParams::kTargetSize, target_size);
+  require(UnstructuredArchiveParams::kEps, eps);
+  require(UnstructuredArchiveParams::kNoveltyNeighbours, novelty_neighbours);
+  require(kSizeControlGain, size_control_gain);
+  require(kThresholdFactor, threshold_factor);
+  require(kRebuildEvery, rebuild_every);
+  require(kRetrainPeriodStep, retrain_period_step);
+  require(kRetrainPeriodMax, retrain_period_max);
+  // The autoencoder's own checks name aurora.hidden's entries.
 }
 
 namespace {

@@ -25,12 +25,31 @@
 #include "qdmeta/archive/unstructured_archive.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/autoencoder.hpp"
 
 namespace qdmeta {
 
 struct AuroraParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp); the autoencoder's and the archive's are AutoencoderParams' and UnstructuredArchiveParams'.
+  static constexpr IntParam kBatchSize{"aurora", "batch_size", 1, 10'000'000,
+      "offspring per generation (parents drawn uniformly from the archive)"};
+  static constexpr IntParam kInitialPopulation{"aurora", "initial_population", 1, 100'000'000,
+      "random genotypes evaluated in the first generation; they are the first training set"};
+  static constexpr RealParam kSizeControlGain{"aurora", "size_control_gain", 0.0, 1.0, Open::kNone,
+      "container size control: every generation l <- l (1 - gain (target - size)); 0 turns it off"};
+  static constexpr RealParam kThresholdFactor{"aurora", "threshold_factor", 1e-12, 1e12, Open::kNone,
+      "the initial threshold l = factor (V / target)^(1/latent_size), V the product of the latent ranges "
+      "along their principal axes"};
+  static constexpr IntParam kRebuildEvery{"aurora", "rebuild_every", 1, 100'000'000,
+      "generations between archive rebuilds (re-encode every member, re-add all); a rebuild also follows "
+      "every training"};
+  static constexpr IntParam kRetrainPeriodStep{"aurora", "retrain_period_step", 1, 100'000'000,
+      "retraining schedule: generation 1, then each next at last + min(step (k + 1), max), k = retrainings "
+      "so far (gaps 20, 30, 40, ...)"};
+  static constexpr IntParam kRetrainPeriodMax{"aurora", "retrain_period_max", 1, 100'000'000,
+      "cap of the retraining gap"};
   Index batch_size = 400;               // offspring per generation, >= 1
   Index initial_population = 2000;      // random genotypes evaluated first, >= 1
   Index latent_size = 2;                // descriptor dimensions (Rastrigin 2, RHex 4), >= 1

@@ -13,8 +13,8 @@ namespace qdmeta {
 void CvtMapElitesParams::validate() const {
   map_elites.validate();
   kmeans.validate();
-  require_range("cvt.lookup_chunk", lookup_chunk, Index{1}, Index{1'000'000});
-  require_range("cvt.neighbours", neighbours, Index{1}, Index{100'000});
+  require(kLookupChunk, lookup_chunk);
+  require(kNeighbours, neighbours);
 }
 
 CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions) {

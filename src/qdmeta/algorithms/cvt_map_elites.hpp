@@ -16,6 +16,7 @@
 #include "qdmeta/core/evaluator.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 
 namespace qdmeta {
@@ -36,6 +37,11 @@ CvtSearch resolve_cvt_search(CvtSearch search, Index dimensions);
 using CentroidSource = std::function<RowMatrix(Evaluator* workers)>;
 
 struct CvtMapElitesParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr IntParam kLookupChunk{"cvt", "lookup_chunk", 1, 1'000'000,
+      "offspring per parallel nearest-centroid task (speed only: results do not depend on it)"};
+  static constexpr IntParam kNeighbours{"cvt", "neighbours", 1, 100'000,
+      "parent-bound: centroids in each elite's neighbour list (capped at `centroids`)"};
   MapElitesParams map_elites;        // batch size and initial population
   KMeansParams kmeans;               // the centroid count, and how `make_centroids` makes them
   Index lookup_chunk = 50;           // offspring per parallel nearest-centroid task, >= 1

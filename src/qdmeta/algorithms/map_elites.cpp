@@ -11,8 +11,8 @@
 namespace qdmeta {
 
 void MapElitesParams::validate() const {
-  require_range("map_elites.batch_size", batch_size, Index{1}, Index{10'000'000});
-  require_range("map_elites.initial_population", initial_population, Index{1}, Index{100'000'000});
+  require(kBatchSize, batch_size);
+  require(kInitialPopulation, initial_population);
 }
 
 void add_map_elites_memory(MemoryEstimate& m, const MapElitesParams& p, const Task& task) {

@@ -17,12 +17,17 @@
 #include "qdmeta/core/copy_row.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/feature_map.hpp"
 
 namespace qdmeta {
 
 struct MapElitesParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr IntParam kBatchSize{"map_elites", "batch_size", 1, 10'000'000, "offspring per generation"};
+  static constexpr IntParam kInitialPopulation{"map_elites", "initial_population", 1, 100'000'000,
+      "random genotypes evaluated in the first generation"};
   Index batch_size = 400;          // offspring per generation, >= 1
   Index initial_population = 2000; // random genotypes evaluated first, >= 1
   void validate() const;

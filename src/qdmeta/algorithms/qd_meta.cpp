@@ -18,15 +18,13 @@
 namespace qdmeta {
 
 void QdMetaParams::validate() const {
-  require_range("qd_meta.meta_population", meta_population, Index{1}, Index{10'000});
-  require_range("qd_meta.batch_size", batch_size, Index{1}, Index{10'000'000});
-  require_range("qd_meta.initial_population", initial_population, Index{1}, Index{100'000'000});
-  require_range("qd_meta.database_capacity", database_capacity, Index{1}, Index{1'000'000'000});
-  require_range("qd_meta.hidden", hidden, Index{1}, Index{10'000});
-  if (!(sigmoid_scale > 0 && std::isfinite(sigmoid_scale)))
-    throw InputError(fmt::format("qd_meta.sigmoid_scale = {} is out of range: must be a positive number", sigmoid_scale));
-  if (!(cma_sigma > 0 && std::isfinite(cma_sigma)))
-    throw InputError(fmt::format("cma_es.sigma = {} is out of range: must be a positive number", cma_sigma));
+  require(kMetaPopulation, meta_population);
+  require(kBatchSize, batch_size);
+  require(kInitialPopulation, initial_population);
+  require(kDatabaseCapacity, database_capacity);
+  require(kHidden, hidden);
+  require(kSigmoidScale, sigmoid_scale);
+  require(kCmaSigma, cma_sigma);
   if (bottom_level != BottomLevel::kCmaMae) return;
   emitters.validate();
   if (const Index rows = Index{emitters.emitters} * emitters.emitter.batch_size; batch_size != rows)

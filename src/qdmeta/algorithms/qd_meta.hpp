@@ -28,6 +28,7 @@
 #include "qdmeta/core/meta_objective.hpp"
 #include "qdmeta/core/memory_estimate.hpp"
 #include "qdmeta/core/mutation.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/featuremap/neural_feature_map.hpp"
 #include "qdmeta/meta/cma_es.hpp"
@@ -49,6 +50,22 @@ inline constexpr EnumNames<BottomLevel, 2> kBottomLevelNames{
     {{BottomLevel::kMapElites, "map-elites"}, {BottomLevel::kCmaMae, "cma-mae"}}};
 
 struct QdMetaParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr IntParam kMetaPopulation{"qd_meta", "meta_population", 1, 10'000,
+      "lambda: feature-maps sampled by CMA-ES per meta-generation (1: a (1,1)-ES, the supplementary study's "
+      "smallest)"};
+  static constexpr IntParam kBatchSize{"qd_meta", "batch_size", 1, 10'000'000,
+      "offspring per MAP-Elites generation in each map"};
+  static constexpr IntParam kInitialPopulation{"qd_meta", "initial_population", 1, 100'000'000,
+      "random genotypes that only seed the database"};
+  static constexpr IntParam kDatabaseCapacity{"qd_meta", "database_capacity", 1, 1'000'000'000,
+      "newest solutions kept in the circular database"};
+  static constexpr IntParam kHidden{"qd_meta", "hidden", 1, 10'000,
+      "N_h, hidden units of each feature-map (K = N_h N_b + 1 + N_t N_h + 1 weights)"};
+  static constexpr RealParam kSigmoidScale{"qd_meta", "sigmoid_scale", 0.0, kNoUpper, Open::kLower,
+      "alpha_s of the scaled sigmoid S_N(x) = 1/(1+exp(-alpha_s x/(N+1)))"};
+  static constexpr RealParam kCmaSigma{"cma_es", "sigma", 0.0, kNoUpper, Open::kLower,
+      "initial step size (range / 3 for meta-genotypes in [-1,1])"};
   Index meta_population = 10;          // lambda, feature-maps per meta-generation (1 is a (1,1)-ES)
   Index batch_size = 400;              // offspring per MAP-Elites generation
   Index initial_population = 2000;     // random genotypes that seed the database

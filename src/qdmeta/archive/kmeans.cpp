@@ -117,11 +117,11 @@ void accumulate(const RowMatrix& points, const std::vector<Index>& cells, Eigen:
 }  // namespace
 
 void KMeansParams::validate() const {
-  require_range("cvt.centroids", centroids, Index{1}, Index{10'000'000});
-  require_range("cvt.samples", samples, centroids, Index{1'000'000'000});
-  require_range("cvt.init_samples", init_samples, centroids, Index{1'000'000'000});
-  require_range("cvt.iterations", iterations, 0, 1'000'000);
-  require_range("cvt.batch_size", batch_size, Index{1}, Index{1'000'000'000});
+  require(kCentroids, centroids);
+  require(kSamples.from(centroids), samples);
+  require(kInitSamples.from(centroids), init_samples);
+  require(kIterations, iterations);
+  require(kBatchSize, batch_size);
 }
 
 RowMatrix uniform_points(Index count, Index dimensions, std::uint64_t seed) {

@@ -22,6 +22,15 @@ inline constexpr EnumNames<KMeansMethod, 2> kKMeansMethodNames{
     {{KMeansMethod::kLloyd, "lloyd"}, {KMeansMethod::kMiniBatch, "mini-batch"}}};
 
 struct KMeansParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr IntParam kCentroids{"cvt", "centroids", 1, 10'000'000, "number of cells"};
+  static constexpr IntParam kSamples{"cvt", "samples", 1, 1'000'000'000, "uniform random points k-means runs on"};
+  static constexpr IntParam kInitSamples{"cvt", "init_samples", 1, 1'000'000'000,
+      "k-means++ seeds from this many of the points, drawn without replacement (all when larger than "
+      "`samples`)"};
+  static constexpr IntParam kIterations{"cvt", "iterations", 0, 1'000'000,
+      "Lloyd passes or mini-batch steps after seeding"};
+  static constexpr IntParam kBatchSize{"cvt", "batch_size", 1, 1'000'000'000, "mini-batch: points per step"};
   Index centroids = 10'000;            // k, >= 1
   Index samples = 1'000'000;           // random points drawn in [0,1]^d, >= centroids
   KMeansInit init = KMeansInit::kPlusPlus;

@@ -14,9 +14,9 @@ void UnstructuredArchiveParams::validate() const {
   require_range("aurora.latent_size", measure_size, Index{1}, Index{1'000});
   require_at_least("archive solution size", solution_size, Index{1});
   require_at_least("archive base-feature size", base_feature_size, Index{0});
-  require_range("aurora.target_size", target_size, Index{1}, Index{100'000'000});
-  require_range("aurora.eps", eps, 0.0, 0.999);
-  require_range("aurora.novelty_neighbours", novelty_neighbours, 1, 1'000'000);
+  require(kTargetSize, target_size);
+  require(kEps, eps);
+  require(kNoveltyNeighbours, novelty_neighbours);
 }
 
 namespace {

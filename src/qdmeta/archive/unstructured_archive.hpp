@@ -23,12 +23,23 @@
 #include "qdmeta/archive/elite_batch.hpp"  // AddStatus
 #include "qdmeta/archive/point_grid.hpp"
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
 
 struct UnstructuredArchiveParams {
+  // AURORA's config parameters that the archive checks (core/params.hpp).
+  static constexpr IntParam kTargetSize{"aurora", "target_size", 1, 100'000'000,
+      "container size control's target (paper: 10,000 Rastrigin, 4,096 RHex); `coverage` = min(1, size / "
+      "target) and `norm_qd_score` = qd_score / target"};
+  static constexpr RealParam kEps{"aurora", "eps", 0.0, 0.999, Open::kNone,
+      "the insertion rule's eps: a candidate within l of its nearest member is rejected when its second "
+      "nearest is closer than (1 - eps) l, and replaces the nearest only if it eps-dominates it on "
+      "(fitness, novelty); rebuilds re-add with l (1 - eps)"};
+  static constexpr IntParam kNoveltyNeighbours{"aurora", "novelty_neighbours", 1, 1'000'000,
+      "k: novelty = mean distance to the k nearest members"};
   Index measure_size = 2;       // dimensions of a measure (AURORA: the latent size), >= 1
   Index solution_size = 0;      // genes per solution, >= 1
   Index base_feature_size = 0;  // base features kept per elite (0: none)

@@ -119,20 +119,20 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   // Read only where written (as database_inputs below).
   if (q.has("bottom_level")) p.bottom_level = q.choice("bottom_level", p.bottom_level, kBottomLevelNames);
   const bool emitters = p.bottom_level == BottomLevel::kCmaMae;
-  p.meta_population = q.integer("meta_population", p.meta_population, 1, 10'000);
+  p.meta_population = q.integer(QdMetaParams::kMetaPopulation, p.meta_population);
   if (emitters && q.has("batch_size"))
     throw InputError(fmt::format("{}: qd_meta.batch_size does not apply with qd_meta.bottom_level = \"cma-mae\": a "
                                  "generation is emitters.count x emitters.batch_size rows per map",
                                  q.source()));
-  if (!emitters) p.batch_size = q.integer("batch_size", p.batch_size, 1, 10'000'000);
-  p.initial_population = q.integer("initial_population", p.initial_population, 1, 100'000'000);
-  p.database_capacity = q.integer("database_capacity", p.database_capacity, 1, 1'000'000'000);
-  p.hidden = q.integer("hidden", p.hidden, 1, 10'000);
-  p.sigmoid_scale = q.number("sigmoid_scale", p.sigmoid_scale, 0.0, kNoUpper, Open::kLower);
+  if (!emitters) p.batch_size = q.integer(QdMetaParams::kBatchSize, p.batch_size);
+  p.initial_population = q.integer(QdMetaParams::kInitialPopulation, p.initial_population);
+  p.database_capacity = q.integer(QdMetaParams::kDatabaseCapacity, p.database_capacity);
+  p.hidden = q.integer(QdMetaParams::kHidden, p.hidden);
+  p.sigmoid_scale = q.number(QdMetaParams::kSigmoidScale, p.sigmoid_scale);
   // Read only where written (as cma_es.small_population below).
   if (q.has("database_inputs")) p.database_inputs = q.choice("database_inputs", p.database_inputs, kDatabaseInputsNames);
   ConfigReader cma = b.root.table("cma_es");
-  p.cma_sigma = cma.number("sigma", p.cma_sigma, 0.0, kNoUpper, Open::kLower);
+  p.cma_sigma = cma.number(QdMetaParams::kCmaSigma, p.cma_sigma);
   p.cma_bounds = cma.choice("bounds", p.cma_bounds, kCmaBoundsNames);
   p.frozen = cma.boolean("frozen", p.frozen);
   // Read only where written, so that the resolved config (and the checkpoint fingerprint) of

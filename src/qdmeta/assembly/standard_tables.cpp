@@ -91,11 +91,11 @@ MutationParams read_mutation_table(ConfigReader& m, const Task& task) {
     return p;
   }
   p.kind = enum_from_string(kMutationKindNames, "mutation.kind", kind);
-  p.rate = m.number("rate", p.rate, 0.0, 1.0);
-  p.sigma = m.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
-  p.step = m.number("step", p.step, 0.0, 1.0, Open::kLower);
-  p.iso_sigma = m.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
-  p.line_sigma = m.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
+  p.rate = m.number(MutationParams::kRate, p.rate);
+  p.sigma = m.number(MutationParams::kSigma, p.sigma);
+  p.step = m.number(MutationParams::kStep, p.step);
+  p.iso_sigma = m.number(MutationParams::kIsoSigma, p.iso_sigma);
+  p.line_sigma = m.number(MutationParams::kLineSigma, p.line_sigma);
   refuse_unread_mutation_keys(m, p);
   naming_source(m, [&] { p.validate(); });
   return p;
@@ -103,8 +103,8 @@ MutationParams read_mutation_table(ConfigReader& m, const Task& task) {
 
 MapElitesParams read_map_elites_table(ConfigReader& me) {
   MapElitesParams p;
-  p.batch_size = me.integer("batch_size", p.batch_size, 1, 10'000'000);
-  p.initial_population = me.integer("initial_population", p.initial_population, 1, 100'000'000);
+  p.batch_size = me.integer(MapElitesParams::kBatchSize, p.batch_size);
+  p.initial_population = me.integer(MapElitesParams::kInitialPopulation, p.initial_population);
   return p;
 }
 
@@ -180,26 +180,26 @@ std::unique_ptr<FeatureMap> read_feature_map_with(ConfigReader& f, const ConfigR
 
 SarsaParams read_sarsa_table(ConfigReader& c) {
   SarsaParams p;
-  p.actions = static_cast<int>(c.integer("actions", p.actions, 1, 1000));
-  p.min_generations = static_cast<int>(c.integer("min_generations", p.min_generations, 1, 1'000'000));
-  p.max_generations = static_cast<int>(c.integer("max_generations", p.max_generations, 1, 1'000'000));
-  p.epsilon = c.number("epsilon", p.epsilon, 0.0, 1.0);
-  p.gamma = c.number("gamma", p.gamma, 0.0, 1.0);
-  p.alpha = c.number("alpha", p.alpha, 0.0, 1.0);
-  p.alpha_zero_reward = c.number("alpha_zero_reward", p.alpha_zero_reward, 0.0, 1.0);
-  p.trace_decay = c.number("trace_decay", p.trace_decay, 0.0, 1.0);
-  p.trace_min = c.number("trace_min", p.trace_min, 0.0, 1.0);
-  p.reward_scale = c.number("reward_scale", p.reward_scale, 0.0, kNoUpper, Open::kLower);
-  p.reward_max = c.number("reward_max", p.reward_max, 0.0, kNoUpper, Open::kLower);
+  p.actions = static_cast<int>(c.integer(StateTreeParams::kActions, p.actions));
+  p.min_generations = static_cast<int>(c.integer(SarsaParams::kMinGenerations, p.min_generations));
+  p.max_generations = static_cast<int>(c.integer(SarsaParams::kMaxGenerations, p.max_generations));
+  p.epsilon = c.number(SarsaParams::kEpsilon, p.epsilon);
+  p.gamma = c.number(SarsaParams::kGamma, p.gamma);
+  p.alpha = c.number(SarsaParams::kAlpha, p.alpha);
+  p.alpha_zero_reward = c.number(SarsaParams::kAlphaZeroReward, p.alpha_zero_reward);
+  p.trace_decay = c.number(SarsaParams::kTraceDecay, p.trace_decay);
+  p.trace_min = c.number(SarsaParams::kTraceMin, p.trace_min);
+  p.reward_scale = c.number(SarsaParams::kRewardScale, p.reward_scale);
+  p.reward_max = c.number(SarsaParams::kRewardMax, p.reward_max);
   StateTreeParams& t = p.tree;
   t.split_min_transitions = static_cast<std::size_t>(
-      c.integer("split_min_transitions", static_cast<std::int64_t>(t.split_min_transitions), 2, 1'000'000'000));
-  t.split_probability = c.number("split_probability", t.split_probability, 0.0, 1.0);
-  t.split_min_fraction = c.number("split_min_fraction", t.split_min_fraction, 0.0, 0.5, Open::kBoth);
+      c.integer(StateTreeParams::kSplitMinTransitions, static_cast<std::int64_t>(t.split_min_transitions)));
+  t.split_probability = c.number(StateTreeParams::kSplitProbability, t.split_probability);
+  t.split_min_fraction = c.number(StateTreeParams::kSplitMinFraction, t.split_min_fraction);
   t.max_candidates =
-      static_cast<std::size_t>(c.integer("max_candidates", static_cast<std::int64_t>(t.max_candidates), 1, 1'000'000));
-  t.min_value_gap = c.number("min_value_gap", t.min_value_gap, 0.0, kNoUpper);
-  t.ks_alpha = c.number("ks_alpha", t.ks_alpha, 0.0, 1.0, Open::kBoth);
+      static_cast<std::size_t>(c.integer(StateTreeParams::kMaxCandidates, static_cast<std::int64_t>(t.max_candidates)));
+  t.min_value_gap = c.number(StateTreeParams::kMinValueGap, t.min_value_gap);
+  t.ks_alpha = c.number(StateTreeParams::kKsAlpha, t.ks_alpha);
   return p;
 }
 
@@ -209,7 +209,7 @@ std::unique_ptr<GenerationController> read_sarsa_control(ConfigReader& c) {
 }
 
 std::unique_ptr<GenerationController> read_static_control(ConfigReader& c) {
-  return std::make_unique<StaticControl>(static_cast<int>(c.integer("generations", 5, 1, 1'000'000)));
+  return std::make_unique<StaticControl>(static_cast<int>(c.integer(StaticControl::kGenerations, 5)));
 }
 
 std::unique_ptr<GenerationController> read_control_table(ConfigReader& c) {
@@ -229,13 +229,13 @@ CvtCentroidTable read_cvt_centroids(ConfigReader& c) {
   CvtCentroidTable table;
   CvtCentroidSettings& made = table.settings;
   KMeansParams& k = table.kmeans;
-  k.centroids = c.integer("centroids", k.centroids, 1, 10'000'000);
-  k.samples = c.integer("samples", k.samples, 1, 1'000'000'000);
+  k.centroids = c.integer(KMeansParams::kCentroids, k.centroids);
+  k.samples = c.integer(KMeansParams::kSamples, k.samples);
   k.init = c.choice("init", k.init, kKMeansInitNames);
-  k.init_samples = c.integer("init_samples", k.init_samples, 1, 1'000'000'000);
+  k.init_samples = c.integer(KMeansParams::kInitSamples, k.init_samples);
   k.method = c.choice("method", k.method, kKMeansMethodNames);
-  k.iterations = static_cast<int>(c.integer("iterations", k.iterations, 0, 1'000'000));
-  k.batch_size = c.integer("batch_size", k.batch_size, 1, 1'000'000'000);
+  k.iterations = static_cast<int>(c.integer(KMeansParams::kIterations, k.iterations));
+  k.batch_size = c.integer(KMeansParams::kBatchSize, k.batch_size);
   k.seed = static_cast<std::uint64_t>(c.integer("seed", static_cast<std::int64_t>(k.seed), 0, kMaxInt));
   const bool cache = c.boolean("cache", true);
   const std::string dir = c.string("cache_dir", "");
@@ -263,31 +263,31 @@ CvtTable read_cvt_table(ConfigReader& c) {
   CvtMapElitesParams& p = table.algorithm;
   p.kmeans = centroids.kmeans;
   table.centroids = std::move(centroids.settings);
-  p.lookup_chunk = c.integer("lookup_chunk", p.lookup_chunk, 1, 1'000'000);
+  p.lookup_chunk = c.integer(CvtMapElitesParams::kLookupChunk, p.lookup_chunk);
   p.search = c.choice("search", p.search, kCvtSearchNames);
-  p.neighbours = c.integer("neighbours", p.neighbours, 1, 100'000);
+  p.neighbours = c.integer(CvtMapElitesParams::kNeighbours, p.neighbours);
   return table;
 }
 
 // The [aurora] table (docs/specification.md, AURORA).
 AuroraParams read_aurora_table(ConfigReader& a) {
   AuroraParams p;
-  p.batch_size = a.integer("batch_size", p.batch_size, 1, 10'000'000);
-  p.initial_population = a.integer("initial_population", p.initial_population, 1, 100'000'000);
-  p.latent_size = a.integer("latent_size", p.latent_size, 1, 1'000);
+  p.batch_size = a.integer(AuroraParams::kBatchSize, p.batch_size);
+  p.initial_population = a.integer(AuroraParams::kInitialPopulation, p.initial_population);
+  p.latent_size = a.integer(AutoencoderParams::kLatentSize, p.latent_size);
   const auto hidden = a.integers("hidden", std::vector<std::int64_t>(p.hidden.begin(), p.hidden.end()), 1, 100'000, 1, 16);
   p.hidden.assign(hidden.begin(), hidden.end());
-  p.learning_rate = a.number("learning_rate", p.learning_rate, 0.0, kNoUpper, Open::kLower);
-  p.max_epochs = static_cast<int>(a.integer("max_epochs", p.max_epochs, 1, 100'000'000));
-  p.max_training_rows = a.integer("max_training_rows", p.max_training_rows, 1, 100'000'000);
-  p.target_size = a.integer("target_size", p.target_size, 1, 100'000'000);
-  p.eps = a.number("eps", p.eps, 0.0, 0.999);
-  p.novelty_neighbours = static_cast<int>(a.integer("novelty_neighbours", p.novelty_neighbours, 1, 1'000'000));
-  p.size_control_gain = a.number("size_control_gain", p.size_control_gain, 0.0, 1.0);
-  p.threshold_factor = a.number("threshold_factor", p.threshold_factor, 0.0, kNoUpper, Open::kLower);
-  p.rebuild_every = static_cast<int>(a.integer("rebuild_every", p.rebuild_every, 1, 100'000'000));
-  p.retrain_period_step = static_cast<int>(a.integer("retrain_period_step", p.retrain_period_step, 1, 100'000'000));
-  p.retrain_period_max = static_cast<int>(a.integer("retrain_period_max", p.retrain_period_max, 1, 100'000'000));
+  p.learning_rate = a.number(AutoencoderParams::kLearningRate, p.learning_rate);
+  p.max_epochs = static_cast<int>(a.integer(AutoencoderParams::kMaxEpochs, p.max_epochs));
+  p.max_training_rows = a.integer(AutoencoderParams::kMaxTrainingRows, p.max_training_rows);
+  p.target_size = a.integer(UnstructuredArchiveParams::kTargetSize, p.target_size);
+  p.eps = a.number(UnstructuredArchiveParams::kEps, p.eps);
+  p.novelty_neighbours = static_cast<int>(a.integer(UnstructuredArchiveParams::kNoveltyNeighbours, p.novelty_neighbours));
+  p.size_control_gain = a.number(AuroraParams::kSizeControlGain, p.size_control_gain);
+  p.threshold_factor = a.number(AuroraParams::kThresholdFactor, p.threshold_factor);
+  p.rebuild_every = static_cast<int>(a.integer(AuroraParams::kRebuildEvery, p.rebuild_every));
+  p.retrain_period_step = static_cast<int>(a.integer(AuroraParams::kRetrainPeriodStep, p.retrain_period_step));
+  p.retrain_period_max = static_cast<int>(a.integer(AuroraParams::kRetrainPeriodMax, p.retrain_period_max));
   return p;
 }
 

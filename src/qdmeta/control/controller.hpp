@@ -8,6 +8,7 @@
 
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/eigen.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
@@ -33,6 +34,8 @@ class GenerationController {
 
 class StaticControl final : public GenerationController {
  public:
+  // The config parameter its constructor checks (core/params.hpp).
+  static constexpr IntParam kGenerations{"control", "generations", 1, 1'000'000, "G for the static controller"};
   explicit StaticControl(int generations);  // throws InputError unless >= 1
   std::string name() const override { return "static"; }
   int choose_generations(const Eigen::MatrixXd&, Rng&) override { return generations_; }

@@ -1,7 +1,5 @@
 #include "qdmeta/control/sarsa_control.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,19 +11,17 @@
 namespace qdmeta {
 
 void SarsaParams::validate() const {
-  require_range("control.actions", actions, 1, 1000);
-  require_range("control.min_generations", min_generations, 1, 1'000'000);
-  require_range("control.max_generations", max_generations, min_generations, 1'000'000);
-  require_range("control.epsilon", epsilon, 0.0, 1.0);
-  require_range("control.gamma", gamma, 0.0, 1.0);
-  require_range("control.alpha", alpha, 0.0, 1.0);
-  require_range("control.alpha_zero_reward", alpha_zero_reward, 0.0, 1.0);
-  require_range("control.trace_decay", trace_decay, 0.0, 1.0);
-  require_range("control.trace_min", trace_min, 0.0, 1.0);
-  if (!(reward_scale > 0 && std::isfinite(reward_scale)))
-    throw InputError(fmt::format("control.reward_scale = {} is out of range: must be a positive number", reward_scale));
-  if (!(reward_max > 0 && std::isfinite(reward_max)))
-    throw InputError(fmt::format("control.reward_max = {} is out of range: must be a positive number", reward_max));
+  require(StateTreeParams::kActions, actions);
+  require(kMinGenerations, min_generations);
+  require(kMaxGenerations.from(min_generations), max_generations);
+  require(kEpsilon, epsilon);
+  require(kGamma, gamma);
+  require(kAlpha, alpha);
+  require(kAlphaZeroReward, alpha_zero_reward);
+  require(kTraceDecay, trace_decay);
+  require(kTraceMin, trace_min);
+  require(kRewardScale, reward_scale);
+  require(kRewardMax, reward_max);
   tree.validate();
 }
 

@@ -9,10 +9,28 @@
 
 #include "qdmeta/control/controller.hpp"
 #include "qdmeta/control/state_tree.hpp"
+#include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
 
 struct SarsaParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp); `actions` is StateTreeParams::kActions.
+  static constexpr IntParam kMinGenerations{"control", "min_generations", 1, 1'000'000, "smallest G SARSA may choose"};
+  static constexpr IntParam kMaxGenerations{"control", "max_generations", 1, 1'000'000, "largest G SARSA may choose"};
+  static constexpr RealParam kEpsilon{"control", "epsilon", 0.0, 1.0, Open::kNone,
+      "exploration rate of the epsilon-greedy policy"};
+  static constexpr RealParam kGamma{"control", "gamma", 0.0, 1.0, Open::kNone, "discount"};
+  static constexpr RealParam kAlpha{"control", "alpha", 0.0, 1.0, Open::kNone, "learning rate"};
+  static constexpr RealParam kAlphaZeroReward{"control", "alpha_zero_reward", 0.0, 1.0, Open::kNone,
+      "learning rate of a step whose reward is 0"};
+  static constexpr RealParam kTraceDecay{"control", "trace_decay", 0.0, 1.0, Open::kNone,
+      "lambda of SARSA(lambda) (replacing traces)"};
+  static constexpr RealParam kTraceMin{"control", "trace_min", 0.0, 1.0, Open::kNone, "traces below this are dropped"};
+  static constexpr RealParam kRewardScale{"control", "reward_scale", 0.0, kNoUpper, Open::kLower,
+      "reward = relative best-meta-fitness improvement / evaluations x scale (Rastrigin 30,000, RHex "
+      "24,096)"};
+  static constexpr RealParam kRewardMax{"control", "reward_max", 0.0, kNoUpper, Open::kLower,
+      "rewards are clipped to [0, reward_max]"};
   int actions = 5;                // interval actions splitting [min_generations, max_generations]
   int min_generations = 1;
   int max_generations = 10;

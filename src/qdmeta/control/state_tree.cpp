@@ -14,15 +14,13 @@ namespace qdmeta {
 
 void StateTreeParams::validate() const {
   require_range("control.attributes", attributes, 1, 1000);
-  require_range("control.actions", actions, 1, 1000);
-  require_range("control.split_min_transitions", split_min_transitions, std::size_t{2}, std::size_t{1'000'000'000});
-  require_range("control.split_probability", split_probability, 0.0, 1.0);
-  if (!(split_min_fraction > 0.0 && split_min_fraction < 0.5))
-    throw InputError(fmt::format("control.split_min_fraction = {} is out of range: must be in (0, 0.5)", split_min_fraction));
-  require_range("control.max_candidates", max_candidates, std::size_t{1}, std::size_t{1'000'000});
-  require_range("control.min_value_gap", min_value_gap, 0.0, 1e300);
-  if (!(ks_alpha > 0.0 && ks_alpha < 1.0))
-    throw InputError(fmt::format("control.ks_alpha = {} is out of range: must be in (0, 1)", ks_alpha));
+  require(kActions, actions);
+  require(kSplitMinTransitions, split_min_transitions);
+  require(kSplitProbability, split_probability);
+  require(kSplitMinFraction, split_min_fraction);
+  require(kMaxCandidates, max_candidates);
+  require(kMinValueGap, min_value_gap);
+  require(kKsAlpha, ks_alpha);
 }
 
 StateTree::StateTree(StateTreeParams params) : params_((params.validate(), params)) {

@@ -10,11 +10,27 @@
 #include <vector>
 
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 
 namespace qdmeta {
 
 struct StateTreeParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp) (SARSA's actions too).
+  static constexpr IntParam kActions{"control", "actions", 1, 1'000,
+      "equal intervals of [min, max]; the G used is drawn uniformly in the chosen interval and rounded"};
+  static constexpr IntParam kSplitMinTransitions{"control", "split_min_transitions", 2, 1'000'000'000,
+      "a state (leaf) tries to split only above this many stored transitions"};
+  static constexpr RealParam kSplitProbability{"control", "split_probability", 0.0, 1.0, Open::kNone,
+      "chance of trying, per transition added to such a leaf"};
+  static constexpr RealParam kSplitMinFraction{"control", "split_min_fraction", 0.0, 0.5, Open::kBoth,
+      "each side of a split keeps at least this fraction of the transitions"};
+  static constexpr IntParam kMaxCandidates{"control", "max_candidates", 1, 1'000'000,
+      "candidate thresholds per attribute; positions are strided beyond twice this many"};
+  static constexpr RealParam kMinValueGap{"control", "min_value_gap", 0.0, kNoUpper, Open::kNone,
+      "no threshold between attribute values closer than this"};
+  static constexpr RealParam kKsAlpha{"control", "ks_alpha", 0.0, 1.0, Open::kBoth,
+      "significance level of the two-sample Kolmogorov-Smirnov split test"};
   int attributes = 6;               // observation size
   int actions = 5;                  // Q-values per state
   std::size_t split_min_transitions = 60;  // a leaf needs more than this to try a split

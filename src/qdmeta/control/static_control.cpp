@@ -4,7 +4,7 @@
 namespace qdmeta {
 
 StaticControl::StaticControl(int generations) : generations_(generations) {
-  require_range("control.generations", generations, 1, 1'000'000);
+  require(kGenerations, generations);
 }
 
 }  // namespace qdmeta

@@ -9,18 +9,14 @@ namespace qdmeta {
 
 void MutationParams::validate() const {
   if (variation) return;  // the caller's operator checks its own parameters
-  require_range("mutation.rate", rate, 0.0, 1.0);
-  if (kind == MutationKind::kGaussian && !(sigma > 0.0 && std::isfinite(sigma)))
-    throw InputError(fmt::format("mutation.sigma = {} is out of range: must be a positive number", sigma));
+  require(kRate, rate);
+  if (kind == MutationKind::kGaussian) require(kSigma, sigma);
   if (kind == MutationKind::kIsoLine) {
-    if (!(iso_sigma >= 0.0 && std::isfinite(iso_sigma)))
-      throw InputError(fmt::format("mutation.iso_sigma = {} is out of range: must be a number >= 0", iso_sigma));
-    if (!(line_sigma >= 0.0 && std::isfinite(line_sigma)))
-      throw InputError(fmt::format("mutation.line_sigma = {} is out of range: must be a number >= 0", line_sigma));
+    require(kIsoSigma, iso_sigma);
+    require(kLineSigma, line_sigma);
   }
   if (kind == MutationKind::kDiscreteStep || kind == MutationKind::kUniformResample) {
-    if (!(step > 0.0 && step <= 1.0))
-      throw InputError(fmt::format("mutation.step = {} is out of range: must be in (0, 1]", step));
+    require(kStep, step);
     const double steps = 1.0 / step;
     if (std::abs(steps - std::round(steps)) > 1e-6)
       throw InputError(fmt::format("mutation.step = {} must divide 1 into a whole number of steps", step));

@@ -28,6 +28,18 @@ inline constexpr EnumNames<MutationKind, 4> kMutationKindNames{{{MutationKind::k
                                                                  {MutationKind::kIsoLine, "iso-line"}}};
 
 struct MutationParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr RealParam kRate{"mutation", "rate", 0.0, 1.0, Open::kNone,
+      "probability that each gene mutates (not iso-line, which varies every gene)"};
+  static constexpr RealParam kSigma{"mutation", "sigma", 0.0, kNoUpper, Open::kLower,
+      "standard deviation of the Gaussian (gaussian only; the authors' Rastrigin code effectively used "
+      "0.0025, see docs/fidelity.md)"};
+  static constexpr RealParam kStep{"mutation", "step", 0.0, 1.0, Open::kLower,
+      "grid step (discrete-step and uniform-resample)"};
+  static constexpr RealParam kIsoSigma{"mutation", "iso_sigma", 0.0, kNoUpper, Open::kNone,
+      "iso-line: standard deviation of the isotropic noise added to every gene"};
+  static constexpr RealParam kLineSigma{"mutation", "line_sigma", 0.0, kNoUpper, Open::kNone,
+      "iso-line: standard deviation of the step along the line from the first parent to the second"};
   MutationKind kind = MutationKind::kGaussian;  // which operator
   double rate = 0.10;                           // per-gene mutation probability, in [0, 1] (not iso-line)
   double sigma = 0.05;                          // Gaussian SD (kGaussian only), > 0

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace qdmeta::detail {
 
 std::string number_text(std::int64_t value) { return fmt::format("{}", value); }
@@ -21,4 +23,29 @@ void throw_invalid_choice(std::string_view what, std::string_view text, const st
   throw InputError(fmt::format("{} = \"{}\" is not a valid choice: use one of {}", what, text, valid));
 }
 
+void throw_outside(const IntParam& p, const std::string& value) {
+  throw_out_of_range(fmt::format("{}.{}", p.table, p.key), value, number_text(p.lo), number_text(p.hi));
+}
+
 }  // namespace qdmeta::detail
+
+namespace qdmeta {
+
+void require(const RealParam& p, double value) {
+  const bool open_lo = p.open == Open::kLower || p.open == Open::kBoth;
+  const bool open_hi = p.open == Open::kUpper || p.open == Open::kBoth;
+  if (std::isfinite(value) && (open_lo ? value > p.lo : value >= p.lo) && (open_hi ? value < p.hi : value <= p.hi))
+    return;
+  std::string rule;
+  if (p.hi != kNoUpper)
+    rule = fmt::format("in {}{}, {}{}", open_lo ? "(" : "[", p.lo, p.hi, open_hi ? ")" : "]");
+  else if (p.lo == -kNoUpper)
+    rule = "finite";
+  else if (open_lo)
+    rule = p.lo == 0.0 ? "a positive number" : fmt::format("a number > {}", p.lo);
+  else
+    rule = fmt::format("a number >= {}", p.lo);
+  throw InputError(fmt::format("{}.{} = {} is out of range: must be {}", p.table, p.key, value, rule));
+}
+
+}  // namespace qdmeta

@@ -3,6 +3,7 @@
 // The messages are formatted in params.cpp, so that this public header needs no fmt.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -30,6 +31,42 @@ std::string text_of(T value) {
 [[noreturn]] void throw_below(std::string_view field, const std::string& value, const std::string& lo);
 [[noreturn]] void throw_invalid_choice(std::string_view what, std::string_view text, const std::string& valid);
 }  // namespace detail
+
+// Which ends of a number's range are open: (0, +inf) is {0, kNoUpper, Open::kLower}, "> 0".
+enum class Open { kNone, kLower, kUpper, kBoth };
+inline constexpr double kNoUpper = std::numeric_limits<double>::max();
+
+// One configuration parameter, declared once beside its params struct: the table and key it is
+// read from, its range and its meaning (docs/config.md's column, which the config docs test
+// compares). ConfigReader reads with it and validate() checks with it, so that the range a config
+// is read with and the range the component accepts cannot drift apart; the struct's member
+// initialiser stays the one default.
+struct IntParam {
+  std::string_view table, key;
+  std::int64_t lo, hi;
+  std::string_view doc;
+  // The same key with a lower bound that depends on another setting (cvt.samples >= centroids).
+  constexpr IntParam from(std::int64_t lower) const { return {table, key, lower, hi, doc}; }
+};
+struct RealParam {  // every value must be finite besides
+  std::string_view table, key;
+  double lo, hi;
+  Open open;
+  std::string_view doc;
+};
+
+namespace detail {
+[[noreturn]] void throw_outside(const IntParam& p, const std::string& value);
+}  // namespace detail
+
+// "<table>.<key> = <value> is out of range: must be in [lo, hi]", as require_range writes it.
+template <class T>
+void require(const IntParam& p, T value) {
+  static_assert(std::is_integral_v<T> && !std::is_same_v<T, bool>, "an IntParam is an integer");
+  if (std::cmp_less(value, p.lo) || std::cmp_greater(value, p.hi)) detail::throw_outside(p, detail::text_of(value));
+}
+// As above for a closed range; otherwise "must be in (lo, hi)", "a positive number", "a number >= lo".
+void require(const RealParam& p, double value);
 
 template <class T>
 void require_range(std::string_view field, T value, T lo, T hi) {

@@ -13,12 +13,12 @@ namespace qdmeta {
 
 void AutoencoderParams::validate() const {
   require_range("aurora input size", input_size, Index{1}, Index{1'000'000});
-  require_range("aurora.latent_size", latent_size, Index{1}, Index{1'000});
+  require(kLatentSize, latent_size);
   if (hidden.empty()) throw InputError("aurora.hidden is empty: give at least one hidden layer width");
   for (Index h : hidden) require_range("aurora.hidden entry", h, Index{1}, Index{100'000});
-  require_range("aurora.learning_rate", learning_rate, 1e-12, 1e3);
-  require_range("aurora.max_epochs", max_epochs, 1, 100'000'000);
-  require_range("aurora.max_training_rows", max_training_rows, Index{1}, Index{100'000'000});
+  require(kLearningRate, learning_rate);
+  require(kMaxEpochs, max_epochs);
+  require(kMaxTrainingRows, max_training_rows);
   require_range("aurora validation fraction", validation_fraction, 1e-6, 1.0 - 1e-6);
   require_at_least("aurora split minimum rows", split_min_rows, Index{1});
   require_range("aurora stopping window", stopping_window, 2, 1'000'000);

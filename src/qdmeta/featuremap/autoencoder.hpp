@@ -13,12 +13,22 @@
 
 #include "qdmeta/core/binary_io.hpp"
 #include "qdmeta/core/eigen.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta {
 
 struct AutoencoderParams {
+  // AURORA's config parameters that the autoencoder checks (core/params.hpp).
+  static constexpr IntParam kLatentSize{"aurora", "latent_size", 1, 1'000,
+      "descriptor dimensions (paper: 2 for Rastrigin, 4 for RHex)"};
+  static constexpr RealParam kLearningRate{"aurora", "learning_rate", 1e-12, 1e3, Open::kNone,
+      "Adam step size (Adam's moments are reset at every training)"};
+  static constexpr IntParam kMaxEpochs{"aurora", "max_epochs", 1, 100'000'000,
+      "full-batch Adam steps per training at most (early stopping may end it sooner)"};
+  static constexpr IntParam kMaxTrainingRows{"aurora", "max_training_rows", 1, 100'000'000,
+      "archive rows trained on at most; a larger archive is subsampled uniformly"};
   Index input_size = 20;                // inputs per row (N_b), >= 1
   Index latent_size = 2;                // code size, >= 1
   std::vector<Index> hidden = {32, 8};  // encoder hidden widths, the decoder mirrors them; each >= 1

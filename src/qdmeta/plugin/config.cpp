@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/regular_file.hpp"
@@ -52,11 +53,16 @@ std::string number_range(double lo, double hi, Open open) {
 
 }  // namespace
 
+std::string range_text(const IntParam& p) { return integer_range(p.lo, p.hi); }
+std::string range_text(const RealParam& p) { return number_range(p.lo, p.hi, p.open); }
+
 ScopedConfigKeyLog::ScopedConfigKeyLog(std::vector<ConfigKeyRecord>& log) : previous_(t_key_log) { t_key_log = &log; }
 ScopedConfigKeyLog::~ScopedConfigKeyLog() { t_key_log = previous_; }
 
-void ConfigReader::record(std::string_view key, std::string type, std::string fallback, std::string range) const {
-  if (t_key_log) t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range)});
+void ConfigReader::record(std::string_view key, std::string type, std::string fallback, std::string range,
+                          std::string_view doc) const {
+  if (t_key_log)
+    t_key_log->push_back({qualified(key), std::move(type), std::move(fallback), std::move(range), std::string(doc)});
 }
 
 namespace {
@@ -106,14 +112,29 @@ const toml::node* ConfigReader::lookup(std::string_view key) {
   return table_.get(key);
 }
 
+void ConfigReader::require_table(std::string_view table) const {
+  if (table != prefix_)
+    throw std::logic_error(fmt::format("a parameter of [{}] read from the table \"{}\"", table, prefix_));
+}
+
 std::int64_t ConfigReader::integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
                                    std::string_view range_doc) {
+  return read_integer(key, fallback, lo, hi, range_doc.empty() ? integer_range(lo, hi) : std::string(range_doc), {});
+}
+
+std::int64_t ConfigReader::integer(const IntParam& p, std::int64_t fallback) {
+  require_table(p.table);
+  return read_integer(p.key, fallback, p.lo, p.hi, range_text(p), p.doc);
+}
+
+std::int64_t ConfigReader::read_integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
+                                        std::string range, std::string_view doc) {
   std::int64_t value = fallback;
   if (const toml::node* node = lookup(key)) {
     if (!node->is_integer()) type_error(key, "an integer");
     value = node->as_integer()->get();
   }
-  record(key, "integer", fmt::format("{}", fallback), range_doc.empty() ? integer_range(lo, hi) : std::string(range_doc));
+  record(key, "integer", fmt::format("{}", fallback), std::move(range), doc);
   if (value < lo || value > hi)
     throw InputError(fmt::format("{}: {} = {} is out of range: must be in [{}, {}]", source_, qualified(key), value, lo, hi));
   resolved_.insert_or_assign(key, value);
@@ -121,13 +142,23 @@ std::int64_t ConfigReader::integer(std::string_view key, std::int64_t fallback, 
 }
 
 double ConfigReader::number(std::string_view key, double fallback, double lo, double hi, Open open) {
+  return read_number(key, fallback, lo, hi, open, {});
+}
+
+double ConfigReader::number(const RealParam& p, double fallback) {
+  require_table(p.table);
+  return read_number(p.key, fallback, p.lo, p.hi, p.open, p.doc);
+}
+
+double ConfigReader::read_number(std::string_view key, double fallback, double lo, double hi, Open open,
+                                 std::string_view doc) {
   double value = fallback;
   if (const toml::node* node = lookup(key)) {
     if (node->is_integer()) value = static_cast<double>(node->as_integer()->get());
     else if (node->is_floating_point()) value = node->as_floating_point()->get();
     else type_error(key, "a number");
   }
-  record(key, "number", fmt::format("{}", fallback), number_range(lo, hi, open));
+  record(key, "number", fmt::format("{}", fallback), number_range(lo, hi, open), doc);
   const bool open_lo = open == Open::kLower || open == Open::kBoth;
   const bool open_hi = open == Open::kUpper || open == Open::kBoth;
   const bool inside = std::isfinite(value) && (open_lo ? value > lo : value >= lo) && (open_hi ? value < hi : value <= hi);

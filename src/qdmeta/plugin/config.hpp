@@ -29,6 +29,7 @@ struct ConfigKeyRecord {
   std::string type;      // "integer", "number", "boolean", "string", "array of integers"
   std::string fallback;  // the default, as TOML: 400, 0.05, "gaussian", [100, 100]
   std::string range;     // e.g. "1 to 10^7", "> 0", "[0, 1]", "\"lloyd\", \"mini-batch\""
+  std::string doc;       // the meaning, where read through a descriptor (IntParam, RealParam)
 };
 // While one is alive, every ConfigReader on this thread appends what it reads to `log`.
 class ScopedConfigKeyLog {
@@ -42,10 +43,9 @@ class ScopedConfigKeyLog {
   std::vector<ConfigKeyRecord>* previous_;
 };
 
-// Which ends of a number's range are open: number("sigma", 0.05, 0, kNoUpper, Open::kLower) is
-// "> 0". Every number must be finite besides.
-enum class Open { kNone, kLower, kUpper, kBoth };
-inline constexpr double kNoUpper = std::numeric_limits<double>::max();
+// A parameter's range as the key log records it and docs/config.md writes it ("1 to 10^7", "> 0").
+std::string range_text(const IntParam& p);
+std::string range_text(const RealParam& p);
 
 class ConfigReader {
  public:
@@ -57,6 +57,10 @@ class ConfigReader {
   std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
                        std::string_view range_doc = {});
   double number(std::string_view key, double fallback, double lo, double hi, Open open = Open::kNone);  // integers accepted
+  // The same, for a parameter declared once (core/params.hpp): its key, range and meaning. The
+  // descriptor's table must be this reader's.
+  std::int64_t integer(const IntParam& p, std::int64_t fallback);
+  double number(const RealParam& p, double fallback);
   bool boolean(std::string_view key, bool fallback);
   std::string string(std::string_view key, std::string_view fallback, std::string_view range_doc = {});
   std::vector<std::int64_t> integers(std::string_view key, const std::vector<std::int64_t>& fallback, std::int64_t lo,
@@ -100,7 +104,12 @@ class ConfigReader {
  private:
   std::string qualified(std::string_view key) const;
   std::string read_string(std::string_view key, std::string_view fallback);
-  void record(std::string_view key, std::string type, std::string fallback, std::string range) const;
+  void record(std::string_view key, std::string type, std::string fallback, std::string range,
+              std::string_view doc = {}) const;
+  std::int64_t read_integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
+                            std::string range, std::string_view doc);
+  double read_number(std::string_view key, double fallback, double lo, double hi, Open open, std::string_view doc);
+  void require_table(std::string_view table) const;
   // choice()'s key log entry, and its error (out of line: the messages are formatted there).
   void record_choice(std::string_view key, std::string_view fallback, const std::vector<std::string_view>& choices) const;
   [[noreturn]] void refuse_choice(std::string_view key, std::string_view text,

@@ -14,8 +14,8 @@ namespace {
 
 Task read_rastrigin_task(ConfigReader& t) {
   RastriginParams p;
-  p.dimensions = static_cast<int>(t.integer("dimensions", p.dimensions, 1, 10000));
-  p.score_m = t.number("score_m", p.score_m, 0.0, kNoUpper, Open::kLower);
+  p.dimensions = static_cast<int>(t.integer(RastriginParams::kDimensions, p.dimensions));
+  p.score_m = t.number(RastriginParams::kScoreM, p.score_m);
   return Task(RastriginTask(p));
 }
 

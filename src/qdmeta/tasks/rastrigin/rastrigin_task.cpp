@@ -1,8 +1,6 @@
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 
-#include <fmt/format.h>
 #include <algorithm>
-#include <cmath>
 #include <vector>
 
 #include "qdmeta/core/params.hpp"
@@ -10,9 +8,8 @@
 namespace qdmeta {
 
 void RastriginParams::validate() const {
-  require_range("task.dimensions", dimensions, 1, 10000);
-  if (!(score_m > 0 && std::isfinite(score_m)))
-    throw InputError(fmt::format("task.score_m = {} is out of range: must be a positive number", score_m));
+  require(kDimensions, dimensions);
+  require(kScoreM, score_m);
 }
 
 RastriginTask::RastriginTask(RastriginParams params) : params_(params) { params_.validate(); }

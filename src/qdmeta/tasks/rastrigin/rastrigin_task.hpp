@@ -2,12 +2,18 @@
 // Rastrigin as a Task: fitness = standard Rastrigin, base features = the genotype itself.
 #include <string>
 
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 
 namespace qdmeta {
 
 struct RastriginParams {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr IntParam kDimensions{"task", "dimensions", 1, 10'000,
+      "Rastrigin: genotype size N; base features = genotype"};
+  static constexpr RealParam kScoreM{"task", "score_m", 0.0, kNoUpper, Open::kLower,
+      "Rastrigin: M of the per-task score M + max(-M, f); the QD-score offset is -M"};
   int dimensions = 20;                        // N, genotype size, in [1, 10000]
   double score_m = rastrigin::kDefaultScoreM;  // M: scores are M + max(-M, f); QD-score offset is -M
   void validate() const;

@@ -20,10 +20,10 @@ constexpr std::uint64_t kDamageDraw = 0xDA3A6E, kCourseDraw = 0xC0025E;
 Task read_rhex_task(ConfigReader& t) {
   RhexParams p;
   p.features = t.choice("features", p.features, kRhexFeaturesNames);
-  p.episode.duration = t.number("episode_seconds", p.episode.duration, 0.0, 600.0, Open::kLower);
-  p.episode.time_step = t.number("time_step", p.episode.time_step, 0.0, 0.1, Open::kLower);
-  p.episode.settle_steps = static_cast<int>(t.integer("settle_steps", p.episode.settle_steps, 0, 1'000'000));
-  p.gene_step = t.number("gene_step", p.gene_step, 0.0, 1.0, Open::kLower);
+  p.episode.duration = t.number(rhex::EpisodeSettings::kEpisodeSeconds, p.episode.duration);
+  p.episode.time_step = t.number(rhex::EpisodeSettings::kTimeStep, p.episode.time_step);
+  p.episode.settle_steps = static_cast<int>(t.integer(rhex::EpisodeSettings::kSettleSteps, p.episode.settle_steps));
+  p.gene_step = t.number(RhexParams::kGeneStep, p.gene_step);
   p.stance_offset = t.choice("stance_offset", p.stance_offset, rhex::kStanceOffsetNames);
   p.episode.engine = t.choice("engine", p.episode.engine, rhex::kEngineNames);
   p.episode.legs = t.choice("legs", p.episode.legs, rhex::kLegModelNames);

@@ -13,14 +13,12 @@
 namespace qdmeta::rhex {
 
 void EpisodeSettings::validate() const {
-  if (!(time_step > 0.0 && time_step <= 0.1))
-    throw InputError(fmt::format("task.time_step = {} is out of range: must be in (0, 0.1]", time_step));
-  if (!(duration > 0.0 && duration <= 600.0))
-    throw InputError(fmt::format("task.episode_seconds = {} is out of range: must be in (0, 600]", duration));
+  require(kTimeStep, time_step);
+  require(kEpisodeSeconds, duration);
   if (steps() % (kTrajectorySamples - 1) != 0)
     throw InputError(fmt::format("task.episode_seconds = {}: the episode must last a multiple of 10 time steps "
                                  "(it has {})", duration, steps()));
-  require_range("task.settle_steps", settle_steps, 0, 1000000);
+  require(kSettleSteps, settle_steps);
   require_range("task.stable_steps", stable_steps, 0, 1000000);
 }
 

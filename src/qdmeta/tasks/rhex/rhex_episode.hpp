@@ -46,6 +46,12 @@ struct MujocoOptions {
 };
 
 struct EpisodeSettings {
+  // The config parameters read into this struct and checked by validate() (core/params.hpp).
+  static constexpr RealParam kTimeStep{"task", "time_step", 0.0, 0.1, Open::kLower,
+      "simulation step and control cycle (s)"};
+  static constexpr RealParam kEpisodeSeconds{"task", "episode_seconds", 0.0, 600.0, Open::kLower, "length of the walk"};
+  static constexpr IntParam kSettleSteps{"task", "settle_steps", 0, 1'000'000,
+      "most uncommanded steps after the walk; a robot not settled by then is dead (0: no settle phase)"};
   double time_step = 0.005;       // s, also the control cycle
   double duration = 5.0;          // s of walking
   int settle_steps = 1000;        // at most this many uncommanded steps after the walk

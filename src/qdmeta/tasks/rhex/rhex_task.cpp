@@ -1,14 +1,12 @@
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
-#include <fmt/format.h>
 #include <algorithm>
 #include <array>
 
 namespace qdmeta {
 
 void RhexParams::validate() const {
-  if (!(gene_step > 0.0 && gene_step <= 1.0))
-    throw InputError(fmt::format("task.gene_step = {} is out of range: must be in (0, 1]", gene_step));
+  require(kGeneStep, gene_step);
   episode.validate();
   environment.validate();
 }

@@ -4,6 +4,7 @@
 // feature-sets), valid = 0 when the robot turned over or never settled. DART-free header.
 #include <string>
 
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
 #include "qdmeta/tasks/rhex/rhex_episode.hpp"
 
@@ -14,6 +15,9 @@ inline constexpr EnumNames<RhexFeatures, 2> kRhexFeaturesNames{
     {{RhexFeatures::kTrajectory, "trajectory"}, {RhexFeatures::kFeatureSets, "feature-sets"}}};
 
 struct RhexParams {
+  // The config parameter read into this struct and checked by validate() (core/params.hpp).
+  static constexpr RealParam kGeneStep{"task", "gene_step", 0.0, 1.0, Open::kLower,
+      "genes are snapped to this grid before decoding"};
   RhexFeatures features = RhexFeatures::kTrajectory;  // which base features the task writes
   double gene_step = 0.025;                           // genes are snapped to this grid, in (0, 1]
   rhex::StanceOffset stance_offset = rhex::StanceOffset::kPaper;  // the paper's range, or the authors' 6x
