@@ -55,7 +55,8 @@ struct QdMetaParams {
       "lambda: feature-maps sampled by CMA-ES per meta-generation (1: a (1,1)-ES, the supplementary study's "
       "smallest)"};
   static constexpr IntParam kBatchSize{"qd_meta", "batch_size", 1, 10'000'000,
-      "offspring per MAP-Elites generation in each map"};
+      "offspring per MAP-Elites generation in each map (refused with `bottom_level = \"cma-mae\"`, whose generation "
+      "is `emitters.count` x `emitters.batch_size` rows)"};
   static constexpr IntParam kInitialPopulation{"qd_meta", "initial_population", 1, 100'000'000,
       "random genotypes that only seed the database"};
   static constexpr IntParam kDatabaseCapacity{"qd_meta", "database_capacity", 1, 1'000'000'000,
