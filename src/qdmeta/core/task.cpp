@@ -11,6 +11,7 @@
 #include <string>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/seconds_since.hpp"
 
 namespace qdmeta {
 
@@ -34,10 +35,6 @@ bool all_outputs_in_range(const EvaluationView& out) {
   const Index total = out.count * out.base_feature_size;
   for (Index k = 0; k < total; ++k) ok &= (b[k] >= 0) & (b[k] <= 1);  // NaN fails
   return ok != 0;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The text of the exception in flight (inside a catch block).

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "qdmeta/core/parallel.hpp"
+#include "qdmeta/core/seconds_since.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 
 namespace qdmeta {
@@ -106,9 +107,6 @@ class ThreadEvaluator final : public Evaluator {
   void within_workers(const std::function<void()>& fn) override { arena_.execute(fn); }
 
  private:
-  static double seconds_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
   int threads_;
   Index chunk_rows_;
   double cheap_batch_seconds_;

@@ -14,6 +14,7 @@
 #include "qdmeta/assembly/config_fingerprint.hpp"
 #include "qdmeta/assembly/memory_estimate.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/seconds_since.hpp"
 #include "qdmeta/experiment/claim_rules.hpp"
 #include "qdmeta/experiment/kept_runs.hpp"
 #include "qdmeta/experiment/test_phase.hpp"
@@ -296,7 +297,7 @@ ExperimentResult run_experiment(const ExperimentSpec& spec, const fs::path& out,
   if (options.summaries) keep_spec(spec, conditions, *options.summaries, scope, changed);
   write_spec(spec, out);
   const auto start = std::chrono::steady_clock::now();
-  const auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const auto wall = [&] { return seconds_since(start); };
   auto evaluator = make_evaluator(threads);
   ExperimentResult result;
   // Asked to stop: checked before each phase (a run checks it between its steps itself).
