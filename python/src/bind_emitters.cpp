@@ -82,6 +82,14 @@ std::string ranker_name(const std::string& name) {
   throw InputError(fmt::format("ranker = '{}' is not one of imp, 2imp, obj, 2obj, rd, 2rd", name));
 }
 
+// es: pyribs's names ("cma_es", "sep_cma_es" or their class names) and qdmeta's.
+std::string es_name(const std::string& name) {
+  if (name == "cma_es" || name == "CMAEvolutionStrategy" || name == "cma-es") return "cma-es";
+  if (name == "sep_cma_es" || name == "SeparableCMAEvolutionStrategy" || name == "sep-cma-es") return "sep-cma-es";
+  throw InputError(fmt::format("es = '{}' is not 'cma_es' or 'sep_cma_es' (qdmeta has no other evolution strategy)",
+                               name));
+}
+
 // restart_rule: "no_improvement", "basic" or an integer n (restart every n iterations).
 std::pair<std::string, int> restart_rule(py::handle rule) {
   if (!py::isinstance<py::str>(rule) && !py::isinstance<py::bool_>(rule) && PyIndex_Check(rule.ptr()))
@@ -166,12 +174,15 @@ CMA-ME's emitter, as pyribs's EvolutionStrategyEmitter: CMA-ES proposes each bat
 archive took it, the emitter ranks the rows (ranker "2imp", "imp", "obj", "2obj", "rd", "2rd"),
 takes the parents (selection_rule "filter": the rows the archive took; "mu": the best half) and
 restarts CMA-ES from a random elite when restart_rule fires ("no_improvement", "basic" or every n
-iterations) or CMA-ES converges. batch_size None is CMA-ES's 4 + floor(3 ln solution_dim); seed
-None draws one from the system. bounds must be None (qdmeta's CMA-ES here is unbounded).)doc");
+iterations) or CMA-ES converges. es "cma_es" is the full CMA-ES, "sep_cma_es" the separable one
+(diagonal covariance, for large solution_dim); es_kwargs must be None. batch_size None is CMA-ES's
+4 + floor(3 ln solution_dim); seed None draws one from the system. bounds must be None (qdmeta's
+CMA-ES here is unbounded).)doc");
   es.def(py::init([](py::object archive, py::handle x0, double sigma0, const std::string& ranker,
-                     const std::string& selection_rule, py::handle restart_rule_value, py::handle bounds,
-                     py::handle batch_size, py::handle seed) {
+                     const std::string& es_value, py::handle es_kwargs, const std::string& selection_rule,
+                     py::handle restart_rule_value, py::handle bounds, py::handle batch_size, py::handle seed) {
            if (!bounds.is_none()) throw InputError("bounds must be None: qdmeta's EvolutionStrategyEmitter is unbounded");
+           if (!es_kwargs.is_none()) throw InputError("es_kwargs must be None: qdmeta's evolution strategies take no options");
            if (selection_rule != "filter" && selection_rule != "mu")
              throw InputError(fmt::format("selection_rule = '{}' is not 'filter' or 'mu'", selection_rule));
            const Index genes = archive_solution_dim(archive);
@@ -179,11 +190,12 @@ None draws one from the system. bounds must be None (qdmeta's CMA-ES here is unb
            const int lambda = 4 + static_cast<int>(std::floor(3.0 * std::log(static_cast<double>(genes))));
            return new_emitter<EsHandle>(archive, "EvolutionStrategyEmitter",
                                         py::make_tuple(x0, sigma0, batch_size_argument(batch_size, lambda),
-                                                       ranker_name(ranker), selection_rule, restart, every),
+                                                       ranker_name(ranker), selection_rule, restart, every,
+                                                       es_name(es_value)),
                                         seed);
          }),
          py::arg("archive"), py::kw_only(), py::arg("x0"), py::arg("sigma0"), py::arg("ranker") = "2imp",
-         py::arg("selection_rule") = "filter", py::arg("restart_rule") = "no_improvement",
+         py::arg("es") = "cma_es", py::arg("es_kwargs") = py::none(), py::arg("selection_rule") = "filter", py::arg("restart_rule") = "no_improvement",
          py::arg("bounds") = py::none(), py::arg("batch_size") = py::none(), py::arg("seed") = py::none())
       .def_property_readonly("restarts",
                              [](const EsHandle& h) {

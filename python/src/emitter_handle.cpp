@@ -63,7 +63,8 @@ std::vector<double> archive_measure_ranges(py::handle archive) {
 
 void build_emitter(EmitterHandle& h, py::object archive, const std::string& kind, py::tuple v, Rng rng) {
   ElitePicker picker = picker_of(archive);
-  if (kind == "EvolutionStrategyEmitter" && v.size() == 7) {
+  // 8 parameters, the last the evolution strategy; 7 (pickles from before es) is the full CMA-ES.
+  if (kind == "EvolutionStrategyEmitter" && (v.size() == 7 || v.size() == 8)) {
     EvolutionStrategyEmitterParams p;
     p.x0 = x0_of(archive, v[0]);
     p.sigma0 = v[1].cast<double>();
@@ -72,6 +73,7 @@ void build_emitter(EmitterHandle& h, py::object archive, const std::string& kind
     p.selection = emitter_selection_from_string(v[4].cast<std::string>());
     p.restart = emitter_restart_from_string(v[5].cast<std::string>());
     p.restart_every = v[6].cast<int>();
+    if (v.size() == 8) p.es = evolution_strategy_kind_from_string(v[7].cast<std::string>());
     if (needs_direction(p.ranker)) p.measure_ranges = archive_measure_ranges(archive);
     p.validate();
     h.emitter = std::make_unique<EvolutionStrategyEmitter>(std::move(p), std::move(picker));

@@ -183,6 +183,19 @@ TEST(CmaMaeCli, QdMetaOverCmaMaeIsThreadIndependentAndResumesToTheSameBits) {
   expect_thread_independent_and_resumable(config, "qdm", 20, fresh_dir("qdm-one"));
 }
 
+// es = "sep-cma-es": the separable CMA-ES in every emitter fills the archive with true Rastrigin
+// elites, gives the same bits on one thread and two, and a killed run resumes to them.
+TEST(CmaMaeCli, SeparableEsRunIsThreadIndependentAndResumesToTheSameBits) {
+  const fs::path config = write_config(
+      "sep", small_config("cma-mae", "es = \"sep-cma-es\"\n", "bins = [20, 20]\n", "[checkpoint]\nevery_seconds = 0\n"));
+  const fs::path one = fresh_dir("sep-one");
+  expect_thread_independent_and_resumable(config, "sep", 200, one);
+  const EliteTable t = read_elites_csv(one / "archive.csv");
+  EXPECT_GT(t.size(), 200);  // of 400 cells
+  expect_rastrigin_elites(t, 400);
+  EXPECT_NE(slurp(one / "config.toml").find("es = 'sep-cma-es'"), std::string::npos);
+}
+
 // CVT cells (200 centroids, made once and cached): each elite's cell is its own, its measures
 // its genes (Rastrigin's base features), and resuming or a second thread changes no bit.
 TEST(CmaMaeCli, CvtArchiveRunIsExactResumableAndThreadIndependent) {
@@ -247,6 +260,8 @@ TEST(CmaMaeCli, BadSettingsAreOneLineNamingTheKey) {
        "emitters.restart_every applies only to restart_rule = \"every-n\" (here \"no-improvement\")"},
       {small_config("cma-me", "bounds = \"none\"\n"),
        "emitters.bounds = \"none\" is not a valid choice: use one of \"resample\", \"clamp\""},
+      {small_config("cma-me", "es = \"sep_cma_es\"\n"),
+       "emitters.es = \"sep_cma_es\" is not a valid choice: use one of \"cma-es\", \"sep-cma-es\""},
       {small_config("cma-me", "counts = 2\n"), "unknown key 'emitters.counts' in [emitters]"},
       {small_config("cma-me", "", "kind = \"proximity\"\n"),
        "archive.kind = \"proximity\" is not a valid choice: use one of \"grid\", \"cvt\""},

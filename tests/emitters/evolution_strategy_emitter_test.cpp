@@ -183,26 +183,75 @@ void run(EvolutionStrategyEmitter& e, Rng& rng, int first, int tells) {
   for (int t = first; t < first + tells; ++t) tell_with(e, e.ask(rng), (t * 5) % 7 % 4);
 }
 
-TEST(EvolutionStrategyEmitter, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
-  EvolutionStrategyEmitter a(params(), quarter), b(params(), quarter);
+// Two emitters of `p` and seed 9 reach the same state (`state` reads it); one saved after 20
+// tells and loaded into a third continues to the first's bits. Returns the third.
+template <class ReadState>
+EvolutionStrategyEmitter expect_same_bits_and_continuation(const EvolutionStrategyEmitterParams& p, ReadState state) {
+  EvolutionStrategyEmitter a(p, quarter), b(p, quarter);
   Rng ra(9), rb(9);
   run(a, ra, 0, 20);
   run(b, rb, 0, 20);
-  EXPECT_TRUE(a.optimiser().state() == b.optimiser().state());
+  EXPECT_TRUE(state(a) == state(b));
   EXPECT_GT(a.restarts(), 0);
 
   BinaryWriter out;
   a.save(out);
-  EvolutionStrategyEmitter resumed(params(), quarter);
+  EvolutionStrategyEmitter resumed(p, quarter);
   BinaryReader in(out.bytes(), "test");
   resumed.load(in);
   in.finish();
   Rng rr = ra;
   run(a, ra, 20, 15);
   run(resumed, rr, 20, 15);
-  EXPECT_TRUE(a.optimiser().state() == resumed.optimiser().state());
+  EXPECT_TRUE(state(a) == state(resumed));
   EXPECT_EQ(a.restarts(), resumed.restarts());
   EXPECT_EQ(a.tells(), resumed.tells());
+  return resumed;
+}
+
+TEST(EvolutionStrategyEmitter, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
+  expect_same_bits_and_continuation(params(), [](const EvolutionStrategyEmitter& e) { return e.optimiser().state(); });
+}
+
+// es = sep-cma-es: the emitter runs meta/sep_cma_es.hpp's separable CMA-ES through the same
+// rules: same bits for the same seed, restarts to the picked mean, checkpoints that continue.
+TEST(EvolutionStrategyEmitter, SeparableEsSameBitsRestartsAndCheckpointsContinueBitForBit) {
+  auto p = params();
+  p.es = EvolutionStrategyKind::kSepCmaEs;
+  EvolutionStrategyEmitter resumed = expect_same_bits_and_continuation(
+      p, [](const EvolutionStrategyEmitter& e) { return e.separable_optimiser().state(); });
+  EXPECT_GT(resumed.separable_optimiser().state().generation, 0);
+  // A full ES's checkpoint does not load into a separable emitter.
+  BinaryWriter full;
+  EvolutionStrategyEmitter(params(), quarter).save(full);
+  BinaryReader wrong(full.bytes(), "test");
+  EXPECT_THROW(resumed.load(wrong), InputError);
+
+  // A batch of nothing added restarts the separable ES at the picked mean.
+  EvolutionStrategyEmitter e(p, quarter);
+  Rng rng(2);
+  tell_with(e, e.ask(rng), 0);
+  e.ask(rng);
+  EXPECT_EQ(e.separable_optimiser().state().mean, Eigen::VectorXd::Constant(3, 0.25));
+  EXPECT_EQ(e.separable_optimiser().state().generation, 0);
+}
+
+TEST(EvolutionStrategyEmitter, SeparableEsRefusesTheFullEsOnlySettingsAndTheOtherAccessor) {
+  auto p = params();
+  p.es = EvolutionStrategyKind::kSepCmaEs;
+  p.rank_one = CmaRankOne::kPyribs;
+  EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.rank_one = pyribs is not available with es = "
+                                   "sep-cma-es: only tutorial");
+  p.rank_one = CmaRankOne::kTutorial;
+  const EvolutionStrategyEmitter sep(p, quarter);
+  EXPECT_INPUT_ERROR(sep.optimiser(),
+                     "EvolutionStrategyEmitter::optimiser: this emitter runs es = sep-cma-es; use separable_optimiser()");
+  const EvolutionStrategyEmitter full(params(), quarter);
+  EXPECT_INPUT_ERROR(full.separable_optimiser(),
+                     "EvolutionStrategyEmitter::separable_optimiser: this emitter runs es = cma-es; use optimiser()");
+  EXPECT_EQ(evolution_strategy_kind_from_string("sep-cma-es"), EvolutionStrategyKind::kSepCmaEs);
+  EXPECT_EQ(to_string(EvolutionStrategyKind::kCmaEs), "cma-es");
+  EXPECT_THROW(evolution_strategy_kind_from_string("sep_cma"), InputError);
 }
 
 }  // namespace

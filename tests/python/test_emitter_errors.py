@@ -38,6 +38,8 @@ EMITTER_ERRORS = [
     (dict(restart_rule=0), r"^restart_rule = 0 is invalid: must be an integer in \[1, 2147483647\]$"),
     (dict(restart_rule=True), r"^restart_rule = True is not 'no_improvement', 'basic' or an integer >= 1$"),
     (dict(selection_rule="best"), r"^selection_rule = 'best' is not 'filter' or 'mu'$"),
+    (dict(es="lm_ma_es"), r"^es = 'lm_ma_es' is not 'cma_es' or 'sep_cma_es' \(qdmeta has no other evolution strategy\)$"),
+    (dict(es_kwargs={"lr": 1}), r"^es_kwargs must be None: qdmeta's evolution strategies take no options$"),
     (dict(bounds=[(0, 1)] * DIM), r"^bounds must be None"),
     (dict(seed=-1), r"^seed = -1 is out of range"),
     (dict(seed=2**70), r"^seed = 1180591620717411303424 is out of range: must be in \[0, 9223372036854775807\]$"),

@@ -19,6 +19,8 @@ def mixed_scheduler():
                                         restart_rule=5, batch_size=8, seed=11),
         qdmeta.EvolutionStrategyEmitter(archive, x0=np.zeros(DIM), sigma0=0.3, ranker="2rd", batch_size=6, seed=12),
         qdmeta.GaussianEmitter(archive, sigma=0.4, x0=np.zeros(DIM), batch_size=5, seed=13),
+        qdmeta.EvolutionStrategyEmitter(archive, x0=np.zeros(DIM), sigma0=0.4, es="sep_cma_es", restart_rule=4,
+                                        batch_size=7, seed=14),
     ]
     return run(qdmeta.Scheduler(archive, emitters, result_archive=result), 17)
 

@@ -107,3 +107,26 @@ def test_every_ranker_and_restart_rule_runs_and_fills_the_archive(ranker, restar
     assert len(archive) > 10 and emitter.itrs == 30
     if restart_rule == 5:
         assert emitter.restarts >= 30 // 5 - 1  # the restart fires at the ask after every 5th tell
+
+
+def separable_cma_mae(seed, es="sep_cma_es"):
+    archive = grid(0.01, 0.0)
+    return qdmeta.Scheduler(archive, [
+        qdmeta.EvolutionStrategyEmitter(archive, x0=np.zeros(DIM), sigma0=0.5, ranker="imp", es=es,
+                                        selection_rule="mu", restart_rule="basic", batch_size=12, seed=seed * 100 + i)
+        for i in range(3)])
+
+
+def test_es_sep_cma_es_runs_the_separable_cma_es_under_each_of_its_names():
+    """pyribs's es="sep_cma_es", its class name and qdmeta's name are one emitter (same bits); it
+    fills the archive as the full CMA-ES does, along another path."""
+    runs = [run(separable_cma_mae(4, es), 60) for es in ("sep_cma_es", "SeparableCMAEvolutionStrategy", "sep-cma-es")]
+    batches = [r.ask() for r in runs]
+    for other, batch in zip(runs[1:], batches[1:]):
+        assert np.array_equal(runs[0].thresholds, other.thresholds)
+        assert np.array_equal(batches[0], batch)
+    full = run(separable_cma_mae(4, "cma_es"), 60)
+    assert not np.array_equal(full.thresholds, runs[0].thresholds)
+    assert np.array_equal(full.thresholds, run(cma_mae(4), 60).thresholds)  # es="cma_es" is the default
+    sep_cells = len(runs[0].archive.data()["index"])
+    assert sep_cells > 0.5 * len(full.archive.data()["index"]) and sep_cells > 60

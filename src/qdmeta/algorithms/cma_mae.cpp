@@ -19,8 +19,12 @@ void add_cma_mae_memory(MemoryEstimate& m, const CmaMaeParams& p, double cells, 
   const auto genes = static_cast<double>(task.genotype_size());
   const auto emitters = static_cast<double>(p.emitters);
   m.add("the acceptance thresholds", "archive cells", cells * (sizeof(double) + 1));
-  // CMA-ES keeps C, its eigenvectors, C^-1/2 and a work copy, n x n doubles each.
-  m.add("the emitters' CMA-ES", "emitters.count x genes^2", emitters * 4 * genes * genes * sizeof(double));
+  // CMA-ES keeps C, its eigenvectors, C^-1/2 and a work copy, n x n doubles each; the separable
+  // one a few vectors of n (its mean, C's diagonal, two paths, a scale).
+  if (p.emitter.es == EvolutionStrategyKind::kSepCmaEs)
+    m.add("the emitters' separable CMA-ES", "emitters.count x genes", emitters * 5 * genes * sizeof(double));
+  else
+    m.add("the emitters' CMA-ES", "emitters.count x genes^2", emitters * 4 * genes * genes * sizeof(double));
   m.add("a step's batch", "emitters.count x emitters.batch_size x genes", offspring_bytes(emitters * p.emitter.batch_size, task));
 }
 

@@ -96,8 +96,13 @@ void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArch
     const double cells = lambda * grid_cells(grid);
     m.add("the maps' acceptance thresholds", "qd_meta.meta_population x archive.bins (cells)",
           cells * (sizeof(double) + 1));
-    m.add("the maps' emitters' CMA-ES", "qd_meta.meta_population x emitters.count x genes^2",
-          lambda * static_cast<double>(p.emitters.emitters) * 4 * n * n * sizeof(double));
+    const double emitters = lambda * static_cast<double>(p.emitters.emitters);
+    if (p.emitters.emitter.es == EvolutionStrategyKind::kSepCmaEs)
+      m.add("the maps' emitters' separable CMA-ES", "qd_meta.meta_population x emitters.count x genes",
+            emitters * 5 * n * sizeof(double));
+    else
+      m.add("the maps' emitters' CMA-ES", "qd_meta.meta_population x emitters.count x genes^2",
+            emitters * 4 * n * n * sizeof(double));
   }
 }
 

@@ -52,6 +52,7 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
     throw InputError(fmt::format("{}: emitters.restart_every applies only to restart_rule = \"every-n\" (here \"{}\")",
                                  e.source(), to_string(es.restart)));
   es.bounds = e.choice("bounds", CmaBoundsHandling::kResample, kGeneBoundsNames);
+  es.es = e.choice("es", EvolutionStrategyKind::kCmaEs, kEvolutionStrategyKindNames);
   es.lower_bound = 0.0;
   es.upper_bound = 1.0;
   return p;

@@ -9,11 +9,13 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "qdmeta/emitters/emitter.hpp"
 #include "qdmeta/emitters/ranking.hpp"
 #include "qdmeta/meta/cma_es.hpp"
+#include "qdmeta/meta/sep_cma_es.hpp"
 
 namespace qdmeta {
 
@@ -39,6 +41,16 @@ inline constexpr EnumNames<EmitterRestart, 3> kEmitterRestartNames{{{EmitterRest
 std::string to_string(EmitterRestart value);
 EmitterRestart emitter_restart_from_string(std::string_view text);
 
+// Which evolution strategy proposes the batches (pyribs's es argument).
+enum class EvolutionStrategyKind {
+  kCmaEs,     // full covariance (meta/cma_es.hpp), pyribs's "cma_es"
+  kSepCmaEs,  // diagonal covariance, O(n) per sample (meta/sep_cma_es.hpp), pyribs's "sep_cma_es"
+};
+inline constexpr EnumNames<EvolutionStrategyKind, 2> kEvolutionStrategyKindNames{
+    {{EvolutionStrategyKind::kCmaEs, "cma-es"}, {EvolutionStrategyKind::kSepCmaEs, "sep-cma-es"}}};
+std::string to_string(EvolutionStrategyKind value);
+EvolutionStrategyKind evolution_strategy_kind_from_string(std::string_view text);
+
 struct EvolutionStrategyEmitterParams {
   std::vector<double> x0;  // the first mean, one value per gene (required)
   double sigma0 = 0.1;     // CMA-ES's initial step size at the start and at each restart (> 0)
@@ -58,6 +70,8 @@ struct EvolutionStrategyEmitterParams {
   CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;
   // CMA-ES's rank-one term; "pyribs" reproduces pyribs 0.12's, for comparisons with it only.
   CmaRankOne rank_one = CmaRankOne::kTutorial;
+  // The full CMA-ES or the separable one (which has no eigen_gap and only the tutorial's rank_one).
+  EvolutionStrategyKind es = EvolutionStrategyKind::kCmaEs;
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };
@@ -66,6 +80,8 @@ struct EvolutionStrategyEmitterParams {
 // distribution narrower than 1e-11 (sigma sqrt(largest eigenvalue)), or best and worst rank keys
 // of the batch within 1e-12 (flat).
 bool cma_converged(const CmaEsState& state, const std::vector<RankKey>& ranked_keys);
+// The same for the separable CMA-ES, whose axes are the square roots of C's diagonal.
+bool cma_converged(const SepCmaEsState& state, const std::vector<RankKey>& ranked_keys);
 
 class EvolutionStrategyEmitter : public BatchEmitter {
  public:
@@ -78,7 +94,10 @@ class EvolutionStrategyEmitter : public BatchEmitter {
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
 
-  const CmaEs& optimiser() const { return cma_; }
+  // The full CMA-ES; InputError when the emitter runs the separable one (es = sep-cma-es).
+  const CmaEs& optimiser() const;
+  // The separable CMA-ES; InputError when the emitter runs the full one.
+  const SepCmaEs& separable_optimiser() const;
   std::int64_t tells() const { return tells_; }
   std::int64_t restarts() const { return restarts_; }
   // True from a tell whose restart rule fired until the next ask() restarts CMA-ES.
@@ -96,7 +115,7 @@ class EvolutionStrategyEmitter : public BatchEmitter {
 
   EvolutionStrategyEmitterParams params_;
   ElitePicker pick_elite_;
-  CmaEs cma_;
+  std::variant<CmaEs, SepCmaEs> es_;
   std::int64_t tells_ = 0;
   std::int64_t restarts_ = 0;
   bool restart_pending_ = false;

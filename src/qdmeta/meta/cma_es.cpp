@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/meta/cma_es_common.hpp"
 #include "qdmeta/meta/symmetric_eigen.hpp"
 
 namespace qdmeta {
@@ -67,12 +68,6 @@ void multiply_transposed(const Eigen::MatrixXd& a, const double* x, double* y) {
   }
 }
 
-double sum_of_squares(const Eigen::VectorXd& x) {
-  double sum = 0.0;
-  for (Eigen::Index i = 0; i < x.size(); ++i) sum += x(i) * x(i);
-  return sum;
-}
-
 // Eigen's operator== asserts on a size mismatch; states of different sizes are just unequal.
 template <class A, class B>
 bool same(const A& a, const B& b) {
@@ -83,50 +78,15 @@ bool authors_realisation(const CmaEsParams& p) {
   return p.population_size < 2 && p.small_population == CmaSmallPopulation::kAuthors;
 }
 
-// The recombination weights, top - ln i normalised, and the learning rates that follow from
-// them (the tutorial's Table 1) for s.mu parents of s.lambda samples in dimension s.n.
-void set_weights_and_rates(CmaEsStrategy& s, double top) {
-  const double dn = s.n;
-  const int lambda = s.lambda;
-  s.weights.resize(s.mu);
-  for (int i = 0; i < s.mu; ++i) s.weights(i) = top - std::log(i + 1.0);
-  // lambda = 1 (the paper's smallest meta-population): the one parent takes all the weight
-  // (the formula gives 0 / 0 there).
-  if (s.mu == 1) s.weights(0) = 1.0;
-  double weight_sum = 0.0;
-  for (int i = 0; i < s.mu; ++i) weight_sum += s.weights(i);
-  for (int i = 0; i < s.mu; ++i) s.weights(i) /= weight_sum;
-  s.mu_eff = 1.0 / sum_of_squares(s.weights);
-  const double mu_eff = s.mu_eff;
-  s.c_sigma = (mu_eff + 2.0) / (dn + mu_eff + 5.0);
-  s.d_sigma = 1.0 + 2.0 * std::max(0.0, std::sqrt((mu_eff - 1.0) / (dn + 1.0)) - 1.0) + s.c_sigma;
-  s.c_c = (4.0 + mu_eff / dn) / (dn + 4.0 + 2.0 * mu_eff / dn);
-  const double alpha_cov = 2.0;
-  s.c1 = alpha_cov / ((dn + 1.3) * (dn + 1.3) + mu_eff);
-  s.c_mu = std::min(1.0 - s.c1, alpha_cov * (mu_eff - 2.0 + 1.0 / mu_eff) /
-                                    ((dn + 2.0) * (dn + 2.0) + alpha_cov * mu_eff / 2.0));
-  s.chi_n = std::sqrt(dn) * (1.0 - 1.0 / (4.0 * dn) + 1.0 / (21.0 * dn * dn));
-  s.eigen_interval = lambda / ((s.c1 + s.c_mu) * dn * 10.0);
-}
-
 CmaEsStrategy make_strategy(const CmaEsParams& p) {
-  const int lambda = CmaEs::sampled_population(p);
-  CmaEsStrategy s;
-  s.n = p.dimension;
-  s.lambda = lambda;
-  s.evaluated = p.population_size;
-  s.library_ranking = authors_realisation(p);
-  s.mu = std::max(1, lambda / 2);
-  // c-cmaes's default weights, ln(mu + 1) - ln i, where its realisation of lambda = 1 is asked for.
-  const double top = s.library_ranking ? std::log(s.mu + 1.0) : std::log((lambda + 1.0) / 2.0);
-  set_weights_and_rates(s, top);
+  CmaEsStrategy s = cma_strategy(p);
   if (p.eigen_gap == CmaEigenGap::kPurecma) {
     // purecma's gap, 0.5 n lambda / (c1 + c_mu) / n^2, from the rates of floor(lambda / 2)
     // parents weighted ln(mu + 1/2) - ln i, whatever the parents of each update.
     CmaEsStrategy half = s;
-    half.mu = std::max(1, lambda / 2);
-    set_weights_and_rates(half, std::log(half.mu + 0.5));
-    s.eigen_interval = 0.5 * static_cast<double>(lambda) / ((half.c1 + half.c_mu) * static_cast<double>(s.n));
+    half.mu = std::max(1, s.lambda / 2);
+    cma_set_weights_and_rates(half, std::log(half.mu + 0.5));
+    s.eigen_interval = 0.5 * static_cast<double>(s.lambda) / ((half.c1 + half.c_mu) * static_cast<double>(s.n));
   }
   return s;
 }
@@ -280,62 +240,20 @@ const Eigen::MatrixXd& CmaEs::ask_with(FillNormals&& fill_normals) {
       for (int i = 0; i < n; ++i) x[i] = dist.mean(i) + dist.sigma * x[i];
     }
   };
-  const double lo = params_.lower_bound;
-  const double hi = params_.upper_bound;
-  if (params_.bounds == CmaBoundsHandling::kResample) {
-    const auto inside = [&](int column) {
-      const auto x = state_.samples.col(column).array();
-      return (x >= lo).all() && (x <= hi).all();
-    };
-    for (int k = 0; k < lambda; ++k) {
-      sample_columns(k, 1);
-      for (int attempt = 1; attempt < params_.max_resample_attempts && k < bounded && !inside(k); ++attempt) {
-        sample_columns(k, 1);
-      }
-    }
-  } else {
-    sample_columns(0, lambda);
-  }
-  if (params_.bounds != CmaBoundsHandling::kNone) {
-    double* x = state_.samples.data();
-    const Eigen::Index count = Eigen::Index{n} * bounded;
-    for (Eigen::Index i = 0; i < count; ++i) x[i] = std::min(std::max(x[i], lo), hi);
-  }
+  cma_sample_within_bounds(params_, state_.samples, bounded, sample_columns);
   state_.awaiting_tell = true;
   return state_.samples;
 }
 
-const Eigen::MatrixXd& CmaEs::ask(Rng& rng) {
-  return ask_with([&rng](double* out, Eigen::Index count) {
-    for (Eigen::Index i = 0; i < count; ++i) out[i] = rng.normal();
-  });
-}
+const Eigen::MatrixXd& CmaEs::ask(Rng& rng) { return ask_with(cma_rng_normals(rng)); }
 
 const Eigen::MatrixXd& CmaEs::ask(const std::function<double()>& standard_normal) {
-  if (!standard_normal) throw InputError("CmaEs::ask: the standard-normal source is empty");
-  return ask_with([&standard_normal](double* out, Eigen::Index count) {
-    for (Eigen::Index i = 0; i < count; ++i) out[i] = standard_normal();
-  });
+  return ask_with(cma_source_normals("CmaEs", standard_normal));
 }
 
 void CmaEs::tell(const Eigen::VectorXd& fitness, CmaObjective objective) {
   const int lambda = strategy_.lambda;
-  if (!state_.awaiting_tell) {
-    throw InputError("CmaEs::tell: called without a pending ask; call ask() first");
-  }
-  if (fitness.size() != strategy_.evaluated) {
-    throw InputError(
-        fmt::format("CmaEs::tell: expected {} fitness values, got {}", strategy_.evaluated, fitness.size()));
-  }
-  for (Eigen::Index i = 0; i < fitness.size(); ++i) {
-    if (std::isnan(fitness(i))) {
-      throw InputError(fmt::format("CmaEs::tell: fitness value {} is NaN; expected a number", i));
-    }
-  }
-  if (objective != CmaObjective::kMinimise && objective != CmaObjective::kMaximise) {
-    throw InputError(fmt::format("CmaEs::tell: objective = {} is invalid; valid values: minimise, maximise",
-                                 static_cast<int>(objective)));
-  }
+  cma_check_tell("CmaEs", state_.awaiting_tell, fitness, strategy_.evaluated, objective);
   state_.awaiting_tell = false;
   state_.generation += 1;
   state_.evaluations += lambda;
@@ -353,18 +271,7 @@ void CmaEs::tell_ranked(std::span<const int> order, int parents) {
   if (strategy_.library_ranking) {
     throw InputError("CmaEs::tell_ranked: not available with small_population = authors; use tell()");
   }
-  if (order.size() != static_cast<std::size_t>(lambda)) {
-    throw InputError(fmt::format("CmaEs::tell_ranked: expected an order of {} candidates, got {}", lambda, order.size()));
-  }
-  std::vector<std::uint8_t> seen(static_cast<std::size_t>(lambda), 0);
-  for (const int k : order) {
-    if (k < 0 || k >= lambda || seen[static_cast<std::size_t>(k)]) {
-      throw InputError(fmt::format("CmaEs::tell_ranked: the order is not a permutation of 0..{} (candidate {})",
-                                   lambda - 1, k));
-    }
-    seen[static_cast<std::size_t>(k)] = 1;
-  }
-  require_range("CmaEs::tell_ranked parents", parents, 0, lambda);
+  cma_check_ranked("CmaEs", order, lambda, parents);
   state_.awaiting_tell = false;
   state_.generation += 1;
   state_.evaluations += lambda;
@@ -372,7 +279,7 @@ void CmaEs::tell_ranked(std::span<const int> order, int parents) {
   std::copy(order.begin(), order.end(), order_.begin());
   CmaEsStrategy s = strategy_;
   s.mu = parents;
-  set_weights_and_rates(s, std::log(parents + 0.5));
+  cma_set_weights_and_rates(s, std::log(parents + 0.5));
   if (params_.eigen_gap == CmaEigenGap::kPurecma) s.eigen_interval = strategy_.eigen_interval;
   update(s);
 }
@@ -403,7 +310,7 @@ void CmaEs::update(const CmaEsStrategy& s) {
   for (int i = 0; i < n; ++i) {
     st.p_sigma(i) = (1.0 - s.c_sigma) * st.p_sigma(i) + sigma_path_scale * c_inv_sqrt_y_w(i);
   }
-  const double p_sigma_norm = std::sqrt(sum_of_squares(st.p_sigma));
+  const double p_sigma_norm = std::sqrt(cma_sum_of_squares(st.p_sigma));
   const double dn = n;
   const double path_bias =
       std::sqrt(1.0 - std::pow(1.0 - s.c_sigma, 2.0 * static_cast<double>(st.generation)));
@@ -447,13 +354,7 @@ void CmaEs::update(const CmaEsStrategy& s) {
 
 void CmaEs::rank(const Eigen::VectorXd& fitness, CmaObjective objective) {
   if (!strategy_.library_ranking) {
-    // Best first; stable so that ties keep ask() order.
-    std::iota(order_.begin(), order_.end(), 0);
-    if (objective == CmaObjective::kMinimise) {
-      std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return fitness(a) < fitness(b); });
-    } else {
-      std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return fitness(a) > fitness(b); });
-    }
+    cma_rank(order_, fitness, objective);
     return;
   }
   // The authors' realisation: the library minimised the negated meta-fitness of the evaluated
