@@ -8,10 +8,13 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "expect_input_error.hpp"
 #include "qdmeta/algorithms/cma_mae.hpp"
+#include "qdmeta/emitters/gaussian_emitter.hpp"
+#include "qdmeta/emitters/iso_line_emitter.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
@@ -127,6 +130,47 @@ TEST(CmaMae, ACheckpointBetweenStepsContinuesToTheSameBits) {
   EXPECT_TRUE(second->elites().solutions == straight->elites().solutions);
   EXPECT_EQ(second->scheduler().thresholds(), straight->scheduler().thresholds());
   EXPECT_EQ(second->summary_extras(), straight->summary_extras());
+}
+
+// kind gaussian / iso-line: the scheduler holds those emitters with the shared x0, batch_size and
+// gene bounds and their own sigmas; they never restart; bad sigmas are refused naming the field.
+TEST(CmaMae, GaussianAndIsoLineKindsMakeThoseEmittersWithTheSharedSettings) {
+  SerialEvaluator serial;
+  CmaMaeParams p = params();
+  p.kind = EmitterKind::kGaussian;
+  p.sigma = 0.07;
+  auto gaussian = make(rastrigin(), p);
+  for (int s = 0; s < 5; ++s) gaussian->step(serial);
+  ASSERT_EQ(gaussian->scheduler().emitter_count(), 3u);
+  const auto& g = dynamic_cast<const GaussianEmitter&>(gaussian->scheduler().emitter(2));
+  EXPECT_EQ(g.params().sigma, 0.07);
+  EXPECT_EQ(g.params().batch_size, 12);
+  EXPECT_EQ(g.params().x0, std::vector<double>(kGenes, 0.3));
+  EXPECT_EQ(g.params().lower_bound, 0.0);
+  EXPECT_EQ(g.params().upper_bound, 1.0);
+  EXPECT_GT(gaussian->stats().num_elites, 0);
+  EXPECT_EQ(gaussian->summary_extras(), (std::vector<std::pair<std::string, double>>{{"emitter_restarts", 0.0}}));
+
+  p = params();
+  p.kind = EmitterKind::kIsoLine;
+  p.iso_sigma = 0.0;
+  p.line_sigma = 0.4;
+  auto iso = make(rastrigin(), p);
+  iso->step(serial);
+  const auto& l = dynamic_cast<const IsoLineEmitter&>(iso->scheduler().emitter(0));
+  EXPECT_EQ(l.params().iso_sigma, 0.0);
+  EXPECT_EQ(l.params().line_sigma, 0.4);
+  EXPECT_EQ(l.params().upper_bound, 1.0);
+
+  p.kind = EmitterKind::kGaussian;
+  p.sigma = 0.0;
+  EXPECT_INPUT_ERROR(make(rastrigin(), p), "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
+  p.kind = EmitterKind::kIsoLine;
+  p.iso_sigma = -1.0;
+  EXPECT_INPUT_ERROR(make(rastrigin(), p), "IsoLineEmitterParams.iso_sigma = -1 is invalid: must be finite and >= 0");
+  p.kind = static_cast<EmitterKind>(7);
+  EXPECT_INPUT_ERROR(make(rastrigin(), p),
+                     "CmaMaeParams.kind = 7 is invalid: must be one of evolution-strategy, gaussian, iso-line");
 }
 
 TEST(CmaMae, RefusesPartsThatDoNotFit) {

@@ -4,6 +4,7 @@
 // an experiment reports on them, and each bad setting is one line naming its key.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -196,6 +197,33 @@ TEST(CmaMaeCli, SeparableEsRunIsThreadIndependentAndResumesToTheSameBits) {
   EXPECT_NE(slurp(one / "config.toml").find("es = 'sep-cma-es'"), std::string::npos);
 }
 
+// [emitters] kind = "gaussian" / "iso-line": MAP-Elites's variation as emitters under CMA-ME's
+// scheduler fills the archive with true Rastrigin elites in [0, 1], reports no restarts, gives
+// the same bits on one thread and two, and (Gaussian) a killed run resumes to them.
+TEST(CmaMaeCli, GaussianAndIsoLineEmittersFillTheArchiveThreadIndependently) {
+  const fs::path gaussian = write_config(
+      "gaussian", small_config("cma-me", "kind = \"gaussian\"\nsigma = 0.05\n", "bins = [20, 20]\n",
+                               "[checkpoint]\nevery_seconds = 0\n"));
+  const fs::path one = fresh_dir("gaussian-one");
+  expect_thread_independent_and_resumable(gaussian, "gaussian", 200, one);
+  const fs::path iso = write_config(
+      "iso", small_config("cma-me", "kind = \"iso-line\"\niso_sigma = 0.02\nline_sigma = 0.3\n", "bins = [20, 20]\n"));
+  const fs::path iso_one = fresh_dir("iso-one"), iso_two = fresh_dir("iso-two");
+  ASSERT_EQ(run(iso, iso_one, "--threads 1").status, 0);
+  ASSERT_EQ(run(iso, iso_two, "--threads 2").status, 0);
+  expect_same_run(iso_one, iso_two);
+  for (const fs::path& dir : {one, iso_one}) {
+    const EliteTable t = read_elites_csv(dir / "archive.csv");
+    EXPECT_GT(t.size(), 200) << dir;  // of 400 cells
+    expect_rastrigin_elites(t, 400);
+    EXPECT_NE(slurp(dir / "summary.json").find("\"emitter_restarts\": 0"), std::string::npos) << dir;
+    const std::vector<double> scores = qd_scores(dir);
+    EXPECT_TRUE(std::is_sorted(scores.begin(), scores.end())) << dir;
+  }
+  EXPECT_NE(slurp(one / "config.toml").find("kind = 'gaussian'"), std::string::npos);
+  EXPECT_EQ(slurp(one / "config.toml").find("sigma0"), std::string::npos);  // not a Gaussian emitter's key
+}
+
 // CVT cells (200 centroids, made once and cached): each elite's cell is its own, its measures
 // its genes (Rastrigin's base features), and resuming or a second thread changes no bit.
 TEST(CmaMaeCli, CvtArchiveRunIsExactResumableAndThreadIndependent) {
@@ -262,6 +290,22 @@ TEST(CmaMaeCli, BadSettingsAreOneLineNamingTheKey) {
        "emitters.bounds = \"none\" is not a valid choice: use one of \"resample\", \"clamp\""},
       {small_config("cma-me", "es = \"sep_cma_es\"\n"),
        "emitters.es = \"sep_cma_es\" is not a valid choice: use one of \"cma-es\", \"sep-cma-es\""},
+      {small_config("cma-me", "kind = \"novelty\"\n"),
+       "emitters.kind = \"novelty\" is not a valid choice: use one of \"evolution-strategy\", \"gaussian\", \"iso-line\""},
+      {small_config("cma-me", "kind = \"gaussian\"\nsigma = 0\n"), "emitters.sigma = 0 is out of range: must be > 0"},
+      {small_config("cma-me", "kind = \"gaussian\"\nsigma = -0.1\n"), "emitters.sigma = -0.1 is out of range: must be > 0"},
+      {small_config("cma-mae", "kind = \"iso-line\"\niso_sigma = -0.01\n"),
+       "emitters.iso_sigma = -0.01 is out of range: must be >= 0"},
+      {small_config("cma-mae", "kind = \"iso-line\"\nline_sigma = -1\n"),
+       "emitters.line_sigma = -1 is out of range: must be >= 0"},
+      {small_config("cma-me", "kind = \"gaussian\"\nsigma0 = 0.2\n"),
+       "emitters.sigma0 applies only to kind = \"evolution-strategy\" (here \"gaussian\")"},
+      {small_config("cma-me", "kind = \"iso-line\"\nes = \"sep-cma-es\"\n"),
+       "emitters.es applies only to kind = \"evolution-strategy\" (here \"iso-line\")"},
+      {small_config("cma-me", "kind = \"iso-line\"\nsigma = 0.1\n"),
+       "emitters.sigma applies only to kind = \"gaussian\" (here \"iso-line\")"},
+      {small_config("cma-me", "line_sigma = 0.1\n"),
+       "emitters.line_sigma applies only to kind = \"iso-line\" (here \"evolution-strategy\")"},
       {small_config("cma-me", "counts = 2\n"), "unknown key 'emitters.counts' in [emitters]"},
       {small_config("cma-me", "", "kind = \"proximity\"\n"),
        "archive.kind = \"proximity\" is not a valid choice: use one of \"grid\", \"cvt\""},

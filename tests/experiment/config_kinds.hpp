@@ -38,6 +38,8 @@ inline std::vector<std::string> every_kind_of_config() {
       configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head +
                         "[emitters]\nrestart_rule = \"every-n\"\n[archive]\nkind = \"cvt\"\n[cvt]\ncache = false\n");
     }
+    for (const char* kind : {"gaussian", "iso-line"})
+      configs.push_back("algorithm = \"cma-me\"\n" + head + "[emitters]\nkind = \"" + kind + "\"\n");
     const std::vector<std::string> metas =
         task == "rastrigin" ? std::vector<std::string>{"translation", "dimension"} : std::vector<std::string>{"damage", "obstacle"};
     for (const std::string& meta : metas)

@@ -3,16 +3,70 @@
 #include <fmt/format.h>
 
 #include <limits>
+#include <utility>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/params.hpp"
+#include "qdmeta/emitters/gaussian_emitter.hpp"
+#include "qdmeta/emitters/iso_line_emitter.hpp"
 
 namespace qdmeta {
+
+namespace {
+
+// A variation emitter's params (Gaussian, iso+line): x0, batch_size and the gene bounds from p.
+template <class Params>
+Params variation_params(const CmaMaeParams& p, std::vector<double> x0) {
+  Params v;
+  v.x0 = std::move(x0);
+  v.batch_size = p.emitter.batch_size;
+  if (p.emitter.bounds != CmaBoundsHandling::kNone) {
+    v.lower_bound = p.emitter.lower_bound;
+    v.upper_bound = p.emitter.upper_bound;
+  }
+  return v;
+}
+
+GaussianEmitterParams gaussian_params(const CmaMaeParams& p, std::vector<double> x0) {
+  auto g = variation_params<GaussianEmitterParams>(p, std::move(x0));
+  g.sigma = p.sigma;
+  return g;
+}
+
+IsoLineEmitterParams iso_line_params(const CmaMaeParams& p, std::vector<double> x0) {
+  auto l = variation_params<IsoLineEmitterParams>(p, std::move(x0));
+  l.iso_sigma = p.iso_sigma;
+  l.line_sigma = p.line_sigma;
+  return l;
+}
+
+}  // namespace
+
+std::string to_string(EmitterKind value) { return std::string(enum_to_string(kEmitterKindNames, value)); }
 
 void CmaMaeParams::validate() const {
   require_at_least("CmaMaeParams.emitters", emitters, 1);
   emitter.validate();
+  switch (kind) {
+    case EmitterKind::kEvolutionStrategy: break;
+    case EmitterKind::kGaussian: gaussian_params(*this, emitter.x0).validate(); break;
+    case EmitterKind::kIsoLine: iso_line_params(*this, emitter.x0).validate(); break;
+    default: throw InputError(fmt::format("CmaMaeParams.kind = {} is invalid: must be one of evolution-strategy, "
+                                          "gaussian, iso-line",
+                                          static_cast<int>(kind)));
+  }
   thresholds.validate();
+}
+
+std::unique_ptr<Emitter> make_configured_emitter(const CmaMaeParams& p, std::vector<double> x0, ElitePicker pick) {
+  switch (p.kind) {
+    case EmitterKind::kGaussian: return std::make_unique<GaussianEmitter>(gaussian_params(p, std::move(x0)), std::move(pick));
+    case EmitterKind::kIsoLine: return std::make_unique<IsoLineEmitter>(iso_line_params(p, std::move(x0)), std::move(pick));
+    case EmitterKind::kEvolutionStrategy: break;
+  }
+  EvolutionStrategyEmitterParams es = p.emitter;
+  es.x0 = std::move(x0);
+  return std::make_unique<EvolutionStrategyEmitter>(std::move(es), std::move(pick));
 }
 
 void add_cma_mae_memory(MemoryEstimate& m, const CmaMaeParams& p, double cells, const Task& task) {
@@ -20,10 +74,11 @@ void add_cma_mae_memory(MemoryEstimate& m, const CmaMaeParams& p, double cells, 
   const auto emitters = static_cast<double>(p.emitters);
   m.add("the acceptance thresholds", "archive cells", cells * (sizeof(double) + 1));
   // CMA-ES keeps C, its eigenvectors, C^-1/2 and a work copy, n x n doubles each; the separable
-  // one a few vectors of n (its mean, C's diagonal, two paths, a scale).
-  if (p.emitter.es == EvolutionStrategyKind::kSepCmaEs)
+  // one a few vectors of n (its mean, C's diagonal, two paths, a scale); the variation emitters
+  // nothing beyond their batch.
+  if (p.kind == EmitterKind::kEvolutionStrategy && p.emitter.es == EvolutionStrategyKind::kSepCmaEs)
     m.add("the emitters' separable CMA-ES", "emitters.count x genes", emitters * 5 * genes * sizeof(double));
-  else
+  else if (p.kind == EmitterKind::kEvolutionStrategy)
     m.add("the emitters' CMA-ES", "emitters.count x genes^2", emitters * 4 * genes * genes * sizeof(double));
   m.add("a step's batch", "emitters.count x emitters.batch_size x genes", offspring_bytes(emitters * p.emitter.batch_size, task));
 }
@@ -64,8 +119,10 @@ void CmaMae<A>::make_parts(Evaluator* workers) {
 template <CellIndexedArchive A>
 void CmaMae<A>::make_scheduler() {
   scheduler_.reset();
-  scheduler_.emplace(*archive_, params_.thresholds,
-                     make_evolution_strategy_emitters(*archive_, params_.emitter, params_.emitters));
+  std::vector<std::unique_ptr<Emitter>> emitters;
+  for (int i = 0; i < params_.emitters; ++i)
+    emitters.push_back(make_configured_emitter(params_, params_.emitter.x0, elite_picker(*archive_)));
+  scheduler_.emplace(*archive_, params_.thresholds, std::move(emitters));
 }
 
 template <CellIndexedArchive A>
@@ -93,7 +150,7 @@ EliteTable CmaMae<A>::elites() const {
 template <CellIndexedArchive A>
 std::vector<std::pair<std::string, double>> CmaMae<A>::summary_extras() const {
   std::int64_t restarts = 0;
-  if (scheduler_)
+  if (scheduler_ && params_.kind == EmitterKind::kEvolutionStrategy)  // the variation emitters never restart
     for (std::size_t i = 0; i < scheduler_->emitter_count(); ++i)
       restarts += static_cast<const EvolutionStrategyEmitter&>(scheduler_->emitter(i)).restarts();
   return {{"emitter_restarts", static_cast<double>(restarts)}};

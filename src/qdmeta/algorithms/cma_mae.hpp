@@ -25,14 +25,32 @@
 
 namespace qdmeta {
 
+// Which emitters a run makes ([emitters] kind): CMA-ME's evolution-strategy emitters, or the
+// Gaussian and iso+line variation as emitters (MAP-Elites and MAP-Elites (line) under the same
+// scheduler and thresholds, as the CMA-MAE paper's baselines run).
+enum class EmitterKind { kEvolutionStrategy, kGaussian, kIsoLine };
+inline constexpr EnumNames<EmitterKind, 3> kEmitterKindNames{{{EmitterKind::kEvolutionStrategy, "evolution-strategy"},
+                                                              {EmitterKind::kGaussian, "gaussian"},
+                                                              {EmitterKind::kIsoLine, "iso-line"}}};
+std::string to_string(EmitterKind value);
+
 struct CmaMaeParams {
   std::string name = "cma-mae";            // what name() returns: "cma-me" or "cma-mae"
-  int emitters = 15;                       // evolution-strategy emitters, >= 1
-  EvolutionStrategyEmitterParams emitter;  // every emitter's; x0 holds one value per gene
-  ThresholdParams thresholds;              // learning rate alpha and threshold_min
+  int emitters = 15;                       // emitters, >= 1
+  EmitterKind kind = EmitterKind::kEvolutionStrategy;
+  // kEvolutionStrategy: every emitter's. Every kind takes x0 (one value per gene), batch_size
+  // and the gene bounds (lower_bound, upper_bound unless bounds = none) from here.
+  EvolutionStrategyEmitterParams emitter;
+  double sigma = 0.1;        // kGaussian: the noise's SD on every gene (> 0)
+  double iso_sigma = 0.01;   // kIsoLine: the isotropic noise's SD (>= 0)
+  double line_sigma = 0.2;   // kIsoLine: the SD of the step along x_j - x_i (>= 0)
+  ThresholdParams thresholds;  // learning rate alpha and threshold_min
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };
+
+// One emitter of p's kind, its first mean or parent x0, drawing elites with `pick`.
+std::unique_ptr<Emitter> make_configured_emitter(const CmaMaeParams& p, std::vector<double> x0, ElitePicker pick);
 
 // What CMA-ME allocates besides its archive: the thresholds, each emitter's CMA-ES, the batch.
 void add_cma_mae_memory(MemoryEstimate& m, const CmaMaeParams& p, double cells, const Task& task);

@@ -97,10 +97,11 @@ void add_qd_meta_memory(MemoryEstimate& m, const QdMetaParams& p, const GridArch
     m.add("the maps' acceptance thresholds", "qd_meta.meta_population x archive.bins (cells)",
           cells * (sizeof(double) + 1));
     const double emitters = lambda * static_cast<double>(p.emitters.emitters);
-    if (p.emitters.emitter.es == EvolutionStrategyKind::kSepCmaEs)
+    const bool es = p.emitters.kind == EmitterKind::kEvolutionStrategy;
+    if (es && p.emitters.emitter.es == EvolutionStrategyKind::kSepCmaEs)
       m.add("the maps' emitters' separable CMA-ES", "qd_meta.meta_population x emitters.count x genes",
             emitters * 5 * n * sizeof(double));
-    else
+    else if (es)
       m.add("the maps' emitters' CMA-ES", "qd_meta.meta_population x emitters.count x genes^2",
             emitters * 4 * n * n * sizeof(double));
   }

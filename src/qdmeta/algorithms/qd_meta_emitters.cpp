@@ -10,11 +10,12 @@ namespace qdmeta {
 std::unique_ptr<Scheduler<GridArchive>> start_map_emitters(GridArchive& archive, const CmaMaeParams& params, Rng& rng) {
   std::vector<std::unique_ptr<Emitter>> emitters;
   const ElitePicker pick = elite_picker(archive);
+  const EvolutionStrategyEmitterParams& p = params.emitter;
   for (int k = 0; k < params.emitters; ++k) {
-    EvolutionStrategyEmitterParams p = params.emitter;
-    if (pick(rng, p.x0) && p.bounds != CmaBoundsHandling::kNone)
-      for (double& x : p.x0) x = std::clamp(x, p.lower_bound, p.upper_bound);  // as a restart's mean
-    emitters.push_back(std::make_unique<EvolutionStrategyEmitter>(std::move(p), pick));
+    std::vector<double> x0 = p.x0;
+    if (pick(rng, x0) && p.bounds != CmaBoundsHandling::kNone)
+      for (double& x : x0) x = std::clamp(x, p.lower_bound, p.upper_bound);  // as a restart's mean
+    emitters.push_back(make_configured_emitter(params, std::move(x0), pick));
   }
   auto scheduler = std::make_unique<Scheduler<GridArchive>>(archive, params.thresholds, std::move(emitters));
   scheduler->start_thresholds_at_elites();

@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <initializer_list>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "qdmeta/algorithms/cma_mae.hpp"
@@ -35,14 +37,18 @@ constexpr EmitterDefaults kCmaMeDefaults{EmitterRanker::kTwoStageImprovement, Em
                                          EmitterRestart::kNoImprovement};
 constexpr EmitterDefaults kCmaMaeDefaults{EmitterRanker::kImprovement, EmitterSelection::kMu, EmitterRestart::kBasic};
 
-// [emitters]: pyribs's EvolutionStrategyEmitter arguments, every emitter the same.
-CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const EmitterDefaults& d) {
-  CmaMaeParams p;
-  EvolutionStrategyEmitterParams& es = p.emitter;
-  p.emitters = static_cast<int>(e.integer("count", p.emitters, 1, 10'000));
-  es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
+// Refuses each of `keys` present in [emitters]: they belong to other kinds than `kind`.
+void refuse_other_kinds_keys(const ConfigReader& e, std::initializer_list<const char*> keys, EmitterKind kind,
+                             std::string_view theirs) {
+  for (const char* key : keys)
+    if (e.has(key))
+      throw InputError(fmt::format("{}: emitters.{} applies only to kind = {} (here \"{}\")", e.source(), key, theirs,
+                                   to_string(kind)));
+}
+
+// The evolution-strategy emitters' keys: pyribs's EvolutionStrategyEmitter arguments.
+void read_evolution_strategy_keys(ConfigReader& e, const EmitterDefaults& d, EvolutionStrategyEmitterParams& es) {
   es.sigma0 = e.number("sigma0", es.sigma0, 0.0, kNoUpper, Open::kLower);
-  es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
   es.ranker = e.choice("ranker", d.ranker, kEmitterRankerNames);
   es.selection = e.choice("selection_rule", d.selection, kEmitterSelectionNames);
   es.restart = e.choice("restart_rule", d.restart, kEmitterRestartNames);
@@ -53,6 +59,37 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
                                  e.source(), to_string(es.restart)));
   es.bounds = e.choice("bounds", CmaBoundsHandling::kResample, kGeneBoundsNames);
   es.es = e.choice("es", EvolutionStrategyKind::kCmaEs, kEvolutionStrategyKindNames);
+}
+
+// [emitters]: every emitter the same, of one kind; genes are kept in [0, 1].
+CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const EmitterDefaults& d) {
+  CmaMaeParams p;
+  EvolutionStrategyEmitterParams& es = p.emitter;
+  p.kind = e.choice("kind", EmitterKind::kEvolutionStrategy, kEmitterKindNames);
+  p.emitters = static_cast<int>(e.integer("count", p.emitters, 1, 10'000));
+  es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
+  es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
+  const auto es_keys = {"sigma0", "ranker", "selection_rule", "restart_rule", "restart_every", "bounds", "es"};
+  switch (p.kind) {
+    case EmitterKind::kEvolutionStrategy:
+      refuse_other_kinds_keys(e, {"sigma"}, p.kind, "\"gaussian\"");
+      refuse_other_kinds_keys(e, {"iso_sigma", "line_sigma"}, p.kind, "\"iso-line\"");
+      read_evolution_strategy_keys(e, d, es);
+      break;
+    case EmitterKind::kGaussian:
+      refuse_other_kinds_keys(e, es_keys, p.kind, "\"evolution-strategy\"");
+      refuse_other_kinds_keys(e, {"iso_sigma", "line_sigma"}, p.kind, "\"iso-line\"");
+      p.sigma = e.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
+      es.bounds = CmaBoundsHandling::kClamp;
+      break;
+    case EmitterKind::kIsoLine:
+      refuse_other_kinds_keys(e, es_keys, p.kind, "\"evolution-strategy\"");
+      refuse_other_kinds_keys(e, {"sigma"}, p.kind, "\"gaussian\"");
+      p.iso_sigma = e.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
+      p.line_sigma = e.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
+      es.bounds = CmaBoundsHandling::kClamp;
+      break;
+  }
   es.lower_bound = 0.0;
   es.upper_bound = 1.0;
   return p;
