@@ -207,6 +207,17 @@ void bind_scheduler_methods(py::class_<H>& cls) {
 
 }
 
+// pyribs's add_mode: qdmeta offers the rows to the thresholds one at a time, in order, which is
+// pyribs's "single"; "batch" (pyribs's default) scores them all against the thresholds before
+// the batch, which qdmeta does not do, so it is refused rather than run differently.
+void check_add_mode(const std::string& add_mode) {
+  if (add_mode == "single") return;
+  if (add_mode == "batch")
+    throw InputError("add_mode = 'batch' is not available: qdmeta offers a batch's rows to the thresholds one at a "
+                     "time, in order (CMA-MAE's Algorithm 1), which is pyribs's add_mode = 'single'");
+  throw InputError(fmt::format("add_mode = '{}' is not 'single' or 'batch'", add_mode));
+}
+
 }  // namespace
 
 void bind_schedulers(py::module_& m) {
@@ -215,11 +226,15 @@ CMA-ME / CMA-MAE's ask/tell loop, as pyribs's Scheduler: ask() stacks every emit
 (n, solution_dim) float32 array, emitters in order); tell(objective, measures) adds every row to
 the archive under its thresholds (learning_rate, threshold_min), tells each emitter its rows'
 outcomes, and adds them to result_archive when given. The archive keeps each cell's best elite
-whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresholds`).)doc");
-  plain.def(py::init([](py::object archive, py::handle emitters, py::object result_archive) {
+whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresholds`). The rows
+are offered to the thresholds one at a time, in order: add_mode "single" (pyribs's "batch" is
+refused).)doc");
+  plain.def(py::init([](py::object archive, py::handle emitters, py::object result_archive, const std::string& add_mode) {
+                check_add_mode(add_mode);
                 return make_scheduler<SchedulerHandle>(std::move(archive), emitters, std::move(result_archive), {});
               }),
-              py::arg("archive"), py::arg("emitters"), py::arg("result_archive") = py::none());
+              py::arg("archive"), py::arg("emitters"), py::arg("result_archive") = py::none(), py::kw_only(),
+              py::arg("add_mode") = "single");
   bind_scheduler_methods(plain);
 
   py::class_<BanditSchedulerHandle> bandit(m, "BanditScheduler", R"doc(
@@ -227,16 +242,19 @@ pyribs's BanditScheduler: a Scheduler over a pool of emitters that asks num_acti
 time. Those chosen again (reselect "terminated": whose run ended, and every emitter without
 runs; "all": every active one) are replaced by the emitters of highest UCB1 value, successes /
 rows + zeta sqrt(ln(all successes) / rows), a success being a row the archive's thresholds took.
-ask() stacks the active emitters' batches in pool order; `active` flags them.)doc");
+ask() stacks the active emitters' batches in pool order; `active` flags them. add_mode as
+Scheduler's: "single" only.)doc");
   bandit
       .def(py::init([](py::object archive, py::handle emitter_pool, py::object result_archive, int num_active,
-                       const std::string& reselect, double zeta) {
+                       const std::string& reselect, double zeta, const std::string& add_mode) {
+             check_add_mode(add_mode);
              return make_scheduler<BanditSchedulerHandle>(
                  std::move(archive), emitter_pool, std::move(result_archive),
                  BanditParams{num_active, bandit_reselect_from_string(reselect), zeta});
            }),
            py::arg("archive"), py::arg("emitter_pool"), py::arg("result_archive") = py::none(), py::kw_only(),
-           py::arg("num_active"), py::arg("reselect") = "terminated", py::arg("zeta") = 0.05)
+           py::arg("num_active"), py::arg("reselect") = "terminated", py::arg("zeta") = 0.05,
+           py::arg("add_mode") = "single")
       .def_property_readonly("emitter_pool", [](const BanditSchedulerHandle& h) { return py::list(h.emitters); })
       .def_property_readonly("active",
                              [](const BanditSchedulerHandle& h) {

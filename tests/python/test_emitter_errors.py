@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import qdmeta
-from emitter_loop import DIM, grid
+from emitter_loop import DIM, grid, run
 
 
 def es(archive, **named):
@@ -89,6 +89,28 @@ def test_the_schedulers_emitters_are_checked():
         qdmeta.Scheduler(archive, [emitter], result_archive=archive)
     with pytest.raises(qdmeta.InputError, match=r"^result_archive has another solution_dim or measure_dim"):
         qdmeta.Scheduler(archive, [emitter], result_archive=qdmeta.GridArchive(3, [2, 2]))
+
+
+def test_add_mode_is_single_and_batch_is_refused_saying_what_qdmeta_does():
+    """qdmeta offers the rows one at a time (pyribs's "single"): add_mode="single" is the same
+    scheduler as no add_mode; pyribs's "batch" is refused in one line, on both schedulers."""
+    runs = []
+    for named in ({}, {"add_mode": "single"}):
+        archive = grid(0.1, 0.0)
+        scheduler = qdmeta.Scheduler(archive, [es(archive, batch_size=6, seed=3)], **named)
+        runs.append(run(scheduler, 10).thresholds)
+    assert np.array_equal(runs[0], runs[1])
+    archive = grid()
+    emitter = es(archive, batch_size=4, seed=1)
+    batch = (r"^add_mode = 'batch' is not available: qdmeta offers a batch's rows to the thresholds one at a time, "
+             r"in order \(CMA-MAE's Algorithm 1\), which is pyribs's add_mode = 'single'$")
+    with pytest.raises(qdmeta.InputError, match=batch):
+        qdmeta.Scheduler(archive, [emitter], add_mode="batch")
+    with pytest.raises(qdmeta.InputError, match=batch):
+        qdmeta.BanditScheduler(archive, [emitter], num_active=1, add_mode="batch")
+    with pytest.raises(qdmeta.InputError, match=r"^add_mode = 'many' is not 'single' or 'batch'$"):
+        qdmeta.Scheduler(archive, [emitter], add_mode="many")
+    assert qdmeta.BanditScheduler(archive, [emitter], num_active=1, add_mode="single").ask().shape == (4, DIM)
 
 
 def test_a_refused_tell_names_the_argument_and_changes_nothing():
