@@ -174,14 +174,19 @@ void expect_thread_independent_and_resumable(const fs::path& config, const std::
   expect_same_run(one, killed);
 }
 
-// QD-Meta over CMA-MAE (qd_meta.bottom_level = "cma-mae"), killed after its 20th meta-generation.
+// QD-Meta over CMA-MAE (qd_meta.bottom_level = "cma-mae"), killed after its 20th meta-generation;
+// and the same over Gaussian emitters ([emitters] kind = "gaussian").
 TEST(CmaMaeCli, QdMetaOverCmaMaeIsThreadIndependentAndResumesToTheSameBits) {
-  const fs::path config = write_config(
-      "qd-meta-cma-mae",
-      "algorithm = \"qd-meta\"\n[task]\nname = \"rastrigin\"\ndimensions = 20\n[qd_meta]\nbottom_level = \"cma-mae\"\n"
-      "meta_population = 3\ninitial_population = 200\n[emitters]\ncount = 4\nbatch_size = 10\n[control]\n"
-      "kind = \"static\"\ngenerations = 2\n[archive]\nbins = [20, 20]\n[checkpoint]\nevery_seconds = 0\n");
-  expect_thread_independent_and_resumable(config, "qdm", 20, fresh_dir("qdm-one"));
+  for (const std::string kind : {"", "kind = \"gaussian\"\nsigma = 0.05\n"}) {
+    const std::string name = kind.empty() ? "qdm" : "qdm-gaussian";
+    const fs::path config = write_config(
+        name, "algorithm = \"qd-meta\"\n[task]\nname = \"rastrigin\"\ndimensions = 20\n[qd_meta]\nbottom_level = \"cma-mae\"\n"
+              "meta_population = 3\ninitial_population = 200\n[emitters]\n" + kind + "count = 4\nbatch_size = 10\n[control]\n"
+              "kind = \"static\"\ngenerations = 2\n[archive]\nbins = [20, 20]\n[checkpoint]\nevery_seconds = 0\n");
+    const fs::path one = fresh_dir(name + "-one");
+    expect_thread_independent_and_resumable(config, name, 20, one);
+    EXPECT_GT(read_elites_csv(one / "archive.csv").size(), 150) << name;  // of 400 cells
+  }
 }
 
 // es = "sep-cma-es": the separable CMA-ES in every emitter fills the archive with true Rastrigin
