@@ -12,11 +12,19 @@
 namespace qdmeta {
 namespace {
 
-Task read_rastrigin_task(ConfigReader& t) {
+RastriginParams read_rastrigin_params(ConfigReader& t) {
   RastriginParams p;
   p.dimensions = static_cast<int>(t.integer(RastriginParams::kDimensions, p.dimensions));
   p.score_m = t.number(RastriginParams::kScoreM, p.score_m);
-  return Task(RastriginTask(p));
+  return p;
+}
+
+Task read_rastrigin_task(ConfigReader& t) { return Task(RastriginTask(read_rastrigin_params(t))); }
+
+TaskShape read_rastrigin_shape(ConfigReader& t) {
+  const RastriginParams p = read_rastrigin_params(t);
+  naming_source(t, [&] { p.validate(); });
+  return RastriginTask::shape_of(p);
 }
 
 // The keys both meta-fitnesses share; M is the task's.
@@ -41,6 +49,7 @@ std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& 
   std::vector<int> dims(given.begin(), given.end());
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();
+    if (m.resolving()) return nullptr;
     return std::make_unique<RastriginDimensionMeta>(p, dims);
   });
 }
@@ -51,6 +60,7 @@ std::unique_ptr<MetaObjective> read_translation_meta(ConfigReader& m, const Task
   p.transform_per_solution = m.boolean("transform_per_solution", p.transform_per_solution);
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();
+    if (m.resolving()) return nullptr;
     return std::make_unique<RastriginTranslationMeta>(p);
   });
 }
@@ -72,6 +82,7 @@ std::unique_ptr<AdaptationTests> read_rastrigin_tests(const toml::table&, const 
 void register_rastrigin_task() {
   TaskPlugin plugin;
   plugin.read_task = read_rastrigin_task;
+  plugin.read_shape = read_rastrigin_shape;
   plugin.meta_objectives = {{"translation", read_translation_meta}, {"dimension", read_dimension_meta}};
   plugin.read_adaptation_tests = read_rastrigin_tests;
   plugin.adaptation_tests = {"dimension", "translation"};
