@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_input_error.hpp"
 #include "own_temp_path.hpp"
 #include "qdmeta/assembly/build.hpp"
 #include "qdmeta/assembly/config_fingerprint.hpp"
@@ -116,6 +117,26 @@ TEST(ConditionResolution, ResolvingReadsWhatBuildingReads) {
     }
   }
   EXPECT_GE(compared, 2 * 10);
+}
+
+// What making a task or meta-objective refuses, resolving refuses in the same words (their checks
+// run without the objects).
+TEST(ConditionResolution, ResolvingRefusesWhatMakingRefuses) {
+  register_builtin_plugins();
+  std::vector<std::string> configs = {
+      "algorithm = \"qd-meta\"\n[meta_fitness]\nkind = \"dimension\"\ndimension_count = 2\ndimensions = [3, 3]\n",
+      "[task]\ndimensions = 0\n",
+  };
+#ifdef QDMETA_TEST_RHEX
+  configs.push_back("[task]\nname = \"rhex\"\ndamage = \"leg-removal\"\ncourse = \"stairs\"\n");
+  configs.push_back("algorithm = \"qd-meta\"\n[task]\nname = \"rhex\"\n[meta_fitness]\nsample_fraction = 0\n");
+#endif
+  for (const std::string& text : configs) {
+    const toml::table config = toml::parse(text);
+    const std::string made = input_error_message([&] { build_run(config, "c.toml", {}, BuildScope::kTasksOnly); });
+    EXPECT_FALSE(made.empty()) << text;
+    EXPECT_EQ(input_error_message([&] { build_run(config, "c.toml", {}, BuildScope::kResolve); }), made) << text;
+  }
 }
 
 // A task whose every construction (copies included) is counted.

@@ -10,7 +10,7 @@
 namespace qdmeta {
 
 void CmaMaeParams::validate() const {
-  require_at_least("CmaMaeParams.emitters", emitters, 1);
+  require(kCount, emitters);
   emitter.validate();
   thresholds.validate();
 }

@@ -27,7 +27,9 @@ namespace qdmeta {
 
 struct CmaMaeParams {
   std::string name = "cma-mae";            // what name() returns: "cma-me" or "cma-mae"
-  int emitters = 15;                       // evolution-strategy emitters, >= 1
+  static constexpr IntParam kCount{"emitters", "count", 1, 10'000,
+                                   "evolution-strategy emitters, each with its own CMA-ES (15 in the CMA-MAE paper)"};
+  int emitters = 15;                       // evolution-strategy emitters (kCount)
   EvolutionStrategyEmitterParams emitter;  // every emitter's; x0 holds one value per gene
   ThresholdParams thresholds;              // learning rate alpha and threshold_min
   // Throws InputError naming the field, its value and the rule it breaks.

@@ -39,7 +39,7 @@ constexpr EmitterDefaults kCmaMaeDefaults{EmitterRanker::kImprovement, EmitterSe
 CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const EmitterDefaults& d) {
   CmaMaeParams p;
   EvolutionStrategyEmitterParams& es = p.emitter;
-  p.emitters = static_cast<int>(e.integer("count", p.emitters, 1, 10'000));
+  p.emitters = static_cast<int>(e.integer(CmaMaeParams::kCount, p.emitters));
   es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
   es.sigma0 = e.number("sigma0", es.sigma0, 0.0, kNoUpper, Open::kLower);
   es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
@@ -60,8 +60,8 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
 // The learning rate and threshold_min, on [archive] as on pyribs's archives; CMA-ME's are fixed.
 void read_thresholds(ConfigReader& archive, const std::string& name, const Task& task, ThresholdParams& t) {
   if (name == "cma-mae") {
-    t.alpha = archive.number("learning_rate", 0.01, 0.0, 1.0);
-    t.threshold_min = archive.number("threshold_min", task.qd_offset(), -kNoUpper, kNoUpper);
+    t.alpha = archive.number(ThresholdParams::kLearningRate, 0.01);
+    t.threshold_min = archive.number(ThresholdParams::kThresholdMin, task.qd_offset());
     return;
   }
   for (const char* key : {"learning_rate", "threshold_min"})

@@ -30,7 +30,7 @@ TaskShape read_rastrigin_shape(ConfigReader& t) {
 // The keys both meta-fitnesses share; M is the task's.
 RastriginMetaParams read_common(ConfigReader& m, const Task& task) {
   RastriginMetaParams p;
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
+  p.sample_fraction = m.number(RastriginMetaParams::kSampleFraction, p.sample_fraction);
   p.score_m = task.qd_offset() < 0 ? -task.qd_offset() : p.score_m;
   return p;
 }
@@ -48,15 +48,18 @@ std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& 
                                 static_cast<std::size_t>(p.dimension_count), "dimension_count distinct entries in [0, N)");
   std::vector<int> dims(given.begin(), given.end());
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
+    if (m.resolving()) {
+      RastriginDimensionMeta::validate(p, dims);
+      return nullptr;
+    }
     p.validate();
-    if (m.resolving()) return nullptr;
     return std::make_unique<RastriginDimensionMeta>(p, dims);
   });
 }
 
 std::unique_ptr<MetaObjective> read_translation_meta(ConfigReader& m, const Task& task, std::uint64_t) {
   RastriginMetaParams p = read_common(m, task);
-  p.transform_repetitions = static_cast<int>(m.integer("transform_repetitions", p.transform_repetitions, 1, 1000));
+  p.transform_repetitions = static_cast<int>(m.integer(RastriginMetaParams::kTransformRepetitions, p.transform_repetitions));
   p.transform_per_solution = m.boolean("transform_per_solution", p.transform_per_solution);
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();

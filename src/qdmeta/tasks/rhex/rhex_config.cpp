@@ -31,7 +31,7 @@ RhexParams read_rhex_params(ConfigReader& t) {
   p.episode.lcp = t.choice("lcp", p.episode.lcp, rhex::kLcpSolverNames);
   p.episode.plate_joint_limits = t.boolean("plate_joint_limits", p.episode.plate_joint_limits);
   p.environment.damage = t.choice("damage", p.environment.damage, rhex::kDamageTypeNames);
-  p.environment.leg = static_cast<int>(t.integer("damaged_leg", p.environment.leg, 0, 5));
+  p.environment.leg = static_cast<int>(t.integer(rhex::RhexEnvironment::kDamagedLeg, p.environment.leg));
   p.environment.course = t.choice("course", p.environment.course, rhex::kObstacleCourseNames);
   return p;
 }
@@ -57,7 +57,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
   RhexParams params = rhex_task != nullptr ? rhex_task->params() : RhexParams{};
   params.environment = {};
   RhexMetaParams p;
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
+  p.sample_fraction = m.number(RhexMetaParams::kSampleFraction, p.sample_fraction);
   const auto make = [&](const char* name, std::vector<rhex::RhexEnvironment> envs) -> std::unique_ptr<MetaObjective> {
     return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
       if (!m.resolving()) return std::make_unique<RhexMetaFitness>(name, p, RhexTask(params), std::move(envs));
