@@ -97,12 +97,13 @@ void check_run_directories(const ExperimentSpec& spec, const std::vector<Resolve
       // The fingerprint the run was started with (its condition's, seed-independent); a run made
       // before fingerprints is resolved again and compared with the condition at its own seed,
       // whose seed-drawn values (RHex's meta_fitness.damage_types) its config.toml holds.
+      // The run's config is resolved (so checked) whatever its fingerprint; the condition at the
+      // run's seed only for a run that is not plainly its condition's. Each once.
+      const toml::table run =
+          build_run(state.config(), state.config_path().string(), {}, BuildScope::kResolve).resolved;
       const std::optional<std::string> stored =
           state.config()["provenance"][kConfigFingerprintKey].value<std::string>();
       if (stored && *stored == conditions[i].fingerprint) continue;
-      // Each resolved once, and only for a run whose stored fingerprint is not its condition's.
-      const toml::table run =
-          build_run(state.config(), state.config_path().string(), {}, BuildScope::kResolve).resolved;
       const toml::table condition_at_seed =
           build_run(c.effective_config(), c.config.string(), {static_cast<std::uint64_t>(r), spec.evaluations},
                     BuildScope::kResolve)
