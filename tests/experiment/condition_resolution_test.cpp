@@ -14,6 +14,7 @@
 #include <iterator>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "expect_input_error.hpp"
@@ -204,6 +205,24 @@ set = { algorithm = "cma-mae", budget = { evaluations = 900 } }
     EXPECT_NE(text.find("\t" + fingerprint + "\n"), std::string::npos) << text;
   }
   EXPECT_GT(CountedTask::made, 0);
+  // Planned again over two kept runs, one of its condition's config (fingerprint stored) and one
+  // of an older config with no fingerprint (started over with --restart-changed): the kept runs
+  // and plan.tsv's rows are checked by resolving, and no task is made.
+  for (const auto& [seed, genes] : {std::pair{1, 4}, std::pair{2, 8}}) {
+    toml::table run = build_run(spec.conditions[0].effective_config(), "run", {seed, std::nullopt}, BuildScope::kResolve)
+                          .resolved;
+    run.insert_or_assign("task", toml::table{{"name", "counted"}, {"genes", genes}});
+    if (seed == 1) run.insert("provenance", toml::table{{kConfigFingerprintKey, resolved[0].fingerprint}});
+    fs::create_directories(replicate_dir(dir / "out", spec.conditions[0], seed));
+    std::ofstream(replicate_dir(dir / "out", spec.conditions[0], seed) / "config.toml") << run;
+  }
+  CountedTask::made = 0;
+  ExperimentOptions restart;
+  restart.restart_changed = true;
+  write_experiment_plan(spec, dir / "out", restart);
+  EXPECT_EQ(CountedTask::made, 0) << "checking the kept runs made the task";
+  EXPECT_TRUE(fs::exists(replicate_dir(dir / "out", spec.conditions[0], 1) / "config.toml"));
+  EXPECT_FALSE(fs::exists(replicate_dir(dir / "out", spec.conditions[0], 2) / "config.toml"));  // started over
   fs::remove_all(dir);
   unregister_task_plugin("counted");
 }
