@@ -153,12 +153,15 @@ TEST(CellThresholds, RaiseToIsAnOfferAtLearningRateOne) {
 }
 
 TEST(CellThresholds, RefusesBadSettingsNamingTheKey) {
-  EXPECT_INPUT_ERROR(mae(1.5, 0.0).validate(), "ThresholdParams.alpha = 1.5 is out of range: must be in [0, 1]");
-  EXPECT_INPUT_ERROR(mae(-0.1, 0.0).validate(), "ThresholdParams.alpha = -0.1 is out of range: must be in [0, 1]");
+  EXPECT_INPUT_ERROR(mae(1.5, 0.0).validate(), "archive.learning_rate = 1.5 is out of range: must be in [0, 1]");
+  EXPECT_INPUT_ERROR(mae(-0.1, 0.0).validate(), "archive.learning_rate = -0.1 is out of range: must be in [0, 1]");
   EXPECT_INPUT_ERROR(mae(0.5, -kInf).validate(),
-                     "ThresholdParams.threshold_min = -inf is invalid with alpha = 0.5: -inf requires alpha = 1 "
-                     "(CMA-ME); set a finite threshold_min for CMA-MAE");
-  EXPECT_INPUT_ERROR(mae(1.0, kInf).validate(), "ThresholdParams.threshold_min = inf is invalid: must be a number or -inf");
+                     "archive.threshold_min = -inf is out of range: must be finite, or -inf with learning_rate = 1 "
+                     "(CMA-ME's)");
+  EXPECT_NO_THROW(mae(1.0, -kInf).validate());
+  EXPECT_INPUT_ERROR(mae(1.0, kInf).validate(),
+                     "archive.threshold_min = inf is out of range: must be finite, or -inf with learning_rate = 1 "
+                     "(CMA-ME's)");
   EXPECT_INPUT_ERROR(CellThresholds(0, mae(1.0, 0.0)), "CellThresholds cells = 0 is out of range: must be at least 1");
   CellThresholds t(2, mae(1.0, 0.0));
   EXPECT_INPUT_ERROR(t.offer(2, 1.0), "CellThresholds::offer: cell = 2 is outside [0, 2)");

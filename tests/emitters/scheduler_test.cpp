@@ -157,7 +157,7 @@ TEST(Scheduler, RefusesBadSettingsNamingTheKey) {
   EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.0, kMinusInf), {}),
                      "Scheduler emitters is empty: give at least one emitter");
   EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.5, 0.0), make_evolution_strategy_emitters(archive, emitter_params(), 1)),
-                     "ThresholdParams.alpha = 1.5 is out of range: must be in [0, 1]");
+                     "archive.learning_rate = 1.5 is out of range: must be in [0, 1]");
   auto p = emitter_params();
   p.x0.assign(3, 0.0);
   EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, p, 2)),

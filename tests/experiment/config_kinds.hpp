@@ -40,6 +40,7 @@ inline std::vector<std::string> every_kind_of_config() {
     }
     for (const char* kind : {"gaussian", "iso-line"})
       configs.push_back("algorithm = \"cma-me\"\n" + head + "[emitters]\nkind = \"" + kind + "\"\n");
+    configs.push_back("algorithm = \"cma-mae\"\n" + head + "[emitters]\nkind = \"evolution-strategy\"\nes = \"sep-cma-es\"\n");
     const std::vector<std::string> metas =
         task == "rastrigin" ? std::vector<std::string>{"translation", "dimension"} : std::vector<std::string>{"damage", "obstacle"};
     for (const std::string& meta : metas)

@@ -45,7 +45,7 @@ IsoLineEmitterParams iso_line_params(const CmaMaeParams& p, std::vector<double> 
 std::string to_string(EmitterKind value) { return std::string(enum_to_string(kEmitterKindNames, value)); }
 
 void CmaMaeParams::validate() const {
-  require_at_least("CmaMaeParams.emitters", emitters, 1);
+  require(kCount, emitters);
   emitter.validate();
   switch (kind) {
     case EmitterKind::kEvolutionStrategy: break;

@@ -36,7 +36,9 @@ std::string to_string(EmitterKind value);
 
 struct CmaMaeParams {
   std::string name = "cma-mae";            // what name() returns: "cma-me" or "cma-mae"
-  int emitters = 15;                       // emitters, >= 1
+  static constexpr IntParam kCount{"emitters", "count", 1, 10'000,
+                                   "emitters; each evolution-strategy emitter has its own CMA-ES (15 in the CMA-MAE paper)"};
+  int emitters = 15;                       // emitters (kCount)
   EmitterKind kind = EmitterKind::kEvolutionStrategy;
   // kEvolutionStrategy: every emitter's. Every kind takes x0 (one value per gene), batch_size
   // and the gene bounds (lower_bound, upper_bound unless bounds = none) from here.

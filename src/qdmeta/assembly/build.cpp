@@ -90,6 +90,7 @@ BuiltRun build_run(const toml::table& config, const std::string& source, const O
 
   BuiltRun built;
   ConfigReader root(effective, source, built.resolved);
+  root.set_resolving(scope == BuildScope::kResolve);
   RunSettings& s = built.settings;
   std::shared_ptr<const AlgorithmBuilder> registered;  // keeps a registered builder alive
   const AlgorithmBuilder* builder = nullptr;

@@ -61,7 +61,11 @@ std::optional<std::int64_t> configured_budget(const toml::table& config);
 
 // kTasksOnly reads and checks the whole config but builds no algorithm: what an MPI worker
 // needs (the evaluation tasks) without the algorithm's memory (e.g. QD-Meta's database).
-enum class BuildScope { kRun, kTasksOnly };
+// kResolve reads and checks the whole config and makes nothing: the resolved config, settings
+// (the budget), fingerprint and memory estimate, with the task only its shape where its plugin
+// reads one (TaskPlugin::read_shape) and no meta-objective (ConfigReader::resolving()); what an
+// experiment needs of each condition and kept run. Its evaluation_tasks evaluate nothing.
+enum class BuildScope { kRun, kTasksOnly, kResolve };
 
 // Throws InputError naming the file and key for anything wrong in the config.
 BuiltRun build_run(const toml::table& config, const std::string& source, const Overrides& overrides = {},

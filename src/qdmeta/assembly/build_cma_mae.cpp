@@ -58,15 +58,17 @@ void read_evolution_strategy_keys(ConfigReader& e, const EmitterDefaults& d, Evo
     throw InputError(fmt::format("{}: emitters.restart_every applies only to restart_rule = \"every-n\" (here \"{}\")",
                                  e.source(), to_string(es.restart)));
   es.bounds = e.choice("bounds", CmaBoundsHandling::kResample, kGeneBoundsNames);
-  es.es = e.choice("es", EvolutionStrategyKind::kCmaEs, kEvolutionStrategyKindNames);
+  // Read only when given, so that the resolved configs (and fingerprints) of runs made before the
+  // key existed stay the same.
+  if (e.has("es")) es.es = e.choice("es", EvolutionStrategyKind::kCmaEs, kEvolutionStrategyKindNames);
 }
 
 // [emitters]: every emitter the same, of one kind; genes are kept in [0, 1].
 CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const EmitterDefaults& d) {
   CmaMaeParams p;
   EvolutionStrategyEmitterParams& es = p.emitter;
-  p.kind = e.choice("kind", EmitterKind::kEvolutionStrategy, kEmitterKindNames);
-  p.emitters = static_cast<int>(e.integer("count", p.emitters, 1, 10'000));
+  if (e.has("kind")) p.kind = e.choice("kind", p.kind, kEmitterKindNames);  // written only when given, as es
+  p.emitters = static_cast<int>(e.integer(CmaMaeParams::kCount, p.emitters));
   es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
   es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
   const auto es_keys = {"sigma0", "ranker", "selection_rule", "restart_rule", "restart_every", "bounds", "es"};
@@ -98,8 +100,8 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
 // The learning rate and threshold_min, on [archive] as on pyribs's archives; CMA-ME's are fixed.
 void read_thresholds(ConfigReader& archive, const std::string& name, const Task& task, ThresholdParams& t) {
   if (name == "cma-mae") {
-    t.alpha = archive.number("learning_rate", 0.01, 0.0, 1.0);
-    t.threshold_min = archive.number("threshold_min", task.qd_offset(), -kNoUpper, kNoUpper);
+    t.alpha = archive.number(ThresholdParams::kLearningRate, 0.01);
+    t.threshold_min = archive.number(ThresholdParams::kThresholdMin, task.qd_offset());
     return;
   }
   for (const char* key : {"learning_rate", "threshold_min"})

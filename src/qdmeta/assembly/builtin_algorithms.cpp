@@ -144,8 +144,11 @@ AlgorithmMaker build_qd_meta(AlgorithmBuild& b) {
   auto controller = read_controller(b, control);
   refuse_table(b.root, "feature_map", "qd-meta", "it evolves its own neural feature-maps ([qd_meta], [cma_es])");
   ConfigReader meta_fitness = b.root.table("meta_fitness");
-  auto objective = read_meta_objective(b, meta_fitness);
-  for (Task& t : objective->tasks()) b.built.evaluation_tasks.push_back(std::move(t));
+  auto objective = read_meta_objective(b, meta_fitness);  // none while the config is only resolved
+  if (objective)
+    for (Task& t : objective->tasks()) b.built.evaluation_tasks.push_back(std::move(t));
+  else if (!meta_fitness.resolving())
+    throw InputError(fmt::format("{}: the [meta_fitness] reader made no meta-objective", meta_fitness.source()));
   ConfigReader archive_table = b.root.table("archive");
   // Read only where written: QD-Meta's resolved config (and so its checkpoints' fingerprint) stays
   // what it was before archives had kinds.

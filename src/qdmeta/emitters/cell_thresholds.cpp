@@ -12,15 +12,12 @@
 namespace qdmeta {
 
 void ThresholdParams::validate() const {
-  require_range("ThresholdParams.alpha", alpha, 0.0, 1.0);
-  if (std::isnan(threshold_min) || threshold_min == std::numeric_limits<double>::infinity()) {
-    throw InputError(fmt::format("ThresholdParams.threshold_min = {} is invalid: must be a number or -inf",
-                                 threshold_min));
-  }
-  if (std::isinf(threshold_min) && alpha != 1.0) {
-    throw InputError(fmt::format("ThresholdParams.threshold_min = -inf is invalid with alpha = {}: "
-                                 "-inf requires alpha = 1 (CMA-ME); set a finite threshold_min for CMA-MAE",
-                                 alpha));
+  require(kLearningRate, alpha);
+  if (threshold_min == -std::numeric_limits<double>::infinity() && alpha == 1.0) return;  // CMA-ME's
+  try {
+    require(kThresholdMin, threshold_min);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}, or -inf with learning_rate = 1 (CMA-ME's)", e.what()));
   }
 }
 

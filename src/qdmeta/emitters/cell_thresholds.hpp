@@ -15,14 +15,23 @@
 
 #include "qdmeta/archive/elite_batch.hpp"  // AddStatus
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/scalars.hpp"
 
 namespace qdmeta {
 
 struct ThresholdParams {
-  double alpha = 1.0;  // threshold learning rate, in [0, 1]
-  // The threshold of a cell never reached; -inf (CMA-ME) requires alpha = 1, as the annealed
-  // mean of -inf and f is not a number.
+  // archive.learning_rate and archive.threshold_min as "cma-mae" reads them (docs/config.md).
+  static constexpr RealParam kLearningRate{
+      "archive", "learning_rate", 0.0, 1.0, Open::kNone,
+      "cma-mae only (refused for cma-me, whose rate is 1): the threshold learning rate alpha; an accepted candidate "
+      "moves its cell's threshold t to (1 - alpha) t + alpha f. At 1, with CMA-ME's ranker and rules and "
+      "`threshold_min` below every objective, the run is CMA-ME's bit for bit (tests/cli/cma_mae_cli_test.cpp)"};
+  static constexpr RealParam kThresholdMin{"archive", "threshold_min", -kNoUpper, kNoUpper, Open::kNone,
+                                           "cma-mae only: the threshold of a cell never reached"};
+  double alpha = 1.0;  // threshold learning rate (kLearningRate)
+  // The threshold of a cell never reached (kThresholdMin), or -inf (CMA-ME's) with alpha = 1: the
+  // annealed mean of -inf and f is not a number.
   double threshold_min = -std::numeric_limits<double>::infinity();
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;

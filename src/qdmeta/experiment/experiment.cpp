@@ -256,9 +256,9 @@ PlannedRuns write_experiment_plan(const ExperimentSpec& spec, const fs::path& ou
   for (const auto& c : spec.conditions) {
     toml::table config = c.effective_config();
     if (spec.evaluations) set_budget(config, *spec.evaluations);
-    // Refuse a bad config now, not in a batch job, without allocating the run.
-    const BuiltRun checked = build_run(config, c.config.string(), {1, std::nullopt}, BuildScope::kTasksOnly);
-    require_memory(checked.memory, memory_limit(), c.config.string());
+    // A bad config was refused when its condition was resolved; a run too large for this machine
+    // is refused now, not in a batch job.
+    require_memory(conditions[index_of(spec, c)].memory, memory_limit(), c.config.string());
     fs::create_directories(out / c.slug);
     std::ostringstream text;
     text << "# " << c.name << ": " << c.config.string() << " as experiment '" << spec.name

@@ -74,8 +74,8 @@ bool RerunScope::covers(const ExperimentCondition& c, int replicate) const {
 
 ResolvedCondition resolve_condition(const toml::table& config, const std::string& source,
                                     std::optional<std::int64_t> evaluations) {
-  BuiltRun built = build_run(config, source, {1, evaluations}, BuildScope::kTasksOnly);
-  ResolvedCondition r{std::move(built.resolved), built.settings.budget, ""};
+  BuiltRun built = build_run(config, source, {1, evaluations}, BuildScope::kResolve);
+  ResolvedCondition r{std::move(built.resolved), built.settings.budget, "", std::move(built.memory)};
   r.fingerprint = resolved_config_fingerprint(r.resolved);
   return r;
 }
@@ -97,18 +97,18 @@ void check_run_directories(const ExperimentSpec& spec, const std::vector<Resolve
       // The fingerprint the run was started with (its condition's, seed-independent); a run made
       // before fingerprints is resolved again and compared with the condition at its own seed,
       // whose seed-drawn values (RHex's meta_fitness.damage_types) its config.toml holds.
+      // The run's config is resolved (so checked) whatever its fingerprint; the condition at the
+      // run's seed only for a run that is not plainly its condition's. Each once.
       const toml::table run =
-          build_run(state.config(), state.config_path().string(), {}, BuildScope::kTasksOnly).resolved;
+          build_run(state.config(), state.config_path().string(), {}, BuildScope::kResolve).resolved;
       const std::optional<std::string> stored =
           state.config()["provenance"][kConfigFingerprintKey].value<std::string>();
-      const auto condition_at_seed = [&] {
-        return build_run(c.effective_config(), c.config.string(), {static_cast<std::uint64_t>(r), spec.evaluations},
-                         BuildScope::kTasksOnly)
-            .resolved;
-      };
-      if (stored ? *stored == conditions[i].fingerprint
-                 : resolved_config_fingerprint(run) == resolved_config_fingerprint(condition_at_seed()))
-        continue;
+      if (stored && *stored == conditions[i].fingerprint) continue;
+      const toml::table condition_at_seed =
+          build_run(c.effective_config(), c.config.string(), {static_cast<std::uint64_t>(r), spec.evaluations},
+                    BuildScope::kResolve)
+              .resolved;
+      if (!stored && resolved_config_fingerprint(run) == resolved_config_fingerprint(condition_at_seed)) continue;
       if (scope.restart_changed && scope.covers(c, r)) {
         changed.runs.insert({i, r});
         continue;
@@ -119,7 +119,7 @@ void check_run_directories(const ExperimentSpec& spec, const std::vector<Resolve
                                      state.dir().string(), state.budget(), conditions[i].budget));
       throw InputError(fmt::format("{} was run with another config than condition '{}' has now ({}): {}, or "
                                    "use another --out",
-                                   state.dir().string(), c.name, keys_that_differ(differing_keys(run, condition_at_seed())),
+                                   state.dir().string(), c.name, keys_that_differ(differing_keys(run, condition_at_seed)),
                                    restart_advice(scope)));
     }
   }
@@ -230,7 +230,7 @@ void check_plan_rows(const ExperimentSpec& spec, const std::vector<ResolvedCondi
       std::string differing;  // from the condition.toml the plan wrote, when it is still readable
       try {
         const fs::path planned = out / c.slug / "condition.toml";
-        const toml::table old = build_run(load_toml(planned), planned.string(), {}, BuildScope::kTasksOnly).resolved;
+        const toml::table old = build_run(load_toml(planned), planned.string(), {}, BuildScope::kResolve).resolved;
         differing = fmt::format(" ({})", keys_that_differ(differing_keys(old, conditions[i].resolved)));
       } catch (const Error&) {
       }

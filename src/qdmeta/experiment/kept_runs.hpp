@@ -18,15 +18,19 @@
 
 #include <toml++/toml.h>
 
+#include "qdmeta/assembly/memory_estimate.hpp"
 #include "qdmeta/experiment/experiment.hpp"
 
 namespace qdmeta {
 
-// A condition's config in force, resolved once: every key, the experiment's budget merged in.
+// A condition's config in force, resolved once per call: every key, the experiment's budget merged
+// in, read by the config's readers without making its task, meta-objective or algorithm
+// (BuildScope::kResolve).
 struct ResolvedCondition {
   toml::table resolved;
   std::int64_t budget = 0;
   std::string fingerprint;
+  MemoryEstimate memory;  // what a run of it would allocate (--plan refuses one over the limit)
 };
 std::vector<ResolvedCondition> resolve_conditions(const ExperimentSpec& spec);
 // A config resolved as a condition is: at seed 1, with `evaluations` when given. Its fingerprint

@@ -34,7 +34,7 @@ FinishedRun finished_run(const RunState& state) {
     throw InputError(fmt::format("{} is not the resolved config of a run (it lacks seed, algorithm or [provenance]): "
                                  "it was emptied or damaged, so the run cannot be tested",
                                  path));
-  const BuiltRun checked = build_run(config, path, {}, BuildScope::kTasksOnly);  // every key, as a run reads it
+  const BuiltRun checked = build_run(config, path, {}, BuildScope::kResolve);  // every key, as a run reads it
   return {config, checked.settings.seed};
 }
 

@@ -270,6 +270,7 @@ std::vector<ConfigReader> ConfigReader::tables(std::string_view key) {
   std::vector<ConfigReader> readers;
   for (std::size_t i = 0; i < n; ++i) {
     ConfigReader sub(*(*array)[i].as_table(), source_, *out[i].as_table(), fmt::format("{}[{}]", qualified(key), i + 1));
+    sub.resolving_ = resolving_;
     scope_->opened.push_back(sub);
     readers.push_back(std::move(sub));
   }
@@ -299,6 +300,7 @@ ConfigReader ConfigReader::table(std::string_view key) {
   if (node && !node->is_table()) type_error(key, "a table");
   auto [it, inserted] = resolved_.insert_or_assign(key, toml::table{});
   ConfigReader sub(node ? *node->as_table() : kEmpty, source_, *it->second.as_table(), qualified(key));
+  sub.resolving_ = resolving_;
   scope_->opened.push_back(sub);  // a copy sharing sub's scope: what the caller reads, finish() sees
   return sub;
 }

@@ -96,6 +96,11 @@ class ConfigReader {
   // misspelt key through; a reader may call it earlier on its own table.
   void finish() const;
   const std::string& source() const { return source_; }
+  // True while a config is only resolved (BuildScope::kResolve): a reader reads and checks its
+  // keys as always, then makes nothing (the task it is handed is a shape, core/task_shape.hpp).
+  // Tables opened through this reader afterwards inherit it.
+  bool resolving() const { return resolving_; }
+  void set_resolving(bool resolving) { resolving_ = resolving; }
   // InputError "<source>: <key> = \"<value>\" is not a valid choice: use one of <valid><why>", for
   // a name that no registry holds (`valid` as quoted_names() lists them).
   [[noreturn]] void not_a_valid_choice(std::string_view key, std::string_view value, std::string_view valid,
@@ -124,6 +129,7 @@ class ConfigReader {
   toml::table& resolved_;
   std::string prefix_;
   std::shared_ptr<Scope> scope_;
+  bool resolving_ = false;
 };
 
 // Runs `f` (e.g. a task's constructor, which checks its own parameters) and prefixes the

@@ -87,7 +87,8 @@ Task read_registered_task(ConfigReader& t) {
   std::sort(documented.begin(), documented.end());
   const std::string fallback = std::find(names.begin(), names.end(), "rastrigin") != names.end() ? "rastrigin" : names.front();
   const std::string name = t.string("name", fallback, quoted_names(documented));
-  if (const auto plugin = find_task_plugin(name)) return plugin->read_task(t);
+  if (const auto plugin = find_task_plugin(name))
+    return t.resolving() && plugin->read_shape ? task_of_shape(plugin->read_shape(t)) : plugin->read_task(t);
   std::string why = tasks().why_unavailable(name);
   // A name this build never had: most often a run made by a program that handed its task over as
   // a part (RunParts::task) and is now resumed or rebuilt without it.

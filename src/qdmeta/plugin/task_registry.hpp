@@ -20,19 +20,26 @@
 #include "qdmeta/core/adaptation_tests.hpp"
 #include "qdmeta/core/meta_objective.hpp"
 #include "qdmeta/core/task.hpp"
+#include "qdmeta/core/task_shape.hpp"
 
 namespace qdmeta {
 
 class ConfigReader;
 
 // Reads the rest of a [meta_fitness] table (`kind` is already read) for `task`; `seed` drives
-// choices made once per replicate, which the reader writes to the resolved config.
+// choices made once per replicate, which the reader writes to the resolved config. While the
+// config is only resolved (meta_fitness.resolving()) `task` may be a shape (core/task_shape.hpp): the
+// reader reads and checks its keys and returns nullptr, making nothing.
 using MetaObjectiveReader =
     std::function<std::unique_ptr<MetaObjective>(ConfigReader& meta_fitness, const Task& task, std::uint64_t seed)>;
 
 struct TaskPlugin {
   // Reads the rest of the [task] table (`name` is already read) and builds the task.
   std::function<Task(ConfigReader& task_table)> read_task;
+  // Optional: reads the same keys as read_task, checks them, and returns the task's shape without
+  // making the task, for a config that is only resolved (ConfigReader::resolving(): an
+  // experiment's conditions, its kept runs). Without it, resolving makes the task.
+  std::function<TaskShape(ConfigReader& task_table)> read_shape;
   // The meta-objectives QD-Meta can use on this task, by [meta_fitness] kind; the first is the
   // default kind. register_meta_objective() adds more.
   std::vector<std::pair<std::string, MetaObjectiveReader>> meta_objectives;
@@ -76,8 +83,9 @@ std::vector<std::string> adaptation_test_names(const TaskPlugin& plugin);
 // with "generalisation" where a task has one (the help text of `qdmeta adapt --test`).
 std::string describe_adaptation_tests();
 
-// Reads `[task] name` and builds that task through its plugin. An unknown name is an
-// InputError listing the registered names (and why an unavailable one is missing).
+// Reads `[task] name` and builds that task through its plugin; while resolving, only its shape
+// (core/task_shape.hpp) where the plugin has read_shape. An unknown name is an InputError listing the
+// registered names (and why an unavailable one is missing).
 Task read_registered_task(ConfigReader& task_table);
 // Reads `[meta_fitness] kind` (default: the task's first) and builds that meta-objective.
 std::unique_ptr<MetaObjective> read_registered_meta_objective(ConfigReader& meta_fitness, const Task& task,

@@ -70,19 +70,14 @@ MetaFitnessResult analytic_result(const MetaPlan& plan, const std::string& objec
   return *result;
 }
 
-void require_fraction(std::string_view field, double value) {
-  if (!(value > 0.0 && value <= 1.0))
-    throw InputError(fmt::format("{} = {} is out of range: must be in (0, 1]", field, value));
-}
-
 }  // namespace
 
 void RastriginMetaParams::validate() const {
-  require_fraction("sample_fraction", sample_fraction);
+  require(kSampleFraction, sample_fraction);
   if (!(score_m > 0.0 && std::isfinite(score_m)))
     throw InputError(fmt::format("score_m = {} is out of range: must be positive and finite", score_m));
   require_at_least("dimension_count", dimension_count, 1);
-  require_at_least("transform_repetitions", transform_repetitions, 1);
+  require(kTransformRepetitions, transform_repetitions);
 }
 
 Index meta_sample_size(double fraction, Index archive_size) {
@@ -198,16 +193,20 @@ double pairwise_distance_sum(const Eigen::Ref<const ColMatrix>& points) {
 
 RastriginDimensionMeta::RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions)
     : params_(params), dimensions_(std::move(dimensions)) {
-  params_.validate();
-  if (dimensions_.size() != static_cast<std::size_t>(params_.dimension_count))
+  validate(params_, dimensions_);
+}
+
+void RastriginDimensionMeta::validate(const RastriginMetaParams& params, const std::vector<int>& dimensions) {
+  params.validate();
+  if (dimensions.size() != static_cast<std::size_t>(params.dimension_count))
     throw InputError(fmt::format("rastrigin-dimension meta-fitness: {} dimensions given, dimension_count = {}",
-                                 dimensions_.size(), params_.dimension_count));
-  for (std::size_t k = 0; k < dimensions_.size(); ++k) {
-    if (dimensions_[k] < 0)
-      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is negative", dimensions_[k]));
-    if (std::find(dimensions_.begin(), dimensions_.begin() + static_cast<std::ptrdiff_t>(k), dimensions_[k]) !=
-        dimensions_.begin() + static_cast<std::ptrdiff_t>(k))
-      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is repeated", dimensions_[k]));
+                                 dimensions.size(), params.dimension_count));
+  for (std::size_t k = 0; k < dimensions.size(); ++k) {
+    if (dimensions[k] < 0)
+      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is negative", dimensions[k]));
+    if (std::find(dimensions.begin(), dimensions.begin() + static_cast<std::ptrdiff_t>(k), dimensions[k]) !=
+        dimensions.begin() + static_cast<std::ptrdiff_t>(k))
+      throw InputError(fmt::format("rastrigin-dimension meta-fitness: dimension {} is repeated", dimensions[k]));
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "qdmeta/core/meta_objective.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
@@ -22,10 +23,16 @@
 namespace qdmeta {
 
 struct RastriginMetaParams {
-  double sample_fraction = 0.10;                // share of the archive scored, in (0, 1]
+  // [meta_fitness] of the Rastrigin task (docs/config.md).
+  static constexpr RealParam kSampleFraction{
+      "meta_fitness", "sample_fraction", 0.0, 1.0, Open::kLower,
+      "fraction of the archive scored, n = max(1, round(fraction x size)), drawn anew each time"};
+  static constexpr IntParam kTransformRepetitions{"meta_fitness", "transform_repetitions", 1, 1000,
+                                                  "translation: transforms per each of the 8 ranges (16 in all)"};
+  double sample_fraction = 0.10;                // share of the archive scored (kSampleFraction)
   double score_m = rastrigin::kDefaultScoreM;   // M: per-task scores are M + max(-M, f), M > 0 and finite
   int dimension_count = 10;                     // |J|: dimensions removed by the Dimension meta-fitness, >= 1
-  int transform_repetitions = 2;                // Translation: transforms per each of the 8 ranges, >= 1
+  int transform_repetitions = 2;                // Translation: transforms per each of the 8 ranges (kTransformRepetitions)
   bool transform_per_solution = false;          // Translation: a fresh set of transforms per solution (authors' code)
   void validate() const;                        // throws InputError naming the field, value and rule
 };
@@ -45,6 +52,8 @@ class RastriginDimensionMeta final : public MetaObjective {
   // `dimensions`: J, drawn once per replicate (rastrigin::sample_dimensions); dimension_count
   // of them, distinct and non-negative (checked against the genotype size in evaluate()).
   RastriginDimensionMeta(RastriginMetaParams params, std::vector<int> dimensions);
+  // What the constructor checks, for a config that is only resolved: InputError on a bad value.
+  static void validate(const RastriginMetaParams& params, const std::vector<int>& dimensions);
   std::string name() const override { return "rastrigin-dimension"; }
   MetaPlan plan(const MetaArchive& archive, Rng& rng) const override;
   MetaFitnessResult score(const MetaArchive& archive, const MetaPlan& plan,

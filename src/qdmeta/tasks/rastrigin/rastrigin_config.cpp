@@ -12,17 +12,25 @@
 namespace qdmeta {
 namespace {
 
-Task read_rastrigin_task(ConfigReader& t) {
+RastriginParams read_rastrigin_params(ConfigReader& t) {
   RastriginParams p;
   p.dimensions = static_cast<int>(t.integer(RastriginParams::kDimensions, p.dimensions));
   p.score_m = t.number(RastriginParams::kScoreM, p.score_m);
-  return Task(RastriginTask(p));
+  return p;
+}
+
+Task read_rastrigin_task(ConfigReader& t) { return Task(RastriginTask(read_rastrigin_params(t))); }
+
+TaskShape read_rastrigin_shape(ConfigReader& t) {
+  const RastriginParams p = read_rastrigin_params(t);
+  naming_source(t, [&] { p.validate(); });
+  return RastriginTask::shape_of(p);
 }
 
 // The keys both meta-fitnesses share; M is the task's.
 RastriginMetaParams read_common(ConfigReader& m, const Task& task) {
   RastriginMetaParams p;
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
+  p.sample_fraction = m.number(RastriginMetaParams::kSampleFraction, p.sample_fraction);
   p.score_m = task.qd_offset() < 0 ? -task.qd_offset() : p.score_m;
   return p;
 }
@@ -40,6 +48,10 @@ std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& 
                                 static_cast<std::size_t>(p.dimension_count), "dimension_count distinct entries in [0, N)");
   std::vector<int> dims(given.begin(), given.end());
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
+    if (m.resolving()) {
+      RastriginDimensionMeta::validate(p, dims);
+      return nullptr;
+    }
     p.validate();
     return std::make_unique<RastriginDimensionMeta>(p, dims);
   });
@@ -47,10 +59,11 @@ std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& 
 
 std::unique_ptr<MetaObjective> read_translation_meta(ConfigReader& m, const Task& task, std::uint64_t) {
   RastriginMetaParams p = read_common(m, task);
-  p.transform_repetitions = static_cast<int>(m.integer("transform_repetitions", p.transform_repetitions, 1, 1000));
+  p.transform_repetitions = static_cast<int>(m.integer(RastriginMetaParams::kTransformRepetitions, p.transform_repetitions));
   p.transform_per_solution = m.boolean("transform_per_solution", p.transform_per_solution);
   return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
     p.validate();
+    if (m.resolving()) return nullptr;
     return std::make_unique<RastriginTranslationMeta>(p);
   });
 }
@@ -72,6 +85,7 @@ std::unique_ptr<AdaptationTests> read_rastrigin_tests(const toml::table&, const 
 void register_rastrigin_task() {
   TaskPlugin plugin;
   plugin.read_task = read_rastrigin_task;
+  plugin.read_shape = read_rastrigin_shape;
   plugin.meta_objectives = {{"translation", read_translation_meta}, {"dimension", read_dimension_meta}};
   plugin.read_adaptation_tests = read_rastrigin_tests;
   plugin.adaptation_tests = {"dimension", "translation"};

@@ -4,6 +4,7 @@
 
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
+#include "qdmeta/core/task_shape.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin.hpp"
 
 namespace qdmeta {
@@ -22,6 +23,8 @@ struct RastriginParams {
 class RastriginTask {
  public:
   explicit RastriginTask(RastriginParams params = {});
+  // What the accessors below return, without a task (a resolved config's, core/task_shape.hpp).
+  static TaskShape shape_of(const RastriginParams& p) { return {"rastrigin", p.dimensions, p.dimensions, -p.score_m}; }
   std::string name() const { return "rastrigin"; }
   Index genotype_size() const { return params_.dimensions; }
   Index base_feature_size() const { return params_.dimensions; }

@@ -17,7 +17,7 @@ constexpr EnumNames<RhexMetaKind, 2> kRhexMetaNames{{{RhexMetaKind::kDamage, "da
 // Salts of the per-replicate draws (training damages, training courses).
 constexpr std::uint64_t kDamageDraw = 0xDA3A6E, kCourseDraw = 0xC0025E;
 
-Task read_rhex_task(ConfigReader& t) {
+RhexParams read_rhex_params(ConfigReader& t) {
   RhexParams p;
   p.features = t.choice("features", p.features, kRhexFeaturesNames);
   p.episode.duration = t.number(rhex::EpisodeSettings::kEpisodeSeconds, p.episode.duration);
@@ -31,20 +31,41 @@ Task read_rhex_task(ConfigReader& t) {
   p.episode.lcp = t.choice("lcp", p.episode.lcp, rhex::kLcpSolverNames);
   p.episode.plate_joint_limits = t.boolean("plate_joint_limits", p.episode.plate_joint_limits);
   p.environment.damage = t.choice("damage", p.environment.damage, rhex::kDamageTypeNames);
-  p.environment.leg = static_cast<int>(t.integer("damaged_leg", p.environment.leg, 0, 5));
+  p.environment.leg = static_cast<int>(t.integer(rhex::RhexEnvironment::kDamagedLeg, p.environment.leg));
   p.environment.course = t.choice("course", p.environment.course, rhex::kObstacleCourseNames);
+  return p;
+}
+
+Task read_rhex_task(ConfigReader& t) {
+  const RhexParams p = read_rhex_params(t);
   return naming_source(t, [&] { return Task(RhexTask(p)); });
+}
+
+TaskShape read_rhex_shape(ConfigReader& t) {
+  const RhexParams p = read_rhex_params(t);
+  naming_source(t, [&] { p.validate(); });  // what RhexTask's constructor checks
+  return RhexTask::shape_of(p);
 }
 
 // [meta_fitness] of `kind` (its `kind` key is read by the task registry, or by the caller).
 std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Task& task, std::uint64_t seed,
                                                       RhexMetaKind kind) {
+  // While resolving, `task` is only a shape: its keys read and checked, nothing is made.
   const RhexTask* rhex_task = task.target<RhexTask>();
-  if (rhex_task == nullptr) throw InputError(fmt::format("{}: the RHex meta-fitness needs the RHex task", m.source()));
-  RhexParams params = rhex_task->params();
+  if (rhex_task == nullptr && !(m.resolving() && task.name() == "rhex"))
+    throw InputError(fmt::format("{}: the RHex meta-fitness needs the RHex task", m.source()));
+  RhexParams params = rhex_task != nullptr ? rhex_task->params() : RhexParams{};
   params.environment = {};
   RhexMetaParams p;
-  p.sample_fraction = m.number("sample_fraction", p.sample_fraction, 0.0, 1.0, Open::kLower);
+  p.sample_fraction = m.number(RhexMetaParams::kSampleFraction, p.sample_fraction);
+  const auto make = [&](const char* name, std::vector<rhex::RhexEnvironment> envs) -> std::unique_ptr<MetaObjective> {
+    return naming_source(m, [&]() -> std::unique_ptr<MetaObjective> {
+      if (!m.resolving()) return std::make_unique<RhexMetaFitness>(name, p, RhexTask(params), std::move(envs));
+      p.validate();  // what RhexMetaFitness's constructor checks
+      for (const auto& e : envs) e.validate();
+      return nullptr;
+    });
+  };
   switch (kind) {
     case RhexMetaKind::kDamage: {
       const auto count = m.integer("damage_type_count", 2, 1, 4);
@@ -55,9 +76,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
                                     static_cast<std::size_t>(count), "damage_type_count entries in 1..4");
       std::vector<rhex::DamageType> types;
       for (auto d : given) types.push_back(static_cast<rhex::DamageType>(d));
-      return naming_source(m, [&] {
-        return std::make_unique<RhexMetaFitness>("rhex-damage", p, RhexTask(params), damage_environments(types));
-      });
+      return make("rhex-damage", damage_environments(types));
     }
     case RhexMetaKind::kObstacle: {
       const auto count = m.integer("course_count", 5, 1, 9);
@@ -68,7 +87,7 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
                                     static_cast<std::size_t>(count), "course_count entries in 1..9");
       std::vector<rhex::RhexEnvironment> envs;
       for (auto c : given) envs.push_back(rhex::RhexEnvironment::obstacle(static_cast<rhex::ObstacleCourse>(c)));
-      return naming_source(m, [&] { return std::make_unique<RhexMetaFitness>("rhex-obstacle", p, RhexTask(params), envs); });
+      return make("rhex-obstacle", std::move(envs));
     }
   }
   throw InputError("unreachable RHex meta-fitness kind");
@@ -118,6 +137,7 @@ std::unique_ptr<AdaptationTests> read_rhex_adaptation_tests(const toml::table& c
 void register_rhex_task() {
   TaskPlugin plugin;
   plugin.read_task = read_rhex_task;
+  plugin.read_shape = read_rhex_shape;
   // The first kind is the default.
   for (const RhexMetaKind kind : {RhexMetaKind::kDamage, RhexMetaKind::kObstacle})
     plugin.meta_objectives.emplace_back(std::string(enum_to_string(kRhexMetaNames, kind)),

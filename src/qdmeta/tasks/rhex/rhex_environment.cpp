@@ -11,7 +11,7 @@ std::string RhexEnvironment::to_string() const {
 }
 
 void RhexEnvironment::validate() const {
-  if (damage != DamageType::kNone) require_range("rhex environment leg", leg, 0, 5);
+  if (damage != DamageType::kNone) require(kDamagedLeg, leg);
   if (damage != DamageType::kNone && course != ObstacleCourse::kFlat)
     throw InputError("rhex environment: a damage and an obstacle course cannot be combined");
 }

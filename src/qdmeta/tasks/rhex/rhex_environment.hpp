@@ -47,7 +47,10 @@ inline constexpr EnumNames<ObstacleCourse, 10> kObstacleCourseNames{{{ObstacleCo
 
 struct RhexEnvironment {
   DamageType damage = DamageType::kNone;
-  int leg = 0;  // the damaged leg, 0..5 (docs/specification.md's numbering); ignored without damage
+  static constexpr IntParam kDamagedLeg{
+      "task", "damaged_leg", 0, 5,
+      "the damaged leg (0 rear-left, 1 middle-left, 2 front-left, 3-5 the same on the right)"};
+  int leg = 0;  // the damaged leg (kDamagedLeg; docs/specification.md's numbering); ignored without damage
   ObstacleCourse course = ObstacleCourse::kFlat;
 
   static RhexEnvironment damaged(DamageType type, int leg) { return {type, leg, ObstacleCourse::kFlat}; }

@@ -10,8 +10,7 @@
 namespace qdmeta {
 
 void RhexMetaParams::validate() const {
-  if (!(sample_fraction > 0.0 && sample_fraction <= 1.0))
-    throw InputError(fmt::format("meta_fitness.sample_fraction = {} is out of range: must be in (0, 1]", sample_fraction));
+  require(kSampleFraction, sample_fraction);
 }
 
 RhexMetaFitness::RhexMetaFitness(std::string name, RhexMetaParams params, RhexTask task,

@@ -12,12 +12,15 @@
 #include <vector>
 
 #include "qdmeta/core/meta_objective.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/tasks/rhex/rhex_task.hpp"
 
 namespace qdmeta {
 
 struct RhexMetaParams {
-  double sample_fraction = 1.0;  // share of the archive scored, in (0, 1] (the authors' RHex runs: all)
+  static constexpr RealParam kSampleFraction{"meta_fitness", "sample_fraction", 0.0, 1.0, Open::kLower,
+                                             "fraction of the archive scored (the authors' RHex runs: all of it)"};
+  double sample_fraction = 1.0;  // share of the archive scored (kSampleFraction)
   void validate() const;
 };
 

@@ -13,9 +13,12 @@ void RhexParams::validate() const {
 
 RhexTask::RhexTask(RhexParams params) : params_(params) { params_.validate(); }
 
-Index RhexTask::base_feature_size() const {
-  return params_.features == RhexFeatures::kTrajectory ? rhex::kTrajectoryFeatures : rhex::kFeatureSetFeatures;
+TaskShape RhexTask::shape_of(const RhexParams& p) {
+  const Index features = p.features == RhexFeatures::kTrajectory ? rhex::kTrajectoryFeatures : rhex::kFeatureSetFeatures;
+  return {"rhex", rhex::kGenes, features, -1.0};
 }
+
+Index RhexTask::base_feature_size() const { return shape_of(params_).base_feature_size; }
 
 rhex::GaitParams RhexTask::gait(const Real* genes) const {
   std::array<double, rhex::kGenes> g{};

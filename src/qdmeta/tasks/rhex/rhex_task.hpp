@@ -6,6 +6,7 @@
 
 #include "qdmeta/core/params.hpp"
 #include "qdmeta/core/task.hpp"
+#include "qdmeta/core/task_shape.hpp"
 #include "qdmeta/tasks/rhex/rhex_episode.hpp"
 
 namespace qdmeta {
@@ -29,6 +30,8 @@ struct RhexParams {
 class RhexTask {
  public:
   explicit RhexTask(RhexParams params = {});
+  // What the accessors below return, without a task (a resolved config's, core/task_shape.hpp).
+  static TaskShape shape_of(const RhexParams& p);
   std::string name() const { return "rhex"; }
   Index genotype_size() const { return rhex::kGenes; }
   Index base_feature_size() const;
