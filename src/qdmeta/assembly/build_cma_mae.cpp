@@ -67,6 +67,8 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
   EvolutionStrategyEmitterParams& es = p.emitter;
   p.kind = e.choice("kind", EmitterKind::kEvolutionStrategy, kEmitterKindNames);
   p.emitters = static_cast<int>(e.integer("count", p.emitters, 1, 10'000));
+  // Written only when given: the resolved configs and checkpoints of runs before it stay as they were.
+  if (e.has("add_mode")) p.add_mode = e.choice("add_mode", p.add_mode, kAddModeNames);
   es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
   es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
   const auto es_keys = {"sigma0", "ranker", "selection_rule", "restart_rule", "restart_every", "bounds", "es"};
