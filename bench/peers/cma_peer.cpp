@@ -6,7 +6,10 @@
 //
 //   cma_peer --domain sphere|arm --algorithm cma-me|cma-mae [--iterations 10000] [--seed 1]
 //            [--genes 100] [--eigen-gap purecma|tutorial]
-//            [--rank-one tutorial|pyribs]
+//            [--rank-one tutorial|pyribs] [--add-mode single|batch]
+//
+// --add-mode batch runs pyribs's Scheduler default (every row against the thresholds before the
+// batch); qdmeta's default is single (rows one at a time, in order), docs/fidelity.md.
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -40,6 +43,7 @@ struct Options {
   Index genes = 100;
   CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;  // the emitters' default, pyribs's gap
   CmaRankOne rank_one = CmaRankOne::kTutorial;     // "pyribs": pyribs 0.12's term (fidelity.md)
+  AddMode add_mode = AddMode::kSingle;             // "batch": pyribs's Scheduler default
 };
 
 Options parse(int argc, char** argv) {
@@ -55,6 +59,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--genes") o.genes = std::atol(value);
     else if (key == "--eigen-gap") o.eigen_gap = cma_eigen_gap_from_string(value);
     else if (key == "--rank-one") o.rank_one = cma_rank_one_from_string(value);
+    else if (key == "--add-mode") o.add_mode = enum_from_string(kAddModeNames, "cma_peer --add-mode", value);
     else throw InputError(fmt::format("cma_peer: unknown option {}", key));
   }
   if (o.domain != "sphere" && o.domain != "arm") throw InputError(fmt::format("cma_peer --domain = {}: sphere or arm", o.domain));
@@ -88,7 +93,7 @@ int run(const Options& o, const peers::CmaDomain& domain, Evaluate evaluate_one)
   ThresholdParams thresholds;
   thresholds.alpha = mae ? 0.01 : 1.0;
   thresholds.threshold_min = mae ? 0.0 : -std::numeric_limits<double>::infinity();
-  Scheduler scheduler(archive, thresholds, make_evolution_strategy_emitters(archive, ep, kEmitters));
+  Scheduler scheduler(archive, thresholds, make_evolution_strategy_emitters(archive, ep, kEmitters), o.add_mode);
   Rng rng(o.seed);
   std::vector<Real> objectives;
   RowMatrix measures;
@@ -108,10 +113,10 @@ int run(const Options& o, const peers::CmaDomain& domain, Evaluate evaluate_one)
   // The paper's QD-score: the sum of the elites' objectives over all cells; coverage in percent.
   fmt::print(R"({{"library": "qdmeta", "version": "{}", "algorithm": "{}", "domain": "{}", "iterations": {}, )"
              R"("evals": {}, "wall_s": {}, "task_s": {}, "num_elites": {}, "qd_score": {}, "coverage": {}, )"
-             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), one thread, eigen gap {}, rank-one {}"}})"
+             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), one thread, eigen gap {}, rank-one {}, add mode {}"}})"
              "\n",
              kVersion, o.algorithm, domain.name, o.iterations, evals, wall, task_s, stats.num_elites,
-             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed, to_string(o.eigen_gap), to_string(o.rank_one));
+             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed, to_string(o.eigen_gap), to_string(o.rank_one), to_string(o.add_mode));
   return 0;
 }
 

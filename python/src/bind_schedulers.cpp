@@ -31,7 +31,8 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 1;  // of the scheduler state tuples
+// Of the scheduler state tuples: 2 adds the add mode at the end; 1 (before it) loads as "single".
+constexpr int kFormat = 2;
 
 // qdmeta.Scheduler and qdmeta.BanditScheduler: the C++ scheduler over the archive's type, with
 // the Python objects it uses.
@@ -39,6 +40,7 @@ struct SchedulerHandle {
   py::object archive, result_archive;
   py::list emitters;
   std::optional<BanditParams> bandit;  // a BanditScheduler's
+  AddMode add_mode = AddMode::kSingle;
   std::variant<std::unique_ptr<Scheduler<GridArchive>>, std::unique_ptr<Scheduler<CvtArchive>>,
                std::unique_ptr<BanditScheduler<GridArchive>>, std::unique_ptr<BanditScheduler<CvtArchive>>>
       scheduler;
@@ -60,9 +62,17 @@ void make_scheduler_over(SchedulerHandle& h, ArchiveHandle<A>& archive) {
   std::vector<std::unique_ptr<Emitter>> wrapped;
   for (const auto e : h.emitters) wrapped.push_back(std::make_unique<HandleEmitter>(e.cast<std::shared_ptr<EmitterHandle>>()));
   if (h.bandit)
-    h.scheduler = std::make_unique<BanditScheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped), *h.bandit);
+    h.scheduler = std::make_unique<BanditScheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped), *h.bandit,
+                                                       h.add_mode);
   else
-    h.scheduler = std::make_unique<Scheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped));
+    h.scheduler = std::make_unique<Scheduler<A>>(archive.archive, archive.thresholds, std::move(wrapped), h.add_mode);
+}
+
+// pyribs's add_mode names: "single" (the default here) and "batch" (pyribs's default).
+AddMode add_mode_from_string(const std::string& add_mode) {
+  if (add_mode == "single") return AddMode::kSingle;
+  if (add_mode == "batch") return AddMode::kBatch;
+  throw InputError(fmt::format("add_mode = '{}' is not 'single' or 'batch'", add_mode));
 }
 
 void add_to_result_archive(py::handle result, const EliteBatch& batch) {
@@ -79,9 +89,11 @@ Index measure_dim_of(py::handle archive) {
 
 // `bandit`: a BanditScheduler of those params; none: a Scheduler.
 template <class H>
-H make_scheduler(py::object archive, py::handle emitters, py::object result_archive, std::optional<BanditParams> bandit) {
+H make_scheduler(py::object archive, py::handle emitters, py::object result_archive, std::optional<BanditParams> bandit,
+                 AddMode add_mode) {
   H h;
   h.bandit = bandit;
+  h.add_mode = add_mode;
   const char* e = h.emitters_name();
   const Index genes = archive_solution_dim(archive);  // TypeError unless a Grid or CVT archive
   h.emitters = py::list(py::reinterpret_borrow<py::object>(emitters));
@@ -138,32 +150,40 @@ py::tuple scheduler_state(const SchedulerHandle& h) {
   std::visit([&](const auto& s) { s->save(out); }, h.scheduler);
   const py::int_ format(kFormat);
   const py::bytes bytes(out.bytes());
+  const py::str add_mode(to_string(h.add_mode));
   if (!h.bandit) {
-    const py::int_ checksum(state_checksum({format, bytes}));
-    return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum);
+    const py::int_ checksum(state_checksum({format, bytes, add_mode}));
+    return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum, add_mode);
   }
   const py::tuple params = py::make_tuple(h.bandit->num_active, h.bandit->reselect == BanditReselect::kAll ? "all" : "terminated",
                                           h.bandit->zeta);
-  const py::int_ checksum(state_checksum({format, bytes, params}));
-  return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum, params);
+  const py::int_ checksum(state_checksum({format, bytes, params, add_mode}));
+  return py::make_tuple(format, h.archive, h.emitters, h.result_archive, bytes, checksum, params, add_mode);
 }
 
 template <class H>
 H scheduler_from_state(const py::tuple& s) {
   constexpr bool is_bandit = std::is_same_v<H, BanditSchedulerHandle>;
   const char* who = is_bandit ? "unpickling a qdmeta.BanditScheduler" : "unpickling a qdmeta.Scheduler";
-  if (s.size() != (is_bandit ? 7 : 6) || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
-      !py::isinstance<py::list>(s[2]) || !py::isinstance<py::bytes>(s[4]) || (is_bandit && !py::isinstance<py::tuple>(s[6])))
+  const std::size_t fields = is_bandit ? 7 : 6;  // format 1's; format 2 adds the add mode
+  const auto format = py::reinterpret_borrow<py::object>(s[0]);
+  const bool has_mode = format.equal(py::int_(kFormat));
+  if (!(has_mode || format.equal(py::int_(1))) || s.size() != fields + (has_mode ? 1 : 0) || !py::isinstance<py::list>(s[2]) ||
+      !py::isinstance<py::bytes>(s[4]) || (is_bandit && !py::isinstance<py::tuple>(s[6])) ||
+      (has_mode && !py::isinstance<py::str>(s[fields])))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
+  std::uint64_t checksum = 0;
+  if (is_bandit) checksum = has_mode ? state_checksum({s[0], s[4], s[6], s[fields]}) : state_checksum({s[0], s[4], s[6]});
+  else checksum = has_mode ? state_checksum({s[0], s[4], s[fields]}) : state_checksum({s[0], s[4]});
+  check_state_checksum(s[5], checksum, who);
   std::optional<BanditParams> bandit;
   if constexpr (is_bandit) {
-    check_state_checksum(s[5], state_checksum({s[0], s[4], s[6]}), who);
     const auto p = s[6].cast<py::tuple>();
     bandit = BanditParams{p[0].cast<int>(), bandit_reselect_from_string(p[1].cast<std::string>()), p[2].cast<double>()};
-  } else {
-    check_state_checksum(s[5], state_checksum({s[0], s[4]}), who);
   }
-  H h = make_scheduler<H>(py::reinterpret_borrow<py::object>(s[1]), s[2], py::reinterpret_borrow<py::object>(s[3]), bandit);
+  const AddMode add_mode = has_mode ? add_mode_from_string(s[fields].cast<std::string>()) : AddMode::kSingle;
+  H h = make_scheduler<H>(py::reinterpret_borrow<py::object>(s[1]), s[2], py::reinterpret_borrow<py::object>(s[3]), bandit,
+                          add_mode);
   const std::string bytes = s[4].cast<std::string>();
   BinaryReader in(bytes, is_bandit ? "the pickled BanditScheduler" : "the pickled Scheduler");
   std::visit([&](auto& scheduler) { scheduler->load(in); }, h.scheduler);
@@ -202,20 +222,31 @@ void bind_scheduler_methods(py::class_<H>& cls) {
                                    h.scheduler);
                              },
                              "Each cell's CMA-MAE threshold (threshold_min where never reached), by cell index")
+      .def_property_readonly(
+          "add_info",
+          [](const H& h) {
+            return std::visit(
+                [](const auto& s) {
+                  const auto outcomes = s->outcomes();
+                  const auto rows = static_cast<py::ssize_t>(outcomes.size());
+                  auto status = new_array<std::int32_t>({rows});
+                  auto value = new_array<double>({rows});
+                  for (py::ssize_t r = 0; r < rows; ++r) {
+                    status.mutable_data()[r] = static_cast<std::int32_t>(outcomes[static_cast<std::size_t>(r)].status);
+                    value.mutable_data()[r] = outcomes[static_cast<std::size_t>(r)].improvement;
+                  }
+                  py::dict info;
+                  info["status"] = status;
+                  info["value"] = value;
+                  return info;
+                },
+                h.scheduler);
+          },
+          "The last tell's rows as the thresholds took them, as pyribs's archive.add returns them: status "
+          "(int32: 0 not added, 1 improved, 2 new) and value (objective minus the cell's threshold)")
       .def(py::pickle([](const H& h) { return scheduler_state(h); },
                       [](const py::tuple& s) { return scheduler_from_state<H>(s); }));
 
-}
-
-// pyribs's add_mode: qdmeta offers the rows to the thresholds one at a time, in order, which is
-// pyribs's "single"; "batch" (pyribs's default) scores them all against the thresholds before
-// the batch, which qdmeta does not do, so it is refused rather than run differently.
-void check_add_mode(const std::string& add_mode) {
-  if (add_mode == "single") return;
-  if (add_mode == "batch")
-    throw InputError("add_mode = 'batch' is not available: qdmeta offers a batch's rows to the thresholds one at a "
-                     "time, in order (CMA-MAE's Algorithm 1), which is pyribs's add_mode = 'single'");
-  throw InputError(fmt::format("add_mode = '{}' is not 'single' or 'batch'", add_mode));
 }
 
 }  // namespace
@@ -227,11 +258,12 @@ CMA-ME / CMA-MAE's ask/tell loop, as pyribs's Scheduler: ask() stacks every emit
 the archive under its thresholds (learning_rate, threshold_min), tells each emitter its rows'
 outcomes, and adds them to result_archive when given. The archive keeps each cell's best elite
 whatever learning_rate is; the per-cell thresholds are the scheduler's (`thresholds`). The rows
-are offered to the thresholds one at a time, in order: add_mode "single" (pyribs's "batch" is
-refused).)doc");
+are offered to the thresholds one at a time, in order, with add_mode "single" (the default, CMA-MAE's
+Algorithm 1); with "batch" (pyribs's default) every row is scored against the thresholds before
+the batch, and each cell's threshold moves once, by the paper's batch rule.)doc");
   plain.def(py::init([](py::object archive, py::handle emitters, py::object result_archive, const std::string& add_mode) {
-                check_add_mode(add_mode);
-                return make_scheduler<SchedulerHandle>(std::move(archive), emitters, std::move(result_archive), {});
+                return make_scheduler<SchedulerHandle>(std::move(archive), emitters, std::move(result_archive), {},
+                                                       add_mode_from_string(add_mode));
               }),
               py::arg("archive"), py::arg("emitters"), py::arg("result_archive") = py::none(), py::kw_only(),
               py::arg("add_mode") = "single");
@@ -243,14 +275,13 @@ time. Those chosen again (reselect "terminated": whose run ended, and every emit
 runs; "all": every active one) are replaced by the emitters of highest UCB1 value, successes /
 rows + zeta sqrt(ln(all successes) / rows), a success being a row the archive's thresholds took.
 ask() stacks the active emitters' batches in pool order; `active` flags them. add_mode as
-Scheduler's: "single" only.)doc");
+Scheduler's.)doc");
   bandit
       .def(py::init([](py::object archive, py::handle emitter_pool, py::object result_archive, int num_active,
                        const std::string& reselect, double zeta, const std::string& add_mode) {
-             check_add_mode(add_mode);
              return make_scheduler<BanditSchedulerHandle>(
                  std::move(archive), emitter_pool, std::move(result_archive),
-                 BanditParams{num_active, bandit_reselect_from_string(reselect), zeta});
+                 BanditParams{num_active, bandit_reselect_from_string(reselect), zeta}, add_mode_from_string(add_mode));
            }),
            py::arg("archive"), py::arg("emitter_pool"), py::arg("result_archive") = py::none(), py::kw_only(),
            py::arg("num_active"), py::arg("reselect") = "terminated", py::arg("zeta") = 0.05,

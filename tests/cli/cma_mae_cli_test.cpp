@@ -1,7 +1,8 @@
 // CMA-ME and CMA-MAE through the command line (algorithm = "cma-me" / "cma-mae"): the archive
 // holds Rastrigin of each genotype, its QD-score never falls, CMA-MAE at learning rate 1 is
 // CMA-ME bit for bit, a killed run resumes to the same bits, thread counts give the same bits,
-// an experiment reports on them, and each bad setting is one line naming its key.
+// an experiment reports on them, pyribs's batch add mode runs alike, and each bad setting is one
+// line naming its key.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -202,6 +203,30 @@ TEST(CmaMaeCli, SeparableEsRunIsThreadIndependentAndResumesToTheSameBits) {
   EXPECT_NE(slurp(one / "config.toml").find("es = 'sep-cma-es'"), std::string::npos);
 }
 
+// [emitters] add_mode = "batch" (pyribs's): CMA-MAE and QD-Meta over it give the same bits on one
+// thread and two, a killed run resumes to them, the resolved config keeps the mode, and the run
+// is not the single mode's.
+TEST(CmaMaeCli, BatchAddModeIsThreadIndependentResumableAndNotTheSingleMode) {
+  const std::string mode = "add_mode = \"batch\"\n";
+  const std::string checkpoints = "[checkpoint]\nevery_seconds = 0\n";
+  const fs::path config = write_config("batch", small_config("cma-mae", mode, "bins = [20, 20]\n", checkpoints));
+  const fs::path one = fresh_dir("batch-one"), single = fresh_dir("batch-single");
+  expect_thread_independent_and_resumable(config, "batch", 200, one);
+  expect_rastrigin_elites(read_elites_csv(one / "archive.csv"), 400);
+  EXPECT_NE(slurp(one / "config.toml").find("add_mode = 'batch'"), std::string::npos);
+  ASSERT_EQ(run(write_config("batch-single", small_config("cma-mae", "", "bins = [20, 20]\n")), single).status, 0);
+  EXPECT_EQ(slurp(single / "config.toml").find("add_mode"), std::string::npos);  // written only when given
+  EXPECT_NE(slurp(one / "archive.csv"), slurp(single / "archive.csv"));
+
+  const fs::path qdm = write_config(
+      "qdm-batch", "algorithm = \"qd-meta\"\n[task]\nname = \"rastrigin\"\ndimensions = 20\n[qd_meta]\nbottom_level = "
+                   "\"cma-mae\"\nmeta_population = 3\ninitial_population = 200\n[emitters]\n" + mode + "count = 4\n"
+                   "batch_size = 10\n[control]\nkind = \"static\"\ngenerations = 2\n[archive]\nbins = [20, 20]\n" + checkpoints);
+  const fs::path qdm_one = fresh_dir("qdm-batch-one");
+  expect_thread_independent_and_resumable(qdm, "qdm-batch", 20, qdm_one);
+  EXPECT_GT(read_elites_csv(qdm_one / "archive.csv").size(), 150);  // of 400 cells
+}
+
 // [emitters] kind = "gaussian" / "iso-line": MAP-Elites's variation as emitters under CMA-ME's
 // scheduler fills the archive with true Rastrigin elites in [0, 1], reports no restarts, gives
 // the same bits on one thread and two, and (Gaussian) a killed run resumes to them.
@@ -283,6 +308,8 @@ TEST(CmaMaeCli, BadSettingsAreOneLineNamingTheKey) {
       {small_config("cma-me", "ranker = \"2imp\"\n"),
        "emitters.ranker = \"2imp\" is not a valid choice: use one of \"improvement\", \"two-stage-improvement\", "
        "\"objective\", \"two-stage-objective\", \"random-direction\", \"two-stage-random-direction\""},
+      {small_config("cma-mae", "add_mode = \"batches\"\n"),
+       "emitters.add_mode = \"batches\" is not a valid choice: use one of \"single\", \"batch\""},
       {small_config("cma-me", "selection_rule = \"best\"\n"),
        "emitters.selection_rule = \"best\" is not a valid choice: use one of \"filter\", \"mu\""},
       {small_config("cma-me", "restart_rule = \"never\"\n"),

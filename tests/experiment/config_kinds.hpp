@@ -31,7 +31,7 @@ inline std::vector<std::string> every_kind_of_config() {
     // Keys read only where written (so older runs' resolved configs stay as they were).
     configs.push_back("algorithm = \"cvt-map-elites\"\n" + head + "[cvt]\ncache = false\ncentroids_file = \"unread.dat\"\n");
     configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\ndatabase_inputs = \"authors-2g-1\"\n[cma_es]\nsmall_population = \"authors\"\n");
-    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\nbottom_level = \"cma-mae\"\n");
+    configs.push_back("algorithm = \"qd-meta\"\n" + head + "[qd_meta]\nbottom_level = \"cma-mae\"\n[emitters]\nadd_mode = \"batch\"\n");
     configs.push_back("algorithm = \"aurora\"\n" + head);
     for (const char* emitters : {"cma-me", "cma-mae"}) {
       configs.push_back("algorithm = \"" + std::string(emitters) + "\"\n" + head);

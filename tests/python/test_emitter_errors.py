@@ -91,9 +91,10 @@ def test_the_schedulers_emitters_are_checked():
         qdmeta.Scheduler(archive, [emitter], result_archive=qdmeta.GridArchive(3, [2, 2]))
 
 
-def test_add_mode_is_single_and_batch_is_refused_saying_what_qdmeta_does():
-    """qdmeta offers the rows one at a time (pyribs's "single"): add_mode="single" is the same
-    scheduler as no add_mode; pyribs's "batch" is refused in one line, on both schedulers."""
+def test_add_mode_defaults_to_single_and_takes_batch_and_nothing_else():
+    """qdmeta's default is pyribs's "single" (rows offered one at a time): add_mode="single" is the
+    same scheduler as no add_mode; "batch" (tests/python/test_batch_add_mode.py) is taken by both
+    schedulers; any other name is refused in one line."""
     runs = []
     for named in ({}, {"add_mode": "single"}):
         archive = grid(0.1, 0.0)
@@ -102,15 +103,14 @@ def test_add_mode_is_single_and_batch_is_refused_saying_what_qdmeta_does():
     assert np.array_equal(runs[0], runs[1])
     archive = grid()
     emitter = es(archive, batch_size=4, seed=1)
-    batch = (r"^add_mode = 'batch' is not available: qdmeta offers a batch's rows to the thresholds one at a time, "
-             r"in order \(CMA-MAE's Algorithm 1\), which is pyribs's add_mode = 'single'$")
-    with pytest.raises(qdmeta.InputError, match=batch):
-        qdmeta.Scheduler(archive, [emitter], add_mode="batch")
-    with pytest.raises(qdmeta.InputError, match=batch):
-        qdmeta.BanditScheduler(archive, [emitter], num_active=1, add_mode="batch")
     with pytest.raises(qdmeta.InputError, match=r"^add_mode = 'many' is not 'single' or 'batch'$"):
         qdmeta.Scheduler(archive, [emitter], add_mode="many")
-    assert qdmeta.BanditScheduler(archive, [emitter], num_active=1, add_mode="single").ask().shape == (4, DIM)
+    with pytest.raises(qdmeta.InputError, match=r"^add_mode = 'Batch' is not 'single' or 'batch'$"):
+        qdmeta.BanditScheduler(archive, [emitter], num_active=1, add_mode="Batch")
+    for add_mode in ("single", "batch"):  # each over a fresh emitter (an asked one awaits its tell)
+        assert qdmeta.BanditScheduler(archive, [es(archive, batch_size=4, seed=1)], num_active=1,
+                                      add_mode=add_mode).ask().shape == (4, DIM)
+    assert qdmeta.Scheduler(archive, [es(archive, batch_size=4, seed=1)], add_mode="batch").ask().shape == (4, DIM)
 
 
 def test_a_refused_tell_names_the_argument_and_changes_nothing():

@@ -56,6 +56,8 @@ void CmaMaeParams::validate() const {
                                           static_cast<int>(kind)));
   }
   thresholds.validate();
+  if (add_mode != AddMode::kSingle && add_mode != AddMode::kBatch)
+    throw InputError(fmt::format("CmaMaeParams.add_mode = {} is invalid: must be single or batch", static_cast<int>(add_mode)));
 }
 
 std::unique_ptr<Emitter> make_configured_emitter(const CmaMaeParams& p, std::vector<double> x0, ElitePicker pick) {
@@ -122,7 +124,7 @@ void CmaMae<A>::make_scheduler() {
   std::vector<std::unique_ptr<Emitter>> emitters;
   for (int i = 0; i < params_.emitters; ++i)
     emitters.push_back(make_configured_emitter(params_, params_.emitter.x0, elite_picker(*archive_)));
-  scheduler_.emplace(*archive_, params_.thresholds, std::move(emitters));
+  scheduler_.emplace(*archive_, params_.thresholds, std::move(emitters), params_.add_mode);
 }
 
 template <CellIndexedArchive A>

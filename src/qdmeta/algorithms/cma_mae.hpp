@@ -47,6 +47,7 @@ struct CmaMaeParams {
   double iso_sigma = 0.01;   // kIsoLine: the isotropic noise's SD (>= 0)
   double line_sigma = 0.2;   // kIsoLine: the SD of the step along x_j - x_i (>= 0)
   ThresholdParams thresholds;  // learning rate alpha and threshold_min
+  AddMode add_mode = AddMode::kSingle;  // how a batch meets the thresholds (pyribs's add_mode)
   // Throws InputError naming the field, its value and the rule it breaks.
   void validate() const;
 };

@@ -17,7 +17,7 @@ std::unique_ptr<Scheduler<GridArchive>> start_map_emitters(GridArchive& archive,
       for (double& x : x0) x = std::clamp(x, p.lower_bound, p.upper_bound);  // as a restart's mean
     emitters.push_back(make_configured_emitter(params, std::move(x0), pick));
   }
-  auto scheduler = std::make_unique<Scheduler<GridArchive>>(archive, params.thresholds, std::move(emitters));
+  auto scheduler = std::make_unique<Scheduler<GridArchive>>(archive, params.thresholds, std::move(emitters), params.add_mode);
   scheduler->start_thresholds_at_elites();
   return scheduler;
 }

@@ -58,8 +58,6 @@ void read_evolution_strategy_keys(ConfigReader& e, const EmitterDefaults& d, Evo
     throw InputError(fmt::format("{}: emitters.restart_every applies only to restart_rule = \"every-n\" (here \"{}\")",
                                  e.source(), to_string(es.restart)));
   es.bounds = e.choice("bounds", CmaBoundsHandling::kResample, kGeneBoundsNames);
-  // Read only when given, so that the resolved configs (and fingerprints) of runs made before the
-  // key existed stay the same.
   if (e.has("es")) es.es = e.choice("es", EvolutionStrategyKind::kCmaEs, kEvolutionStrategyKindNames);
 }
 
@@ -67,8 +65,11 @@ void read_evolution_strategy_keys(ConfigReader& e, const EmitterDefaults& d, Evo
 CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const EmitterDefaults& d) {
   CmaMaeParams p;
   EvolutionStrategyEmitterParams& es = p.emitter;
-  if (e.has("kind")) p.kind = e.choice("kind", p.kind, kEmitterKindNames);  // written only when given, as es
+  // kind, es and add_mode are written only when given: the resolved configs (fingerprints) and
+  // checkpoints of runs made before these keys existed stay as they were.
+  if (e.has("kind")) p.kind = e.choice("kind", p.kind, kEmitterKindNames);
   p.emitters = static_cast<int>(e.integer(CmaMaeParams::kCount, p.emitters));
+  if (e.has("add_mode")) p.add_mode = e.choice("add_mode", p.add_mode, kAddModeNames);
   es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
   es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
   const auto es_keys = {"sigma0", "ranker", "selection_rule", "restart_rule", "restart_every", "bounds", "es"};

@@ -1,7 +1,7 @@
 #pragma once
 // pyribs's BanditScheduler: a Scheduler (scheduler.hpp) over a pool of emitters that asks only
 // num_active of them at a time, chosen by UCB1 on how many of each one's rows the archive took
-// (emitter_bandit.hpp). Thresholds, archive and checkpoints are the Scheduler's.
+// (emitter_bandit.hpp). Thresholds, add mode, archive and checkpoints are the Scheduler's.
 //
 //   BanditScheduler scheduler(archive, ThresholdParams{0.01, 0.0}, std::move(pool),
 //                             BanditParams{.num_active = 4});
@@ -22,8 +22,8 @@ template <CellIndexedArchive A>
 class BanditScheduler {
  public:
   BanditScheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> pool,
-                  BanditParams params)
-      : scheduler_(archive, thresholds, std::move(pool)), bandit_(scheduler_.emitter_count(), params) {}
+                  BanditParams params, AddMode add_mode = AddMode::kSingle)
+      : scheduler_(archive, thresholds, std::move(pool), add_mode), bandit_(scheduler_.emitter_count(), params) {}
 
   const Scheduler<A>& scheduler() const { return scheduler_; }
   const EmitterBandit& bandit() const { return bandit_; }

@@ -4,12 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/fused.hpp"
 #include "qdmeta/core/params.hpp"
 
 namespace qdmeta {
+
+std::string to_string(AddMode value) { return std::string(enum_to_string(kAddModeNames, value)); }
 
 void ThresholdParams::validate() const {
   require(kLearningRate, alpha);
@@ -47,6 +51,63 @@ ThresholdOutcome CellThresholds::offer(Index cell, double objective) {
   // (core/fused.hpp), so that the compiler's contraction does not decide its rounding.
   t = params_.alpha == 1.0 ? objective : fused(params_.alpha, objective, (1.0 - params_.alpha) * t);
   return outcome;
+}
+
+void CellThresholds::offer_batch(std::span<const Index> cells, std::span<const Real> objectives,
+                                 std::span<const std::uint8_t> valid, std::span<ThresholdOutcome> outcomes) {
+  const std::size_t rows = cells.size();
+  if (objectives.size() != rows || outcomes.size() != rows || (!valid.empty() && valid.size() != rows)) {
+    throw InputError(fmt::format("CellThresholds::offer_batch: {} cells, {} objectives, {} valid flags and {} outcome "
+                                 "slots: give one of each per row",
+                                 rows, objectives.size(), valid.size(), outcomes.size()));
+  }
+  const auto is_valid = [&](std::size_t r) { return valid.empty() || valid[r] != 0; };
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (!is_valid(r)) continue;
+    if (cells[r] < 0 || cells[r] >= this->cells())
+      throw InputError(fmt::format("CellThresholds::offer_batch: cells[{}] = {} is outside [0, {})", r, cells[r], this->cells()));
+    if (!std::isfinite(objectives[r]))
+      throw InputError(fmt::format("CellThresholds::offer_batch: objectives[{}] = {} is invalid: must be finite", r,
+                                   objectives[r]));
+  }
+  // Every row against the thresholds before the batch; the accepted ones, by (cell, row).
+  std::vector<std::pair<Index, std::size_t>> accepted;
+  for (std::size_t r = 0; r < rows; ++r) {
+    ThresholdOutcome& outcome = outcomes[r];
+    if (!is_valid(r)) {
+      outcome = {AddStatus::kNotAdded, -std::numeric_limits<double>::infinity()};
+      continue;
+    }
+    const auto e = static_cast<std::size_t>(cells[r]);
+    const double f = objectives[r], t = thresholds_[e];
+    outcome = {AddStatus::kNotAdded, f - (std::isinf(t) ? 0.0 : t)};
+    if (!(f > t)) continue;
+    outcome.status = reached_[e] ? AddStatus::kImproved : AddStatus::kNew;
+    accepted.emplace_back(cells[r], r);
+  }
+  std::sort(accepted.begin(), accepted.end());
+  // Each cell's accepted rows move its threshold once; their objectives are summed in row order.
+  // This file is compiled with -ffp-contract=off: the update rounds as written, product by product.
+  for (std::size_t first = 0; first < accepted.size();) {
+    const Index cell = accepted[first].first;
+    std::size_t last = first;
+    double sum = 0.0, best = -std::numeric_limits<double>::infinity();
+    for (; last < accepted.size() && accepted[last].first == cell; ++last) {
+      const double f = objectives[accepted[last].second];
+      sum += f;
+      best = std::max(best, f);
+    }
+    const auto e = static_cast<std::size_t>(cell);
+    const auto k = static_cast<double>(last - first);
+    if (std::isinf(params_.threshold_min)) {
+      thresholds_[e] = best;  // alpha = 1 (validate()): the threshold is the cell's best objective
+    } else {
+      const double keep = std::pow(1.0 - params_.alpha, k);  // (1 - alpha)^k
+      thresholds_[e] = keep * thresholds_[e] + (sum / k) * (1.0 - keep);
+    }
+    reached_[e] = 1;
+    first = last;
+  }
 }
 
 void CellThresholds::raise_to(Index cell, double objective) {

@@ -6,19 +6,29 @@
 // reached has t_e = threshold_min. alpha = 1 with threshold_min = -inf is CMA-ME: t_e is then the
 // best objective the cell has seen, and acceptance is MAP-Elites's.
 //
-// Offers are applied one at a time, in order, as Algorithm 1 does; pyribs instead scores a whole
-// batch against the thresholds before it and applies its batch update rule (the two agree on a
-// batch with at most one candidate per cell).
+// offer() applies offers one at a time, in order, as Algorithm 1 does (pyribs's add_mode
+// "single"); offer_batch() scores a whole batch against the thresholds before it and moves each
+// cell's threshold once by the paper's batch update rule (its appendix; pyribs's add_mode
+// "batch", the default of its schedulers). The two agree on a batch with at most one accepted
+// candidate per cell.
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "qdmeta/archive/elite_batch.hpp"  // AddStatus
 #include "qdmeta/core/binary_io.hpp"
-#include "qdmeta/core/params.hpp"
+#include "qdmeta/core/params.hpp"  // EnumNames, RealParam
 #include "qdmeta/core/scalars.hpp"
 
 namespace qdmeta {
+
+// How a scheduler offers a batch to the thresholds: kSingle, one row at a time in order (offer);
+// kBatch, every row against the thresholds before the batch (offer_batch). pyribs's add_mode.
+enum class AddMode { kSingle, kBatch };
+inline constexpr EnumNames<AddMode, 2> kAddModeNames{{{AddMode::kSingle, "single"}, {AddMode::kBatch, "batch"}}};
+std::string to_string(AddMode value);
 
 struct ThresholdParams {
   // archive.learning_rate and archive.threshold_min as "cma-mae" reads them (docs/config.md).
@@ -60,6 +70,18 @@ class CellThresholds {
   // Scores a candidate of objective f in `cell` against t_e and anneals t_e when it is accepted.
   // Throws InputError for a cell outside [0, cells) or a non-finite f.
   ThresholdOutcome offer(Index cell, double objective);
+
+  // Scores row r (objective f_r in cells[r]) against t_e as it was before the batch: kNew in a
+  // cell never reached, kImproved in a reached one, improvement f_r - t_e either way (f_r - 0
+  // in a cell never reached under -inf), so rows sharing a cell share its status rule. Then each
+  // cell that k >= 1 rows beat moves once: under threshold_min = -inf to the largest of their
+  // objectives (MAP-Elites's rule), otherwise to (1 - alpha)^k t_e + (1 - (1 - alpha)^k) mean(f),
+  // the mean of those k objectives (the paper's batch rule: k offers of their mean, one at a
+  // time). A row whose `valid` flag is 0 (empty: all valid) enters no cell: kNotAdded,
+  // improvement -inf. Throws InputError before anything changes for a cell outside [0, cells),
+  // a valid row's non-finite f, or spans of different lengths.
+  void offer_batch(std::span<const Index> cells, std::span<const Real> objectives,
+                   std::span<const std::uint8_t> valid, std::span<ThresholdOutcome> outcomes);
 
   // Every cell back to threshold_min, unreached.
   void clear();

@@ -6,7 +6,9 @@
 // CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
 // archive (each cell keeps its best elite); the scheduler holds the thresholds beside it, and
 // archive.clear() resets them to threshold_min (as pyribs, whose empty cells score against
-// threshold_min whatever their threshold was).
+// threshold_min whatever their threshold was). `add_mode` is pyribs's: kSingle (the default) offers
+// the rows to the thresholds one at a time, in order; kBatch scores them all against the
+// thresholds before the batch (CellThresholds::offer_batch).
 //
 //   GridArchive archive(grid_params);
 //   Scheduler scheduler(archive, ThresholdParams{0.01, 0.0},
@@ -53,13 +55,17 @@ std::vector<std::unique_ptr<Emitter>> make_evolution_strategy_emitters(const A& 
 template <CellIndexedArchive A>
 class Scheduler {
  public:
-  Scheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> emitters)
+  Scheduler(A& archive, ThresholdParams thresholds, std::vector<std::unique_ptr<Emitter>> emitters,
+            AddMode add_mode = AddMode::kSingle)
       : archive_(archive),
+        add_mode_(add_mode),
         thresholds_(archive.cells(), thresholds),
         seen_clears_(archive.clears()),
         emitters_(std::move(emitters)),
         active_(emitters_.size(), 1) {
     if (emitters_.empty()) throw InputError("Scheduler emitters is empty: give at least one emitter");
+    if (add_mode != AddMode::kSingle && add_mode != AddMode::kBatch)
+      throw InputError(fmt::format("Scheduler add_mode = {} is invalid: must be single or batch", static_cast<int>(add_mode)));
     Index rows = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
       if (!emitters_[i]) throw InputError(fmt::format("Scheduler emitters[{}] is null", i));
@@ -88,6 +94,7 @@ class Scheduler {
     solutions_.setZero(active_rows(), solutions_.cols());
   }
   bool awaiting_tell() const { return awaiting_tell_; }
+  AddMode add_mode() const { return add_mode_; }
   const Emitter& emitter(std::size_t i) const { return *emitters_[i]; }
   A& archive() { return archive_; }
   // threshold_min in every cell since the archive's last clear().
@@ -131,7 +138,7 @@ class Scheduler {
     follow_clears();
     outcomes_.resize(static_cast<std::size_t>(solutions_.rows()));
     add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, base_features, valid},
-                        outcomes_);
+                        outcomes_, add_mode_);
     awaiting_tell_ = false;
     Index row = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
@@ -148,7 +155,7 @@ class Scheduler {
   }
 
   // Checkpoints of the thresholds and emitters (the caller saves the archive); load() into a
-  // scheduler built alike.
+  // scheduler built alike (the add mode is a setting, as the emitters' params are, and not saved).
   void save(BinaryWriter& out) const {
     out.tag("emitter scheduler");
     thresholds().save(out);
@@ -187,6 +194,7 @@ class Scheduler {
   }
 
   A& archive_;
+  AddMode add_mode_;
   mutable CellThresholds thresholds_;
   mutable std::uint64_t seen_clears_;
   std::vector<std::unique_ptr<Emitter>> emitters_;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -24,12 +25,14 @@ concept CellIndexedArchive = EliteArchive<A> && requires(const A& ca, const Real
 };
 
 // Adds the valid rows of `batch` to `archive` (its add_batch checks the batch first and throws
-// InputError before anything changes), then offers each valid row, in order, to `thresholds`;
-// `outcomes[r]` gets row r's outcome (an invalid row: kNotAdded, improvement -inf). Returns how
-// many rows the thresholds accepted.
+// InputError before anything changes), then offers the valid rows to `thresholds`: kSingle, each
+// in order (CellThresholds::offer); kBatch, all against the thresholds before the batch
+// (CellThresholds::offer_batch). `outcomes[r]` gets row r's outcome (an invalid row: kNotAdded,
+// improvement -inf). The archive's elites are the same either way (each cell's best). Returns
+// how many rows the thresholds accepted.
 template <CellIndexedArchive A>
 Index add_with_thresholds(A& archive, CellThresholds& thresholds, const EliteBatch& batch,
-                          std::span<ThresholdOutcome> outcomes) {
+                          std::span<ThresholdOutcome> outcomes, AddMode mode = AddMode::kSingle) {
   if (thresholds.cells() != archive.cells()) {
     throw InputError(fmt::format("add_with_thresholds: the thresholds have {} cells, the archive {}",
                                  thresholds.cells(), archive.cells()));
@@ -39,6 +42,14 @@ Index add_with_thresholds(A& archive, CellThresholds& thresholds, const EliteBat
   }
   archive.add_batch(batch);
   Index accepted = 0;
+  if (mode == AddMode::kBatch) {
+    std::vector<Index> cells(static_cast<std::size_t>(batch.rows()), 0);
+    for (Index r = 0; r < batch.rows(); ++r)
+      if (batch.is_valid(r)) cells[static_cast<std::size_t>(r)] = archive.index_of(batch.measures.row(r));
+    thresholds.offer_batch(cells, batch.objectives, batch.valid, outcomes);
+    for (const ThresholdOutcome& outcome : outcomes) accepted += outcome.status != AddStatus::kNotAdded;
+    return accepted;
+  }
   for (Index r = 0; r < batch.rows(); ++r) {
     ThresholdOutcome& outcome = outcomes[static_cast<std::size_t>(r)];
     if (!batch.is_valid(r)) {
