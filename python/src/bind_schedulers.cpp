@@ -31,7 +31,7 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 1;  // of the scheduler state tuples
+constexpr int kSchedulerStateFormat = 1;  // of the scheduler state tuples
 
 // qdmeta.Scheduler and qdmeta.BanditScheduler: the C++ scheduler over the archive's type, with
 // the Python objects it uses.
@@ -136,7 +136,7 @@ void tell(SchedulerHandle& h, py::handle objective, py::handle measures) {
 py::tuple scheduler_state(const SchedulerHandle& h) {
   BinaryWriter out;
   std::visit([&](const auto& s) { s->save(out); }, h.scheduler);
-  const py::int_ format(kFormat);
+  const py::int_ format(kSchedulerStateFormat);
   const py::bytes bytes(out.bytes());
   if (!h.bandit) {
     const py::int_ checksum(state_checksum({format, bytes}));
@@ -152,7 +152,8 @@ template <class H>
 H scheduler_from_state(const py::tuple& s) {
   constexpr bool is_bandit = std::is_same_v<H, BanditSchedulerHandle>;
   const char* who = is_bandit ? "unpickling a qdmeta.BanditScheduler" : "unpickling a qdmeta.Scheduler";
-  if (s.size() != (is_bandit ? 7 : 6) || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+  if (s.size() != (is_bandit ? 7 : 6) ||
+      !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kSchedulerStateFormat)) ||
       !py::isinstance<py::list>(s[2]) || !py::isinstance<py::bytes>(s[4]) || (is_bandit && !py::isinstance<py::tuple>(s[6])))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
   std::optional<BanditParams> bandit;

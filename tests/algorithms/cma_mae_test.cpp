@@ -22,7 +22,7 @@ namespace {
 
 constexpr int kGenes = 8;
 
-Task rastrigin() {
+Task cma_mae_rastrigin() {
   RastriginParams rp;
   rp.dimensions = kGenes;
   return Task(RastriginTask(rp));
@@ -40,7 +40,7 @@ GridArchiveParams grid() {
 // Measures are genes 2 and 5, so a mix-up of base features and measures shows.
 std::unique_ptr<FeatureMap> genes_2_and_5() { return std::make_unique<SelectFeatureMap>(kGenes, std::vector<int>{2, 5}); }
 
-std::unique_ptr<CmaMae<GridArchive>> make(Task task = rastrigin(), CmaMaeParams p = params()) {
+std::unique_ptr<CmaMae<GridArchive>> make(Task task = cma_mae_rastrigin(), CmaMaeParams p = params()) {
   return std::make_unique<CmaMae<GridArchive>>(p, std::move(task), genes_2_and_5(),
                                                [](Evaluator*) { return GridArchive(grid()); }, 21);
 }
@@ -50,7 +50,7 @@ TEST(CmaMae, IsTheSchedulersLoopOnTheStepsStreams) {
   SerialEvaluator serial;
   for (int s = 0; s < 40; ++s) algorithm->step(serial);
 
-  const Task task = rastrigin();
+  const Task task = cma_mae_rastrigin();
   GridArchive archive(grid());
   const CmaMaeParams p = params();
   Scheduler scheduler(archive, p.thresholds, make_evolution_strategy_emitters(archive, p.emitter, p.emitters));
@@ -132,15 +132,16 @@ TEST(CmaMae, ACheckpointBetweenStepsContinuesToTheSameBits) {
 TEST(CmaMae, RefusesPartsThatDoNotFit) {
   CmaMaeParams p = params();
   p.emitter.x0.assign(3, 0.5);
-  EXPECT_INPUT_ERROR(make(rastrigin(), p), "cma-mae: x0 has 3 values, the task 8 genes");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p), "cma-mae: x0 has 3 values, the task 8 genes");
   p = params();
   p.emitters = 0;
-  EXPECT_NE(input_error_message([&] { make(rastrigin(), p); }).find("CmaMaeParams.emitters = 0"), std::string::npos);
+  EXPECT_NE(input_error_message([&] { make(cma_mae_rastrigin(), p); }).find("CmaMaeParams.emitters = 0"),
+            std::string::npos);
   p = params();
   p.thresholds.alpha = 1.5;
-  EXPECT_NE(input_error_message([&] { make(rastrigin(), p); }).find("alpha = 1.5"), std::string::npos);
+  EXPECT_NE(input_error_message([&] { make(cma_mae_rastrigin(), p); }).find("alpha = 1.5"), std::string::npos);
   auto wrong_archive = std::make_unique<CmaMae<GridArchive>>(
-      params(), rastrigin(), genes_2_and_5(),
+      params(), cma_mae_rastrigin(), genes_2_and_5(),
       [](Evaluator*) {
         GridArchiveParams g = grid();
         g.bins = {4, 4, 4};

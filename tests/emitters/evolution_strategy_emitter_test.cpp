@@ -14,7 +14,8 @@ namespace {
 
 constexpr int kBatch = 6;
 
-EvolutionStrategyEmitterParams params(EmitterRestart restart = EmitterRestart::kNoImprovement, int every = 0) {
+EvolutionStrategyEmitterParams es_emitter_params(EmitterRestart restart = EmitterRestart::kNoImprovement,
+                                                 int every = 0) {
   EvolutionStrategyEmitterParams p;
   p.x0 = {0.5, 0.5, 0.5};
   p.sigma0 = 0.2;
@@ -45,11 +46,11 @@ void tell_with(EvolutionStrategyEmitter& e, const RowMatrix& batch, int added) {
 }
 
 TEST(EvolutionStrategyEmitter, FilterTakesTheAddedRowsAsParentsAndMuHalf) {
-  EvolutionStrategyEmitter filter(params(), quarter);
+  EvolutionStrategyEmitter filter(es_emitter_params(), quarter);
   Rng rng(3);
   tell_with(filter, filter.ask(rng), 4);
   EXPECT_EQ(filter.last_parents(), 4);
-  auto p = params();
+  auto p = es_emitter_params();
   p.selection = EmitterSelection::kMu;
   EvolutionStrategyEmitter mu(p, quarter);
   tell_with(mu, mu.ask(rng), 1);
@@ -57,7 +58,7 @@ TEST(EvolutionStrategyEmitter, FilterTakesTheAddedRowsAsParentsAndMuHalf) {
 }
 
 TEST(EvolutionStrategyEmitter, NoImprovementRestartsExactlyAfterABatchWithNothingAdded) {
-  EvolutionStrategyEmitter e(params(), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(), quarter);
   Rng rng(4);
   for (int t = 0; t < 5; ++t) {
     tell_with(e, e.ask(rng), 1 + t % 3);
@@ -77,7 +78,7 @@ TEST(EvolutionStrategyEmitter, NoImprovementRestartsExactlyAfterABatchWithNothin
 }
 
 TEST(EvolutionStrategyEmitter, BasicIgnoresEmptyBatchesButRestartsOnAFlatRanking) {
-  EvolutionStrategyEmitter e(params(EmitterRestart::kBasic), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(EmitterRestart::kBasic), quarter);
   Rng rng(5);
   for (int t = 0; t < 6; ++t) {
     tell_with(e, e.ask(rng), 0);
@@ -92,7 +93,7 @@ TEST(EvolutionStrategyEmitter, BasicIgnoresEmptyBatchesButRestartsOnAFlatRanking
 }
 
 TEST(EvolutionStrategyEmitter, EveryNRestartsOnEveryNthTell) {
-  EvolutionStrategyEmitter e(params(EmitterRestart::kEveryN, 3), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(EmitterRestart::kEveryN, 3), quarter);
   Rng rng(6);
   std::vector<int> fired;
   for (int t = 1; t <= 9; ++t) {
@@ -122,21 +123,21 @@ TEST(EvolutionStrategyEmitter, ConvergedOnConditionNumberAndWidth) {
 }
 
 TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
-  auto p = params();
+  auto p = es_emitter_params();
   p.batch_size = 0;
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.batch_size = 0 is out of range: must be at least 1");
-  p = params();
+  p = es_emitter_params();
   p.sigma0 = 0.0;
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.sigma0 = 0 is invalid: must be finite and > 0");
   p.sigma0 = -1.0;
   EXPECT_INPUT_ERROR(EvolutionStrategyEmitter(p, quarter),
                      "EvolutionStrategyEmitterParams.sigma0 = -1 is invalid: must be finite and > 0");
-  p = params();
+  p = es_emitter_params();
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.x0 is empty: give the first mean, one value per gene");
-  EXPECT_INPUT_ERROR(params(EmitterRestart::kEveryN, 0).validate(),
+  EXPECT_INPUT_ERROR(es_emitter_params(EmitterRestart::kEveryN, 0).validate(),
                      "EvolutionStrategyEmitterParams.restart_every = 0 is out of range: must be at least 1");
-  EvolutionStrategyEmitter e(params(), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(), quarter);
   EXPECT_INPUT_ERROR(tell_with(e, RowMatrix::Zero(kBatch, 3), 1),
                      "EvolutionStrategyEmitter::tell: called without a pending ask; call ask() first");
   Rng rng(1);
@@ -146,7 +147,7 @@ TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
 }
 
 TEST(EvolutionStrategyEmitter, RandomDirectionIsDrawnAtTheFirstAskAndAtEachRestart) {
-  auto p = params(EmitterRestart::kEveryN, 2);
+  auto p = es_emitter_params(EmitterRestart::kEveryN, 2);
   p.ranker = EmitterRanker::kTwoStageRandomDirection;
   p.measure_ranges = {2.0, 0.5};
   EvolutionStrategyEmitter e(p, quarter);
@@ -179,27 +180,27 @@ TEST(EvolutionStrategyEmitter, RandomDirectionIsDrawnAtTheFirstAskAndAtEachResta
 }
 
 // Runs `tells` ask/tell rounds with outcomes that vary (including empty batches, so restarts happen).
-void run(EvolutionStrategyEmitter& e, Rng& rng, int first, int tells) {
+void run_es_emitter(EvolutionStrategyEmitter& e, Rng& rng, int first, int tells) {
   for (int t = first; t < first + tells; ++t) tell_with(e, e.ask(rng), (t * 5) % 7 % 4);
 }
 
 TEST(EvolutionStrategyEmitter, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
-  EvolutionStrategyEmitter a(params(), quarter), b(params(), quarter);
+  EvolutionStrategyEmitter a(es_emitter_params(), quarter), b(es_emitter_params(), quarter);
   Rng ra(9), rb(9);
-  run(a, ra, 0, 20);
-  run(b, rb, 0, 20);
+  run_es_emitter(a, ra, 0, 20);
+  run_es_emitter(b, rb, 0, 20);
   EXPECT_TRUE(a.optimiser().state() == b.optimiser().state());
   EXPECT_GT(a.restarts(), 0);
 
   BinaryWriter out;
   a.save(out);
-  EvolutionStrategyEmitter resumed(params(), quarter);
+  EvolutionStrategyEmitter resumed(es_emitter_params(), quarter);
   BinaryReader in(out.bytes(), "test");
   resumed.load(in);
   in.finish();
   Rng rr = ra;
-  run(a, ra, 20, 15);
-  run(resumed, rr, 20, 15);
+  run_es_emitter(a, ra, 20, 15);
+  run_es_emitter(resumed, rr, 20, 15);
   EXPECT_TRUE(a.optimiser().state() == resumed.optimiser().state());
   EXPECT_EQ(a.restarts(), resumed.restarts());
   EXPECT_EQ(a.tells(), resumed.tells());
