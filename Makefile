@@ -35,8 +35,9 @@ run: deps $(BUILD)/build.ninja
 # `cmake --install` and run. The long tests (label "long", tests/CMakeLists.txt: the RHex smoke
 # study, the MPI and kill-and-resume end-to-end tests, the study scripts, the robustness matrices,
 # tools/'s pytest) are `make test-long`; `make test-all` runs both, as CI must. It builds what these
-# need (target qdmeta_test_programs, cmake/test_programs.cmake): all but the benchmarks of bench/,
-# which `make build`, `make bench` and `make test-long` build.
+# need (target qdmeta_test_programs, cmake/test_programs.cmake): all but the benchmarks of bench/
+# and the test programs that only long tests run, which `make build`, `make bench` and
+# `make test-long` build.
 test: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS) --target qdmeta_test_programs
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE long

@@ -1,14 +1,17 @@
-# qdmeta_test_programs: what `make test` builds, everything of the default build but bench/
-# (`make build`, `make bench` and CI's `make test-long` build that too): the libraries, the
-# command line, the Python module and the test programs that ctest runs or the installed-package
-# test installs. Collected from the folders' targets so that a new test program is never left out.
+# qdmeta_test_programs: what `make test` builds, everything of the default build but bench/ and
+# the test programs that only long tests run (QDMETA_LONG_TESTS_ONLY, tests/CMakeLists.txt):
+# `make build`, `make bench` and CI's `make test-long` build those too. That is the libraries, the
+# command line, the Python module and the test programs that `ctest -LE long` runs or the
+# installed-package test installs. Collected from the folders' targets so that a new test program
+# is never left out.
 function(qdmeta_collect_built_targets folder out)
   get_property(targets DIRECTORY ${folder} PROPERTY BUILDSYSTEM_TARGETS)
   set(built "")
   foreach(target ${targets})
     get_target_property(type ${target} TYPE)
     get_target_property(excluded ${target} EXCLUDE_FROM_ALL)
-    if(type MATCHES "EXECUTABLE|LIBRARY" AND NOT type STREQUAL "INTERFACE_LIBRARY" AND NOT excluded)
+    get_target_property(long_only ${target} QDMETA_LONG_TESTS_ONLY)
+    if(type MATCHES "EXECUTABLE|LIBRARY" AND NOT type STREQUAL "INTERFACE_LIBRARY" AND NOT excluded AND NOT long_only)
       list(APPEND built ${target})
     endif()
   endforeach()

@@ -17,7 +17,8 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 4;  // of the state tuples below; 2: with their checksum; 3: a grid's ranges; 4: thresholds
+// Of the state tuples below; 2: with their checksum; 3: a grid's ranges; 4: thresholds.
+constexpr int kArchiveStateFormat = 4;
 
 const char* class_name(const GridArchive*) { return "GridArchive"; }
 const char* class_name(const CvtArchive*) { return "CvtArchive"; }
@@ -35,7 +36,7 @@ template <class Archive>
 py::tuple state(const ArchiveHandle<Archive>& h, py::tuple parameters) {
   BinaryWriter out;
   h.archive.save(out);
-  const py::int_ format(kFormat), seed(h.seed), calls(h.sample_calls);
+  const py::int_ format(kArchiveStateFormat), seed(h.seed), calls(h.sample_calls);
   const py::bytes bytes(out.bytes());
   const py::int_ checksum(state_checksum({format, parameters, seed, calls, bytes}));
   return py::make_tuple(format, parameters, seed, calls, bytes, checksum);
@@ -46,9 +47,9 @@ template <class Archive>
 py::tuple parameters_of(const py::tuple& s, std::size_t count) {
   if (s.size() < 1 || !py::isinstance<py::int_>(s[0]))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who<Archive>()));
-  if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)))
+  if (!py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kArchiveStateFormat)))
     throw InputError(fmt::format("{}: state format {}, but this qdmeta reads format {}", who<Archive>(),
-                                 py::str(s[0]).cast<std::string>(), kFormat));
+                                 py::str(s[0]).cast<std::string>(), kArchiveStateFormat));
   if (s.size() != 6 || !py::isinstance<py::tuple>(s[1]) || !py::isinstance<py::int_>(s[2]) ||
       !py::isinstance<py::int_>(s[3]) || !py::isinstance<py::bytes>(s[4]))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who<Archive>()));

@@ -33,7 +33,7 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 1;  // of the emitter and scheduler state tuples
+constexpr int kEmitterStateFormat = 1;  // of the emitter and scheduler state tuples
 // The purpose key of an emitter's stream ("EMIT"): apart from sample_elites()'s and the library's.
 constexpr std::uint64_t kEmitterStream = 0x454D4954;
 
@@ -124,7 +124,7 @@ std::pair<double, double> common_gene_bounds(py::handle bounds, Index genes) {
 py::tuple emitter_state(const EmitterHandle& h) {
   BinaryWriter out;
   h.save(out);
-  const py::int_ format(kFormat);
+  const py::int_ format(kEmitterStateFormat);
   const py::str kind(h.kind);
   const py::bytes bytes(out.bytes());
   const py::int_ checksum(state_checksum({format, kind, h.parameters, bytes}));
@@ -134,7 +134,7 @@ py::tuple emitter_state(const EmitterHandle& h) {
 template <class H>
 std::shared_ptr<H> emitter_from_state(const py::tuple& s) {
   const char* who = "unpickling a qdmeta emitter";
-  if (s.size() != 6 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+  if (s.size() != 6 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kEmitterStateFormat)) ||
       !py::isinstance<py::str>(s[1]) || !py::isinstance<py::tuple>(s[3]) || !py::isinstance<py::bytes>(s[4]))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
   check_state_checksum(s[5], state_checksum({s[0], s[1], s[3], s[4]}), who);

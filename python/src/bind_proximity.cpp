@@ -21,7 +21,7 @@ namespace py = pybind11;
 namespace qdmeta::python {
 namespace {
 
-constexpr int kFormat = 1;  // of the pickled state tuple
+constexpr int kProximityStateFormat = 1;  // of the pickled state tuple
 
 ProximityArchive make_proximity(Index solution_dim, Index measure_dim, Index k_neighbors, double novelty_threshold,
                                 bool local_competition, double qd_score_offset,
@@ -46,7 +46,7 @@ py::tuple proximity_state(const ProximityArchive& a) {
   const ProximityArchiveParams& p = a.params();
   BinaryWriter out;
   a.save(out);
-  const py::int_ format(kFormat);
+  const py::int_ format(kProximityStateFormat);
   const py::tuple params = py::make_tuple(p.solution_size, p.measure_size, p.k_neighbors, p.novelty_threshold,
                                           p.local_competition, p.qd_offset, py::cast(p.threshold_decay_rate),
                                           p.threshold_decay_itrs, p.threshold_decay_min);
@@ -56,7 +56,7 @@ py::tuple proximity_state(const ProximityArchive& a) {
 
 ProximityArchive proximity_from_state(const py::tuple& s) {
   const char* who = "unpickling a qdmeta.ProximityArchive";
-  if (s.size() != 4 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+  if (s.size() != 4 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kProximityStateFormat)) ||
       !py::isinstance<py::tuple>(s[1]) || py::len(s[1]) != 9 || !py::isinstance<py::bytes>(s[2]))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
   check_state_checksum(s[3], state_checksum({s[0], s[1], s[2]}), who);

@@ -32,7 +32,7 @@ namespace qdmeta::python {
 namespace {
 
 // Of the scheduler state tuples: 2 adds the add mode at the end; 1 (before it) loads as "single".
-constexpr int kFormat = 2;
+constexpr int kSchedulerStateFormat = 2;
 
 // qdmeta.Scheduler and qdmeta.BanditScheduler: the C++ scheduler over the archive's type, with
 // the Python objects it uses.
@@ -148,7 +148,7 @@ void tell(SchedulerHandle& h, py::handle objective, py::handle measures) {
 py::tuple scheduler_state(const SchedulerHandle& h) {
   BinaryWriter out;
   std::visit([&](const auto& s) { s->save(out); }, h.scheduler);
-  const py::int_ format(kFormat);
+  const py::int_ format(kSchedulerStateFormat);
   const py::bytes bytes(out.bytes());
   const py::str add_mode(to_string(h.add_mode));
   if (!h.bandit) {
@@ -167,7 +167,7 @@ H scheduler_from_state(const py::tuple& s) {
   const char* who = is_bandit ? "unpickling a qdmeta.BanditScheduler" : "unpickling a qdmeta.Scheduler";
   const std::size_t fields = is_bandit ? 7 : 6;  // format 1's; format 2 adds the add mode
   const auto format = py::reinterpret_borrow<py::object>(s[0]);
-  const bool has_mode = format.equal(py::int_(kFormat));
+  const bool has_mode = format.equal(py::int_(kSchedulerStateFormat));
   if (!(has_mode || format.equal(py::int_(1))) || s.size() != fields + (has_mode ? 1 : 0) || !py::isinstance<py::list>(s[2]) ||
       !py::isinstance<py::bytes>(s[4]) || (is_bandit && !py::isinstance<py::tuple>(s[6])) ||
       (has_mode && !py::isinstance<py::str>(s[fields])))

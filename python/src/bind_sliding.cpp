@@ -60,7 +60,7 @@ SlidingBoundariesArchive make_sliding(Index solution_dim, std::vector<Index> dim
   return SlidingBoundariesArchive(p);
 }
 
-constexpr int kFormat = 1;  // of the pickled state tuple
+constexpr int kSlidingStateFormat = 1;  // of the pickled state tuple
 
 // (format, the constructor's arguments, the archive's checkpoint, checksum): an unpickled
 // archive adds and remaps to the same bits as the original.
@@ -70,7 +70,7 @@ py::tuple sliding_state(const SlidingBoundariesArchive& a) {
   for (std::size_t i = 0; i < p.dims.size(); ++i) ranges.append(py::make_tuple(p.lower_bounds[i], p.upper_bounds[i]));
   BinaryWriter out;
   a.save(out);
-  const py::int_ format(kFormat);
+  const py::int_ format(kSlidingStateFormat);
   const py::tuple params = py::make_tuple(p.solution_size, py::cast(p.dims), ranges, p.epsilon, p.qd_offset,
                                           p.remap_frequency, p.buffer_capacity);
   const py::bytes bytes(out.bytes());
@@ -79,7 +79,7 @@ py::tuple sliding_state(const SlidingBoundariesArchive& a) {
 
 SlidingBoundariesArchive sliding_from_state(const py::tuple& s) {
   const char* who = "unpickling a qdmeta.SlidingBoundariesArchive";
-  if (s.size() != 4 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kFormat)) ||
+  if (s.size() != 4 || !py::reinterpret_borrow<py::object>(s[0]).equal(py::int_(kSlidingStateFormat)) ||
       !py::isinstance<py::tuple>(s[1]) || py::len(s[1]) != 7 || !py::isinstance<py::bytes>(s[2]))
     throw InputError(fmt::format("{}: the state is not one qdmeta made", who));
   check_state_checksum(s[3], state_checksum({s[0], s[1], s[2]}), who);

@@ -17,7 +17,9 @@
 namespace qdmeta {
 namespace {
 
-Aurora make_rastrigin(std::uint64_t seed, AuroraParams p = {}) { return Aurora(p, Task(RastriginTask(RastriginParams{})), {}, seed); }
+Aurora aurora_on_rastrigin(std::uint64_t seed, AuroraParams p = {}) {
+  return Aurora(p, Task(RastriginTask(RastriginParams{})), {}, seed);
+}
 
 // Base features = genotype (uniform at first), fitness a smooth bowl: cheap, and every region
 // of base-feature space is reachable, so only the threshold limits the archive's size.
@@ -56,7 +58,7 @@ TEST(Aurora, SameSeedSameBitsAtAnyThreadCount) {
   std::vector<double> thresholds;
   for (int threads : {1, 2, 3}) {
     auto evaluator = make_evaluator(threads);
-    Aurora a = make_rastrigin(7, quick());
+    Aurora a = aurora_on_rastrigin(7, quick());
     for (int g = 0; g < 25; ++g) a.step(*evaluator);
     results.push_back(a.elites());
     thresholds.push_back(a.threshold());
@@ -69,7 +71,7 @@ TEST(Aurora, SameSeedSameBitsAtAnyThreadCount) {
 
 TEST(Aurora, DifferentSeedsGiveDifferentArchives) {
   SerialEvaluator evaluator;
-  Aurora a = make_rastrigin(1, quick()), b = make_rastrigin(2, quick());
+  Aurora a = aurora_on_rastrigin(1, quick()), b = aurora_on_rastrigin(2, quick());
   for (int g = 0; g < 3; ++g) {
     a.step(evaluator);
     b.step(evaluator);
@@ -81,7 +83,7 @@ TEST(Aurora, RetrainsAtGenerationOneThenWithGapsOfTwentyThirtyForty) {
   SerialEvaluator evaluator;
   AuroraParams p = quick();
   p.max_epochs = 2;
-  Aurora a = make_rastrigin(3, p);
+  Aurora a = aurora_on_rastrigin(3, p);
   a.step(evaluator);  // generation 0: the initial training
   EXPECT_EQ(a.trainings(), 1);
   EXPECT_EQ(a.next_retraining(), 1);
@@ -101,7 +103,7 @@ TEST(Aurora, RetrainingGapsAreCapped) {
   AuroraParams p = quick();
   p.max_epochs = 1;
   p.retrain_period_max = 25;
-  Aurora a = make_rastrigin(3, p);
+  Aurora a = aurora_on_rastrigin(3, p);
   for (int g = 0; g <= 51; ++g) a.step(evaluator);
   // Trainings at 1, 21 (gap 20), 46 (gap min(30, 25)), then the next at 46 + 25.
   EXPECT_EQ(a.next_retraining(), 71);
@@ -110,7 +112,7 @@ TEST(Aurora, RetrainingGapsAreCapped) {
 TEST(Aurora, InitialThresholdComesFromTheLatentVolume) {
   SerialEvaluator evaluator;
   AuroraParams p = quick();
-  Aurora a = make_rastrigin(5, p);
+  Aurora a = aurora_on_rastrigin(5, p);
   a.step(evaluator);
   // Regenerate the initial population from its stream; Rastrigin's base features = genotype.
   RowMatrix g(p.initial_population, 20);
@@ -147,7 +149,7 @@ TEST(Aurora, InitialThresholdComesFromTheLatentVolume) {
 
 TEST(Aurora, StoredValuesAreTheTasksFunctionsAndTheCurrentEncoding) {
   SerialEvaluator evaluator;
-  Aurora a = make_rastrigin(11, quick());
+  Aurora a = aurora_on_rastrigin(11, quick());
   for (int g = 0; g < 15; ++g) a.step(evaluator);
   const EliteTable t = a.elites();
   ASSERT_GT(t.size(), 100);
@@ -211,13 +213,13 @@ TEST(Aurora, ACheckpointedRunContinuesBitIdentically) {
   p.target_size = 1000;
   p.max_epochs = 10;
   SerialEvaluator evaluator;
-  Aurora straight = make_rastrigin(31, p);
+  Aurora straight = aurora_on_rastrigin(31, p);
   for (int g = 0; g < 45; ++g) straight.step(evaluator);
-  Aurora first = make_rastrigin(31, p);
+  Aurora first = aurora_on_rastrigin(31, p);
   for (int g = 0; g < 17; ++g) first.step(evaluator);
   BinaryWriter out;
   first.save(out);
-  Aurora second = make_rastrigin(31, p);
+  Aurora second = aurora_on_rastrigin(31, p);
   BinaryReader in(out.bytes(), "memory");
   second.load(in);
   in.finish();
@@ -241,12 +243,12 @@ TEST(Aurora, RebuildsFromKeptCodesGiveTheBitsOfEncodingEveryMember) {
   p.max_epochs = 5;
   p.rebuild_every = 2;
   SerialEvaluator evaluator;
-  Aurora kept = make_rastrigin(5, p), fresh = make_rastrigin(5, p);
+  Aurora kept = aurora_on_rastrigin(5, p), fresh = aurora_on_rastrigin(5, p);
   for (int g = 0; g < 70; ++g) {
     kept.step(evaluator);
     BinaryWriter out;
     fresh.save(out);
-    Aurora reloaded = make_rastrigin(5, p);
+    Aurora reloaded = aurora_on_rastrigin(5, p);
     BinaryReader in(out.bytes(), "memory");
     reloaded.load(in);
     reloaded.step(evaluator);

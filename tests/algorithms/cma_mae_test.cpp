@@ -25,7 +25,7 @@ namespace {
 
 constexpr int kGenes = 8;
 
-Task rastrigin() {
+Task cma_mae_rastrigin() {
   RastriginParams rp;
   rp.dimensions = kGenes;
   return Task(RastriginTask(rp));
@@ -43,7 +43,7 @@ GridArchiveParams grid() {
 // Measures are genes 2 and 5, so a mix-up of base features and measures shows.
 std::unique_ptr<FeatureMap> genes_2_and_5() { return std::make_unique<SelectFeatureMap>(kGenes, std::vector<int>{2, 5}); }
 
-std::unique_ptr<CmaMae<GridArchive>> make(Task task = rastrigin(), CmaMaeParams p = params()) {
+std::unique_ptr<CmaMae<GridArchive>> make(Task task = cma_mae_rastrigin(), CmaMaeParams p = params()) {
   return std::make_unique<CmaMae<GridArchive>>(p, std::move(task), genes_2_and_5(),
                                                [](Evaluator*) { return GridArchive(grid()); }, 21);
 }
@@ -53,7 +53,7 @@ TEST(CmaMae, IsTheSchedulersLoopOnTheStepsStreams) {
   SerialEvaluator serial;
   for (int s = 0; s < 40; ++s) algorithm->step(serial);
 
-  const Task task = rastrigin();
+  const Task task = cma_mae_rastrigin();
   GridArchive archive(grid());
   const CmaMaeParams p = params();
   Scheduler scheduler(archive, p.thresholds, make_evolution_strategy_emitters(archive, p.emitter, p.emitters));
@@ -139,7 +139,7 @@ TEST(CmaMae, GaussianAndIsoLineKindsMakeThoseEmittersWithTheSharedSettings) {
   CmaMaeParams p = params();
   p.kind = EmitterKind::kGaussian;
   p.sigma = 0.07;
-  auto gaussian = make(rastrigin(), p);
+  auto gaussian = make(cma_mae_rastrigin(), p);
   for (int s = 0; s < 5; ++s) gaussian->step(serial);
   ASSERT_EQ(gaussian->scheduler().emitter_count(), 3u);
   const auto& g = dynamic_cast<const GaussianEmitter&>(gaussian->scheduler().emitter(2));
@@ -155,7 +155,7 @@ TEST(CmaMae, GaussianAndIsoLineKindsMakeThoseEmittersWithTheSharedSettings) {
   p.kind = EmitterKind::kIsoLine;
   p.iso_sigma = 0.0;
   p.line_sigma = 0.4;
-  auto iso = make(rastrigin(), p);
+  auto iso = make(cma_mae_rastrigin(), p);
   iso->step(serial);
   const auto& l = dynamic_cast<const IsoLineEmitter&>(iso->scheduler().emitter(0));
   EXPECT_EQ(l.params().iso_sigma, 0.0);
@@ -164,27 +164,29 @@ TEST(CmaMae, GaussianAndIsoLineKindsMakeThoseEmittersWithTheSharedSettings) {
 
   p.kind = EmitterKind::kGaussian;
   p.sigma = 0.0;
-  EXPECT_INPUT_ERROR(make(rastrigin(), p), "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
+                     "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
   p.kind = EmitterKind::kIsoLine;
   p.iso_sigma = -1.0;
-  EXPECT_INPUT_ERROR(make(rastrigin(), p), "IsoLineEmitterParams.iso_sigma = -1 is invalid: must be finite and >= 0");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
+                     "IsoLineEmitterParams.iso_sigma = -1 is invalid: must be finite and >= 0");
   p.kind = static_cast<EmitterKind>(7);
-  EXPECT_INPUT_ERROR(make(rastrigin(), p),
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
                      "CmaMaeParams.kind = 7 is invalid: must be one of evolution-strategy, gaussian, iso-line");
 }
 
 TEST(CmaMae, RefusesPartsThatDoNotFit) {
   CmaMaeParams p = params();
   p.emitter.x0.assign(3, 0.5);
-  EXPECT_INPUT_ERROR(make(rastrigin(), p), "cma-mae: x0 has 3 values, the task 8 genes");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p), "cma-mae: x0 has 3 values, the task 8 genes");
   p = params();
   p.emitters = 0;
-  EXPECT_NE(input_error_message([&] { make(rastrigin(), p); }).find("emitters.count = 0"), std::string::npos);
+  EXPECT_NE(input_error_message([&] { make(cma_mae_rastrigin(), p); }).find("emitters.count = 0"), std::string::npos);
   p = params();
   p.thresholds.alpha = 1.5;
-  EXPECT_NE(input_error_message([&] { make(rastrigin(), p); }).find("archive.learning_rate = 1.5"), std::string::npos);
+  EXPECT_NE(input_error_message([&] { make(cma_mae_rastrigin(), p); }).find("archive.learning_rate = 1.5"), std::string::npos);
   auto wrong_archive = std::make_unique<CmaMae<GridArchive>>(
-      params(), rastrigin(), genes_2_and_5(),
+      params(), cma_mae_rastrigin(), genes_2_and_5(),
       [](Evaluator*) {
         GridArchiveParams g = grid();
         g.bins = {4, 4, 4};

@@ -16,7 +16,7 @@
 namespace qdmeta {
 namespace {
 
-CvtMapElites make_cvt(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound, int dimensions = 20) {
+CvtMapElites cvt_on_rastrigin(std::uint64_t seed, CvtSearch search = CvtSearch::kParentBound, int dimensions = 20) {
   CvtMapElitesParams p;
   p.search = search;
   p.neighbours = 32;
@@ -34,7 +34,7 @@ TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
   std::vector<EliteTable> results;
   for (int threads : {1, 2, 3}) {
     auto evaluator = make_evaluator(threads);
-    CvtMapElites cvt = make_cvt(7);
+    CvtMapElites cvt = cvt_on_rastrigin(7);
     for (int g = 0; g < 30; ++g) cvt.step(*evaluator);
     results.push_back(cvt.elites());
   }
@@ -48,7 +48,7 @@ TEST(CvtMapElites, SameSeedSameBitsAtAnyThreadCount) {
 
 TEST(CvtMapElites, ParentBoundAndBruteForceGiveTheSameArchive) {
   SerialEvaluator evaluator;
-  CvtMapElites a = make_cvt(9, CvtSearch::kParentBound), b = make_cvt(9, CvtSearch::kBruteForce);
+  CvtMapElites a = cvt_on_rastrigin(9, CvtSearch::kParentBound), b = cvt_on_rastrigin(9, CvtSearch::kBruteForce);
   for (int g = 0; g < 40; ++g) {
     a.step(evaluator);
     b.step(evaluator);
@@ -71,9 +71,9 @@ TEST(CvtMapElites, AutoSearchPicksByDimensionAndEverySearchGivesTheSameArchive) 
   SerialEvaluator evaluator;
   for (int dimensions : {2, 3, 20}) {
     SCOPED_TRACE(::testing::Message() << dimensions << " base features");
-    CvtMapElites automatic = make_cvt(11, CvtSearch::kAuto, dimensions);
-    CvtMapElites parent = make_cvt(11, CvtSearch::kParentBound, dimensions);
-    CvtMapElites brute = make_cvt(11, CvtSearch::kBruteForce, dimensions);
+    CvtMapElites automatic = cvt_on_rastrigin(11, CvtSearch::kAuto, dimensions);
+    CvtMapElites parent = cvt_on_rastrigin(11, CvtSearch::kParentBound, dimensions);
+    CvtMapElites brute = cvt_on_rastrigin(11, CvtSearch::kBruteForce, dimensions);
     for (int g = 0; g < 30; ++g) {
       automatic.step(evaluator);
       parent.step(evaluator);
@@ -104,7 +104,7 @@ std::unique_ptr<FeatureMap> identity_map(Index features) {
 // CVT-MAP-Elites: same parents, same cells, same elites, bit for bit.
 TEST(CvtMapElites, GenericMapElitesOverACvtArchiveIsCvtMapElites) {
   SerialEvaluator evaluator;
-  CvtMapElites cvt = make_cvt(5, CvtSearch::kBruteForce);
+  CvtMapElites cvt = cvt_on_rastrigin(5, CvtSearch::kBruteForce);
   cvt.prepare(evaluator);
   const Task task{RastriginTask()};
   CvtArchive archive(CvtArchiveParams{task.genotype_size(), task.qd_offset(), 0}, cvt.archive().centroids());
@@ -137,7 +137,7 @@ TEST(CvtMapElites, GenericMapElitesRefusesAnArchiveOfAnotherGenotypeSize) {
 
 TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {
   SerialEvaluator evaluator;
-  CvtMapElites cvt = make_cvt(3);
+  CvtMapElites cvt = cvt_on_rastrigin(3);
   EXPECT_EQ(cvt.elites().size(), 0);  // nothing before the first step
   EXPECT_EQ(cvt.stats(), ArchiveStats{});
   for (int g = 0; g < 20; ++g) cvt.step(evaluator);
@@ -156,7 +156,7 @@ TEST(CvtMapElites, ElitesSitInTheirNearestCentroidsCellWithTrueFitness) {
 
 TEST(CvtMapElites, ArchiveNeverLosesAnEliteAndOnlyImproves) {
   SerialEvaluator evaluator;
-  CvtMapElites cvt = make_cvt(11);
+  CvtMapElites cvt = cvt_on_rastrigin(11);
   cvt.step(evaluator);
   std::vector<Real> previous(300, -INFINITY);
   Index size = 0;
@@ -183,7 +183,7 @@ TEST(CvtMapElites, ArchiveNeverLosesAnEliteAndOnlyImproves) {
 }
 
 // A task whose solutions with g0 < 0.3 are invalid ("dead") and leave NaN base features.
-struct HalfDeadTask {
+struct DeadWithNanFeaturesTask {
   Index genotype_size() const { return 3; }
   Index base_feature_size() const { return 3; }
   bool shareable() const { return true; }
@@ -204,7 +204,7 @@ TEST(CvtMapElites, InvalidSolutionsNeverEnterAndTheirFeaturesAreIgnored) {
   p.kmeans.init_samples = 2000;
   p.kmeans.iterations = 2;
   p.neighbours = 8;
-  CvtMapElites cvt(p, Task(HalfDeadTask{}), {}, 4);
+  CvtMapElites cvt(p, Task(DeadWithNanFeaturesTask{}), {}, 4);
   SerialEvaluator evaluator;
   for (int g = 0; g < 10; ++g) cvt.step(evaluator);
   const EliteTable t = cvt.elites();
@@ -214,7 +214,7 @@ TEST(CvtMapElites, InvalidSolutionsNeverEnterAndTheirFeaturesAreIgnored) {
 
 TEST(CvtMapElites, CountsInitialPopulationThenBatches) {
   SerialEvaluator evaluator;
-  CvtMapElites cvt = make_cvt(5);
+  CvtMapElites cvt = cvt_on_rastrigin(5);
   cvt.step(evaluator);
   EXPECT_EQ(cvt.counters().bottom, 2000);
   cvt.step(evaluator);
@@ -228,13 +228,13 @@ TEST(CvtMapElites, ACheckpointedRunContinuesBitIdentically) {
   // The neighbour lists are made afresh on load; they only decide which centroids get the exact
   // check, so the archive continues exactly as if the run had never stopped.
   SerialEvaluator evaluator;
-  CvtMapElites straight = make_cvt(12);
+  CvtMapElites straight = cvt_on_rastrigin(12);
   for (int g = 0; g < 40; ++g) straight.step(evaluator);
-  CvtMapElites first = make_cvt(12);
+  CvtMapElites first = cvt_on_rastrigin(12);
   for (int g = 0; g < 15; ++g) first.step(evaluator);
   BinaryWriter out;
   first.save(out);
-  CvtMapElites second = make_cvt(12);
+  CvtMapElites second = cvt_on_rastrigin(12);
   BinaryReader in(out.bytes(), "memory");
   second.load(in);
   in.finish();
@@ -249,10 +249,10 @@ TEST(CvtMapElites, ACheckpointedRunContinuesBitIdentically) {
 }
 
 TEST(CvtMapElites, ACheckpointBeforeTheFirstStepLoads) {
-  CvtMapElites fresh = make_cvt(3);
+  CvtMapElites fresh = cvt_on_rastrigin(3);
   BinaryWriter out;
   fresh.save(out);
-  CvtMapElites other = make_cvt(3);
+  CvtMapElites other = cvt_on_rastrigin(3);
   BinaryReader in(out.bytes(), "memory");
   other.load(in);
   EXPECT_FALSE(other.prepared());
@@ -267,7 +267,7 @@ namespace {
 
 // `points = "random-descriptors"`: k-means over the base features of valid random genotypes only.
 TEST(CvtMapElites, RandomDescriptorPointsAreTheValidGenotypesFeatures) {
-  const Task task(HalfDeadTask{});
+  const Task task(DeadWithNanFeaturesTask{});
   SerialEvaluator serial;
   const DescriptorPoints d = feasible_random_descriptors(task, 500, 3, serial, 100'000, 64);
   ASSERT_EQ(d.points.rows(), 500);

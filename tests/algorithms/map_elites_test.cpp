@@ -18,7 +18,7 @@
 namespace qdmeta {
 namespace {
 
-MapElites make_rastrigin(std::uint64_t seed, int dimensions = 20) {
+MapElites map_elites_on_rastrigin(std::uint64_t seed, int dimensions = 20) {
   RastriginParams rp;
   rp.dimensions = dimensions;
   return MapElites({}, Task(RastriginTask(rp)), std::make_unique<SelectFeatureMap>(dimensions, std::vector<int>{0, 1}),
@@ -29,7 +29,7 @@ TEST(MapElites, SameSeedSameBitsAtAnyThreadCount) {
   std::vector<EliteTable> results;
   for (int threads : {1, 2, 3}) {
     auto evaluator = make_evaluator(threads);
-    MapElites me = make_rastrigin(7);
+    MapElites me = map_elites_on_rastrigin(7);
     for (int g = 0; g < 60; ++g) me.step(*evaluator);
     results.push_back(me.elites());
   }
@@ -39,7 +39,7 @@ TEST(MapElites, SameSeedSameBitsAtAnyThreadCount) {
 
 TEST(MapElites, DifferentSeedsGiveDifferentArchives) {
   SerialEvaluator evaluator;
-  MapElites a = make_rastrigin(1), b = make_rastrigin(2);
+  MapElites a = map_elites_on_rastrigin(1), b = map_elites_on_rastrigin(2);
   for (int g = 0; g < 5; ++g) {
     a.step(evaluator);
     b.step(evaluator);
@@ -49,7 +49,7 @@ TEST(MapElites, DifferentSeedsGiveDifferentArchives) {
 
 TEST(MapElites, CountsInitialPopulationThenBatches) {
   SerialEvaluator evaluator;
-  MapElites me = make_rastrigin(3);
+  MapElites me = map_elites_on_rastrigin(3);
   me.step(evaluator);
   EXPECT_EQ(me.counters().bottom, 2000);
   EXPECT_EQ(me.counters().meta, 0);
@@ -61,7 +61,7 @@ TEST(MapElites, CountsInitialPopulationThenBatches) {
 
 TEST(MapElites, ArchiveNeverLosesItsBestNorShrinks) {
   SerialEvaluator evaluator;
-  MapElites me = make_rastrigin(11);
+  MapElites me = map_elites_on_rastrigin(11);
   me.step(evaluator);
   std::vector<Real> previous(static_cast<std::size_t>(me.archive().cells()), -INFINITY);
   double best = -INFINITY;
@@ -82,7 +82,7 @@ TEST(MapElites, ArchiveNeverLosesItsBestNorShrinks) {
 
 TEST(MapElites, StoredValuesAreTheTasksFunctionOfTheStoredGenotype) {
   SerialEvaluator evaluator;
-  MapElites me = make_rastrigin(5);
+  MapElites me = map_elites_on_rastrigin(5);
   for (int g = 0; g < 100; ++g) me.step(evaluator);
   const EliteTable t = me.elites();
   ASSERT_GT(t.size(), 3000);
@@ -103,7 +103,7 @@ TEST(MapElites, FindsTheKnownOptimumOfTwoDimensionalRastrigin) {
   // With 2 genes both used as measures, the cell holding g = (0.5, 0.5) spans |x| <= 0.0512,
   // where f >= -(2 * 0.0512^2 + 20 (1 - cos(2 pi 0.0512))) = -1.03; the global optimum is 0.
   SerialEvaluator evaluator;
-  MapElites me = make_rastrigin(9, 2);
+  MapElites me = map_elites_on_rastrigin(9, 2);
   while (me.counters().bottom < 200'000) me.step(evaluator);
   EXPECT_GT(me.stats().obj_max, -1.1);
   EXPECT_LE(me.stats().obj_max, 0.0);
@@ -112,7 +112,7 @@ TEST(MapElites, FindsTheKnownOptimumOfTwoDimensionalRastrigin) {
 }
 
 // Rows whose first gene is below 0.5 are "dead".
-struct HalfDeadTask {
+struct DeadBelowHalfTask {
   Index genotype_size() const { return 3; }
   Index base_feature_size() const { return 3; }
   void evaluate(GenotypeView g, EvaluationView out) const {
@@ -126,7 +126,7 @@ struct HalfDeadTask {
 
 TEST(MapElites, InvalidSolutionsNeverEnterTheArchive) {
   SerialEvaluator evaluator;
-  MapElites me({}, Task(HalfDeadTask{}), std::make_unique<SelectFeatureMap>(3, std::vector<int>{0, 1}), {}, {}, 4);
+  MapElites me({}, Task(DeadBelowHalfTask{}), std::make_unique<SelectFeatureMap>(3, std::vector<int>{0, 1}), {}, {}, 4);
   for (int g = 0; g < 20; ++g) me.step(evaluator);
   const EliteTable t = me.elites();
   ASSERT_GT(t.size(), 0);
@@ -196,13 +196,13 @@ TEST(MapElites, RejectsAFeatureMapOfTheWrongSize) {
 
 TEST(MapElites, ACheckpointedRunContinuesBitIdentically) {
   SerialEvaluator evaluator;
-  MapElites straight = make_rastrigin(8);
+  MapElites straight = map_elites_on_rastrigin(8);
   for (int g = 0; g < 30; ++g) straight.step(evaluator);
-  MapElites first = make_rastrigin(8);
+  MapElites first = map_elites_on_rastrigin(8);
   for (int g = 0; g < 12; ++g) first.step(evaluator);
   BinaryWriter out;
   first.save(out);
-  MapElites second = make_rastrigin(8);
+  MapElites second = map_elites_on_rastrigin(8);
   BinaryReader in(out.bytes(), "memory");
   second.load(in);
   in.finish();
@@ -220,10 +220,10 @@ TEST(MapElites, ACheckpointedRunContinuesBitIdentically) {
 // before the first step.
 TEST(MapElites, StartFromGivenArchiveMutatesItsElitesFirst) {
   SerialEvaluator evaluator;
-  MapElites donor = make_rastrigin(5);
+  MapElites donor = map_elites_on_rastrigin(5);
   for (int g = 0; g < 10; ++g) donor.step(evaluator);
   const EliteTable given = donor.elites();
-  MapElites warm = make_rastrigin(6);
+  MapElites warm = map_elites_on_rastrigin(6);
   warm.start_from(donor.archive());
   expect_same_elites(warm.elites(), given);
   warm.step(evaluator);
@@ -242,11 +242,11 @@ TEST(MapElites, StartFromGivenArchiveMutatesItsElitesFirst) {
 
 TEST(MapElites, ACheckpointOfAnotherTaskSizeIsRefused) {
   SerialEvaluator evaluator;
-  MapElites small = make_rastrigin(1, 5);
+  MapElites small = map_elites_on_rastrigin(1, 5);
   small.step(evaluator);
   BinaryWriter out;
   small.save(out);
-  MapElites big = make_rastrigin(1, 20);
+  MapElites big = map_elites_on_rastrigin(1, 20);
   BinaryReader in(out.bytes(), "memory");
   try {
     big.load(in);

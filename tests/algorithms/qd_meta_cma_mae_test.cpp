@@ -24,7 +24,7 @@ namespace qdmeta {
 namespace {
 
 // 5 emitters of 10 rows: a generation of 50 rows per map, as small_qd_meta_params()'s batch.
-QdMetaParams cma_mae_params() {
+QdMetaParams qd_meta_cma_mae_params() {
   QdMetaParams p = small_qd_meta_params();
   p.bottom_level = BottomLevel::kCmaMae;
   p.emitters.emitters = 5;
@@ -39,7 +39,7 @@ QdMetaParams cma_mae_params() {
   return p;
 }
 
-QdMeta rastrigin_qd_meta(const QdMetaParams& p, std::uint64_t seed, int dims) {
+QdMeta rastrigin_qd_meta_of(const QdMetaParams& p, std::uint64_t seed, int dims) {
   RastriginParams rp;
   rp.dimensions = dims;
   GridArchiveParams grid;
@@ -51,7 +51,7 @@ QdMeta rastrigin_qd_meta(const QdMetaParams& p, std::uint64_t seed, int dims) {
 }
 
 QdMeta small_cma_mae_qd_meta(std::uint64_t seed, bool sarsa = false) {
-  return small_qd_meta_of(cma_mae_params(), seed,
+  return small_qd_meta_of(qd_meta_cma_mae_params(), seed,
                           sarsa ? std::unique_ptr<GenerationController>(std::make_unique<SarsaControl>(SarsaParams{}))
                                 : std::make_unique<StaticControl>(3));
 }
@@ -154,9 +154,9 @@ ArchiveStats random_search(const QdMeta& q, Index i, Index evaluations) {
 // offset; it does so against the Gaussian path too.)
 TEST(QdMetaCmaMae, FillsEveryMapWithBetterElitesThanRandomSearchOfTheSameBudget) {
   SerialEvaluator evaluator;
-  QdMetaParams p = cma_mae_params();
+  QdMetaParams p = qd_meta_cma_mae_params();
   p.emitters.emitter.x0.assign(20, 0.5);
-  QdMeta q = rastrigin_qd_meta(p, 8, 20);
+  QdMeta q = rastrigin_qd_meta_of(p, 8, 20);
   for (int t = 0; t < 8; ++t) q.step(evaluator);
   for (Index i = 0; i < 4; ++i) {
     const ArchiveStats ours = q.map_archives()[static_cast<std::size_t>(i)].stats();
@@ -175,7 +175,7 @@ TEST(QdMetaCmaMae, TheEmittersStartAtTheRebuiltArchivesElites) {
   const std::vector<Real> objectives{-5.0f, -7.0f};
   const RowMatrix measures{{0.1f, 0.1f}, {0.9f, 0.9f}};
   archive.add_batch({solutions, objectives, measures, {}, {}});
-  QdMetaParams p = cma_mae_params();
+  QdMetaParams p = qd_meta_cma_mae_params();
   p.emitters.emitter.x0.assign(3, 0.5);
   Rng rng(3);
   const auto scheduler = start_map_emitters(archive, p.emitters, rng);
@@ -203,11 +203,11 @@ TEST(QdMetaCmaMae, TheEmittersStartAtTheRebuiltArchivesElites) {
 }
 
 TEST(QdMetaCmaMae, ParamsThatDisagreeAreRefused) {
-  QdMetaParams p = cma_mae_params();
+  QdMetaParams p = qd_meta_cma_mae_params();
   p.batch_size = 40;
   EXPECT_INPUT_ERROR(p.validate(), "qd_meta.batch_size = 40 must be emitters.count x emitters.batch_size = 50 with "
                                    "qd_meta.bottom_level = \"cma-mae\" (a generation is one batch of every emitter)");
-  p = cma_mae_params();
+  p = qd_meta_cma_mae_params();
   p.emitters.emitter.x0.assign(4, 0.5);
   EXPECT_INPUT_ERROR(small_qd_meta_of(p, 1, std::make_unique<StaticControl>(1)),
                      "qd-meta: emitters' x0 has 4 values, the task 6 genes");

@@ -14,7 +14,7 @@
 namespace qdmeta {
 namespace {
 
-QdMeta small_qd_meta(CmaSmallPopulation small, Index meta_population = 1,
+QdMeta variant_qd_meta(CmaSmallPopulation small, Index meta_population = 1,
                      DatabaseInputs inputs = DatabaseInputs::kBaseFeatures) {
   QdMetaParams p = small_qd_meta_params();
   p.meta_population = meta_population;
@@ -27,8 +27,8 @@ QdMeta small_qd_meta(CmaSmallPopulation small, Index meta_population = 1,
 // c-cmaes's default population and recombines the map's sample with the unevaluated ones.
 TEST(QdMetaAuthorsLambdaOne, RunsOneMapAndRecombinesTheLibraryPopulation) {
   SerialEvaluator evaluator;
-  QdMeta authors = small_qd_meta(CmaSmallPopulation::kAuthors);
-  QdMeta one_one = small_qd_meta(CmaSmallPopulation::kOneOne);
+  QdMeta authors = variant_qd_meta(CmaSmallPopulation::kAuthors);
+  QdMeta one_one = variant_qd_meta(CmaSmallPopulation::kOneOne);
   authors.step(evaluator);
   one_one.step(evaluator);
   EXPECT_EQ(authors.counters().bottom, 200 + 2 * 50);
@@ -92,8 +92,8 @@ NeuralFeatureMap map_of(const QdMeta& q, Index i) {
 // fresh offspring are placed (and kept in the map) from g; the default stores and maps g only.
 TEST(QdMetaAuthorsDatabaseInputs, RebuiltMapsReadTwoGMinusOneAndFreshOffspringG) {
   SerialEvaluator evaluator;
-  QdMeta authors = small_qd_meta(CmaSmallPopulation::kOneOne, 3, DatabaseInputs::kAuthors2gMinus1);
-  QdMeta plain = small_qd_meta(CmaSmallPopulation::kOneOne, 3);
+  QdMeta authors = variant_qd_meta(CmaSmallPopulation::kOneOne, 3, DatabaseInputs::kAuthors2gMinus1);
+  QdMeta plain = variant_qd_meta(CmaSmallPopulation::kOneOne, 3);
   for (int t = 0; t < 2; ++t) {
     authors.step(evaluator);
     plain.step(evaluator);

@@ -18,7 +18,7 @@
 namespace qdmeta {
 namespace {
 
-void expect_matches_naive(const RowMatrix& centroids, const RowMatrix& points) {
+void expect_finds_naive_nearest(const RowMatrix& centroids, const RowMatrix& points) {
   const NearestCentroid search(centroids);
   std::vector<Index> cells(static_cast<std::size_t>(points.rows()));
   std::vector<double> distances(cells.size());
@@ -38,7 +38,7 @@ TEST(NearestCentroid, MatchesThePlainLoopOnRandomData) {
            {1, 3, 5}, {7, 1, 300}, {511, 2, 200}, {512, 20, 129}, {513, 20, 65}, {2000, 20, 700}, {1500, 50, 100}}) {
     SCOPED_TRACE(::testing::Message() << k << " centroids, " << d << "-D, " << n << " points");
     const auto seed = static_cast<std::uint64_t>(k * 1000 + d);
-    expect_matches_naive(random_block(k, d, seed), random_block(n, d, seed + 1));
+    expect_finds_naive_nearest(random_block(k, d, seed), random_block(n, d, seed + 1));
   }
 }
 
@@ -54,7 +54,7 @@ TEST(NearestCentroid, MatchesThePlainLoopForNearTiesAndFarPoints) {
   for (Index i = 100; i < 200; ++i)  // on top of a centroid, with tiny noise
     points.row(i) = centroids.row(static_cast<Index>(rng.below(1000))).array() + static_cast<Real>(1e-6 * rng.uniform());
   points.bottomRows(100) = random_block(100, 20, 7, -100.0, 100.0);  // far outside the cloud
-  expect_matches_naive(centroids, points);
+  expect_finds_naive_nearest(centroids, points);
 }
 
 TEST(NearestCentroid, ExactTiesGoToTheLowestIndex) {
@@ -69,7 +69,7 @@ TEST(NearestCentroid, ExactTiesGoToTheLowestIndex) {
   centroids.row(700) = centroids.row(900);
   const RowMatrix point = centroids.row(900);
   EXPECT_EQ(NearestCentroid(centroids).find(point.data()), 700);
-  expect_matches_naive(centroids, random_block(200, 20, 9));
+  expect_finds_naive_nearest(centroids, random_block(200, 20, 9));
 }
 
 TEST(NearestCentroid, NeighbourListsAreSortedAndBoundTheirEntriesAndTheRest) {

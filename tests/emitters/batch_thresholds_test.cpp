@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "threshold_cases.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/emitters/cell_thresholds.hpp"
@@ -17,25 +18,15 @@
 namespace qdmeta {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-ThresholdParams mae(double alpha, double threshold_min) {
-  ThresholdParams p;
-  p.alpha = alpha;
-  p.threshold_min = threshold_min;
-  return p;
-}
+using test::expect_outcome;
+using test::kInf;
+using test::mae;
 
 std::vector<ThresholdOutcome> offer_all(CellThresholds& t, const std::vector<Index>& cells, const std::vector<Real>& f,
                                         const std::vector<std::uint8_t>& valid = {}) {
   std::vector<ThresholdOutcome> outcomes(cells.size());
   t.offer_batch(cells, f, valid, outcomes);
   return outcomes;
-}
-
-void expect_outcome(const ThresholdOutcome& o, AddStatus status, double improvement) {
-  EXPECT_EQ(o.status, status);
-  EXPECT_EQ(o.improvement, improvement);
 }
 
 TEST(BatchThresholds, ScoresEveryRowAgainstTheThresholdBeforeTheBatch) {

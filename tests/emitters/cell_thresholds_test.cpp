@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "expect_input_error.hpp"
+#include "threshold_cases.hpp"
 #include "qdmeta/archive/cvt_archive.hpp"
 #include "qdmeta/archive/grid_archive.hpp"
 #include "qdmeta/core/rng.hpp"
@@ -17,23 +18,13 @@
 namespace qdmeta {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using test::expect_outcome;
+using test::kInf;
+using test::mae;
 
 // The thresholds key on the cells of the fixed-cell archives; AURORA's unstructured archive has none.
 static_assert(CellIndexedArchive<GridArchive>);
 static_assert(CellIndexedArchive<CvtArchive>);
-
-ThresholdParams mae(double alpha, double threshold_min) {
-  ThresholdParams p;
-  p.alpha = alpha;
-  p.threshold_min = threshold_min;
-  return p;
-}
-
-void expect_outcome(const ThresholdOutcome& o, AddStatus status, double improvement) {
-  EXPECT_EQ(o.status, status);
-  EXPECT_EQ(o.improvement, improvement);
-}
 
 TEST(CellThresholds, AnnealsByHandWorkedValues) {
   // alpha = 0.5, threshold_min = 0; every value is exact in binary.

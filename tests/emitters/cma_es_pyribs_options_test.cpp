@@ -32,7 +32,7 @@ double pyribs_gap(int n, int lambda) {
   return 0.5 * n * lambda / (c1 + cmu) / (static_cast<double>(n) * n);
 }
 
-CmaEsParams params(int n, int lambda, CmaEigenGap gap) {
+CmaEsParams pyribs_cma_params(int n, int lambda, CmaEigenGap gap) {
   CmaEsParams p;
   p.dimension = n;
   p.population_size = lambda;
@@ -43,7 +43,7 @@ CmaEsParams params(int n, int lambda, CmaEigenGap gap) {
 }
 
 // Runs `generations` ask/tell_ranked cycles on the sphere with `parents` parents each.
-CmaEs run(const CmaEsParams& p, int generations, int parents) {
+CmaEs run_pyribs_cma(const CmaEsParams& p, int generations, int parents) {
   CmaEs cma(p);
   Rng rng(7);
   std::vector<int> order(static_cast<std::size_t>(p.population_size));
@@ -67,12 +67,12 @@ void expect_names_round_trip(const Table& table, Parse parse) {
 }
 
 TEST(CmaEsEigenGap, PurecmaIsPyribsGapAtTheCmaMaePapersSize) {
-  const CmaEs cma(params(100, 36, CmaEigenGap::kPurecma));
+  const CmaEs cma(pyribs_cma_params(100, 36, CmaEigenGap::kPurecma));
   EXPECT_NEAR(cma.strategy().eigen_interval, pyribs_gap(100, 36), 1e-9 * pyribs_gap(100, 36));
   // About 103 evaluations: C is decomposed after every third generation of 36, not every one.
   EXPECT_GT(cma.strategy().eigen_interval, 72.0);
   EXPECT_LT(cma.strategy().eigen_interval, 108.0);
-  const CmaEs tutorial(params(100, 36, CmaEigenGap::kTutorial));
+  const CmaEs tutorial(pyribs_cma_params(100, 36, CmaEigenGap::kTutorial));
   EXPECT_LT(tutorial.strategy().eigen_interval, 36.0);
 }
 
@@ -80,25 +80,25 @@ TEST(CmaEsEigenGap, PurecmaDecomposesEveryThirdGenerationWhateverTheParents) {
   // Decompositions after generations 3, 6, ..., 30 for any parent count; the tutorial's gap,
   // recomputed from each update's rates, decomposes after every generation with half the batch.
   for (const int parents : {18, 5, 36}) {
-    const CmaEs cma = run(params(100, 36, CmaEigenGap::kPurecma), 30, parents);
+    const CmaEs cma = run_pyribs_cma(pyribs_cma_params(100, 36, CmaEigenGap::kPurecma), 30, parents);
     EXPECT_EQ(cma.state().decompositions, 10) << parents;
     EXPECT_EQ(cma.state().eigen_evaluations, 30 * 36) << parents;
   }
-  EXPECT_EQ(run(params(100, 36, CmaEigenGap::kTutorial), 30, 18).state().decompositions, 30);
+  EXPECT_EQ(run_pyribs_cma(pyribs_cma_params(100, 36, CmaEigenGap::kTutorial), 30, 18).state().decompositions, 30);
 }
 
 TEST(CmaEsEigenGap, BAndDAreThoseOfTheCovarianceAtTheLastDecomposition) {
   // In 20-D with lambda = 12 the gap is about 24 evaluations: a decomposition after every second
   // generation. After 60 generations B D^2 B^T is C; one generation later C has moved on.
-  const CmaEsParams p = params(20, 12, CmaEigenGap::kPurecma);
+  const CmaEsParams p = pyribs_cma_params(20, 12, CmaEigenGap::kPurecma);
   ASSERT_NEAR(CmaEs(p).strategy().eigen_interval, pyribs_gap(20, 12), 1e-9 * pyribs_gap(20, 12));
   ASSERT_GT(CmaEs(p).strategy().eigen_interval, 12.0);
   ASSERT_LT(CmaEs(p).strategy().eigen_interval, 24.0);
   const auto rebuilt = [](const CmaEsState& s) { return Eigen::MatrixXd(s.B * s.D.cwiseAbs2().asDiagonal() * s.B.transpose()); };
-  const CmaEs even = run(p, 60, 6);
+  const CmaEs even = run_pyribs_cma(p, 60, 6);
   EXPECT_EQ(even.state().decompositions, 30);
   EXPECT_TRUE(rebuilt(even.state()).isApprox(even.state().C, 1e-10));
-  const CmaEs odd = run(p, 61, 6);
+  const CmaEs odd = run_pyribs_cma(p, 61, 6);
   EXPECT_EQ(odd.state().eigen_evaluations, 60 * 12);
   EXPECT_FALSE(rebuilt(odd.state()).isApprox(odd.state().C, 1e-6));
   EXPECT_TRUE(rebuilt(odd.state()).isApprox(even.state().C, 1e-10));
@@ -108,7 +108,7 @@ TEST(CmaEsEigenGap, NamesRoundTripAndBadValuesAreRefused) {
   expect_names_round_trip(kCmaEigenGapNames, cma_eigen_gap_from_string);
   EXPECT_INPUT_ERROR(cma_eigen_gap_from_string("lazy"),
                      "CMA-ES eigen gap = \"lazy\" is not a valid choice: use one of \"tutorial\", \"purecma\"");
-  CmaEsParams p = params(3, 4, static_cast<CmaEigenGap>(7));
+  CmaEsParams p = pyribs_cma_params(3, 4, static_cast<CmaEigenGap>(7));
   EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.eigen_gap = 7 is invalid: must be one of tutorial, purecma");
   EXPECT_EQ(CmaEsParams{}.eigen_gap, CmaEigenGap::kTutorial);  // QD-Meta's, unchanged
 }
@@ -124,10 +124,10 @@ TEST(CmaEsEigenGap, EmittersUsePurecmaUnlessTold) {
 TEST(CmaEsRankOne, PyribsTermIsC1SquaredTimesTheUnnormalisedPath) {
   // One generation from the same samples: pyribs's p_c is sigma0 times the tutorial's, and its
   // C differs from the tutorial's by (c1^2 sigma0^2 - c1) p_c p_c^T (tutorial's p_c) alone.
-  CmaEsParams p = params(6, 10, CmaEigenGap::kTutorial);
-  const CmaEs tutorial = run(p, 1, 5);
+  CmaEsParams p = pyribs_cma_params(6, 10, CmaEigenGap::kTutorial);
+  const CmaEs tutorial = run_pyribs_cma(p, 1, 5);
   p.rank_one = CmaRankOne::kPyribs;
-  const CmaEs pyribs = run(p, 1, 5);
+  const CmaEs pyribs = run_pyribs_cma(p, 1, 5);
   const CmaEsState& t = tutorial.state();
   const CmaEsState& r = pyribs.state();
   ASSERT_GT(t.p_c.norm(), 0.1);  // h_sigma held: the path moved
@@ -145,7 +145,7 @@ TEST(CmaEsRankOne, NamesRoundTripAndBadValuesAreRefused) {
   expect_names_round_trip(kCmaRankOneNames, cma_rank_one_from_string);
   EXPECT_INPUT_ERROR(cma_rank_one_from_string("none"),
                      "CMA-ES rank-one term = \"none\" is not a valid choice: use one of \"tutorial\", \"pyribs\"");
-  CmaEsParams p = params(3, 4, CmaEigenGap::kTutorial);
+  CmaEsParams p = pyribs_cma_params(3, 4, CmaEigenGap::kTutorial);
   p.rank_one = static_cast<CmaRankOne>(5);
   EXPECT_INPUT_ERROR(p.validate(), "CmaEsParams.rank_one = 5 is invalid: must be one of tutorial, pyribs");
   EXPECT_EQ(CmaEsParams{}.rank_one, CmaRankOne::kTutorial);

@@ -12,7 +12,7 @@
 namespace qdmeta {
 namespace {
 
-CmaEsParams params(int lambda) {
+CmaEsParams ranked_cma_params(int lambda) {
   CmaEsParams p;
   p.dimension = 5;
   p.population_size = lambda;
@@ -36,7 +36,7 @@ std::vector<int> ascending_order(const Eigen::VectorXd& f) {
 
 TEST(CmaEsRanked, HalfTheBatchAsParentsIsTellBitForBit) {
   for (const int lambda : {6, 12}) {
-    CmaEs by_fitness(params(lambda)), by_order(params(lambda));
+    CmaEs by_fitness(ranked_cma_params(lambda)), by_order(ranked_cma_params(lambda));
     Rng a(11), b(11);
     for (int g = 0; g < 60; ++g) {  // past several eigendecompositions
       const Eigen::VectorXd f = sphere(by_fitness.ask(a));
@@ -50,7 +50,7 @@ TEST(CmaEsRanked, HalfTheBatchAsParentsIsTellBitForBit) {
 }
 
 TEST(CmaEsRanked, OtherParentCountsReweightAndZeroOnlyClosesTheAsk) {
-  CmaEs half(params(8)), all(params(8)), none(params(8));
+  CmaEs half(ranked_cma_params(8)), all(ranked_cma_params(8)), none(ranked_cma_params(8));
   Rng a(5), b(5), c(5);
   const Eigen::VectorXd f = sphere(half.ask(a));
   all.ask(b);
@@ -59,7 +59,7 @@ TEST(CmaEsRanked, OtherParentCountsReweightAndZeroOnlyClosesTheAsk) {
   all.tell_ranked(ascending_order(f), 8);
   none.tell_ranked(ascending_order(f), 0);
   EXPECT_FALSE(half.state().mean == all.state().mean);
-  CmaEsState expected = CmaEs::initial_state(params(8));
+  CmaEsState expected = CmaEs::initial_state(ranked_cma_params(8));
   expected.samples = none.state().samples;
   expected.generation = 1;
   expected.evaluations = 8;
@@ -67,7 +67,7 @@ TEST(CmaEsRanked, OtherParentCountsReweightAndZeroOnlyClosesTheAsk) {
 }
 
 TEST(CmaEsRanked, RefusesABadOrderOrParentCount) {
-  CmaEs cma(params(4));
+  CmaEs cma(ranked_cma_params(4));
   EXPECT_INPUT_ERROR(cma.tell_ranked(std::vector<int>{0, 1, 2, 3}, 2),
                      "CmaEs::tell_ranked: called without a pending ask; call ask() first");
   Rng rng(1);

@@ -93,21 +93,6 @@ EvolutionStrategyEmitterParams es_params() {
   return p;
 }
 
-template <class S>
-void step(S& s, Rng& rng) {
-  std::vector<Real> objectives;
-  RowMatrix measures;
-  test::evaluate_sphere(s.ask(rng), objectives, measures);
-  s.tell(objectives, measures);
-}
-
-std::string snapshot(const GridArchive& archive, const BanditScheduler<GridArchive>& s) {
-  BinaryWriter out;
-  archive.save(out);
-  s.save(out);
-  return out.bytes();
-}
-
 TEST(BanditScheduler, AsksOnlyTheActiveEmittersAndContinuesCheckpointsBitForBit) {
   const BanditParams bp{2, BanditReselect::kTerminated, 0.05};
   GridArchive a(test::sphere_grid()), b(test::sphere_grid());
@@ -116,19 +101,19 @@ TEST(BanditScheduler, AsksOnlyTheActiveEmittersAndContinuesCheckpointsBitForBit)
   Rng ra(4), rb(4);
   std::vector<int> times_active(5, 0);
   for (int i = 0; i < 20; ++i) {
-    step(sa, ra);
-    step(sb, rb);
+    test::sphere_step(sa, ra);
+    test::sphere_step(sb, rb);
     EXPECT_EQ(sa.batch_size(), 16);
     for (std::size_t e = 0; e < 5; ++e) times_active[e] += sa.scheduler().active()[e];
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(b, sb));
+  EXPECT_EQ(test::checkpoint_bytes(a, sa), test::checkpoint_bytes(b, sb));
   for (std::size_t e = 0; e < 5; ++e) {
     EXPECT_GT(times_active[e], 0) << e;  // every emitter was tried
     EXPECT_EQ(dynamic_cast<const EvolutionStrategyEmitter&>(sa.scheduler().emitter(e)).tells(), times_active[e]);
     EXPECT_EQ(sa.bandit().selections(e), 8.0 * times_active[e]);
   }
 
-  const std::string saved = snapshot(a, sa);
+  const std::string saved = test::checkpoint_bytes(a, sa);
   GridArchive c(test::sphere_grid());
   BanditScheduler sc(c, ThresholdParams{0.1, 0.0}, make_evolution_strategy_emitters(c, es_params(), 5), bp);
   BinaryReader in(saved, "test");
@@ -137,10 +122,10 @@ TEST(BanditScheduler, AsksOnlyTheActiveEmittersAndContinuesCheckpointsBitForBit)
   in.finish();
   Rng rc = ra;
   for (int i = 0; i < 20; ++i) {
-    step(sa, ra);
-    step(sc, rc);
+    test::sphere_step(sa, ra);
+    test::sphere_step(sc, rc);
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(c, sc));
+  EXPECT_EQ(test::checkpoint_bytes(a, sa), test::checkpoint_bytes(c, sc));
 }
 
 }  // namespace

@@ -14,7 +14,8 @@ namespace {
 
 constexpr int kBatch = 6;
 
-EvolutionStrategyEmitterParams params(EmitterRestart restart = EmitterRestart::kNoImprovement, int every = 0) {
+EvolutionStrategyEmitterParams es_emitter_params(EmitterRestart restart = EmitterRestart::kNoImprovement,
+                                                 int every = 0) {
   EvolutionStrategyEmitterParams p;
   p.x0 = {0.5, 0.5, 0.5};
   p.sigma0 = 0.2;
@@ -45,11 +46,11 @@ void tell_with(EvolutionStrategyEmitter& e, const RowMatrix& batch, int added) {
 }
 
 TEST(EvolutionStrategyEmitter, FilterTakesTheAddedRowsAsParentsAndMuHalf) {
-  EvolutionStrategyEmitter filter(params(), quarter);
+  EvolutionStrategyEmitter filter(es_emitter_params(), quarter);
   Rng rng(3);
   tell_with(filter, filter.ask(rng), 4);
   EXPECT_EQ(filter.last_parents(), 4);
-  auto p = params();
+  auto p = es_emitter_params();
   p.selection = EmitterSelection::kMu;
   EvolutionStrategyEmitter mu(p, quarter);
   tell_with(mu, mu.ask(rng), 1);
@@ -57,7 +58,7 @@ TEST(EvolutionStrategyEmitter, FilterTakesTheAddedRowsAsParentsAndMuHalf) {
 }
 
 TEST(EvolutionStrategyEmitter, NoImprovementRestartsExactlyAfterABatchWithNothingAdded) {
-  EvolutionStrategyEmitter e(params(), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(), quarter);
   Rng rng(4);
   for (int t = 0; t < 5; ++t) {
     tell_with(e, e.ask(rng), 1 + t % 3);
@@ -77,7 +78,7 @@ TEST(EvolutionStrategyEmitter, NoImprovementRestartsExactlyAfterABatchWithNothin
 }
 
 TEST(EvolutionStrategyEmitter, BasicIgnoresEmptyBatchesButRestartsOnAFlatRanking) {
-  EvolutionStrategyEmitter e(params(EmitterRestart::kBasic), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(EmitterRestart::kBasic), quarter);
   Rng rng(5);
   for (int t = 0; t < 6; ++t) {
     tell_with(e, e.ask(rng), 0);
@@ -92,7 +93,7 @@ TEST(EvolutionStrategyEmitter, BasicIgnoresEmptyBatchesButRestartsOnAFlatRanking
 }
 
 TEST(EvolutionStrategyEmitter, EveryNRestartsOnEveryNthTell) {
-  EvolutionStrategyEmitter e(params(EmitterRestart::kEveryN, 3), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(EmitterRestart::kEveryN, 3), quarter);
   Rng rng(6);
   std::vector<int> fired;
   for (int t = 1; t <= 9; ++t) {
@@ -122,21 +123,21 @@ TEST(EvolutionStrategyEmitter, ConvergedOnConditionNumberAndWidth) {
 }
 
 TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
-  auto p = params();
+  auto p = es_emitter_params();
   p.batch_size = 0;
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.batch_size = 0 is out of range: must be at least 1");
-  p = params();
+  p = es_emitter_params();
   p.sigma0 = 0.0;
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.sigma0 = 0 is invalid: must be finite and > 0");
   p.sigma0 = -1.0;
   EXPECT_INPUT_ERROR(EvolutionStrategyEmitter(p, quarter),
                      "EvolutionStrategyEmitterParams.sigma0 = -1 is invalid: must be finite and > 0");
-  p = params();
+  p = es_emitter_params();
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.x0 is empty: give the first mean, one value per gene");
-  EXPECT_INPUT_ERROR(params(EmitterRestart::kEveryN, 0).validate(),
+  EXPECT_INPUT_ERROR(es_emitter_params(EmitterRestart::kEveryN, 0).validate(),
                      "EvolutionStrategyEmitterParams.restart_every = 0 is out of range: must be at least 1");
-  EvolutionStrategyEmitter e(params(), quarter);
+  EvolutionStrategyEmitter e(es_emitter_params(), quarter);
   EXPECT_INPUT_ERROR(tell_with(e, RowMatrix::Zero(kBatch, 3), 1),
                      "EvolutionStrategyEmitter::tell: called without a pending ask; call ask() first");
   Rng rng(1);
@@ -146,7 +147,7 @@ TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
 }
 
 TEST(EvolutionStrategyEmitter, RandomDirectionIsDrawnAtTheFirstAskAndAtEachRestart) {
-  auto p = params(EmitterRestart::kEveryN, 2);
+  auto p = es_emitter_params(EmitterRestart::kEveryN, 2);
   p.ranker = EmitterRanker::kTwoStageRandomDirection;
   p.measure_ranges = {2.0, 0.5};
   EvolutionStrategyEmitter e(p, quarter);
@@ -179,7 +180,7 @@ TEST(EvolutionStrategyEmitter, RandomDirectionIsDrawnAtTheFirstAskAndAtEachResta
 }
 
 // Runs `tells` ask/tell rounds with outcomes that vary (including empty batches, so restarts happen).
-void run(EvolutionStrategyEmitter& e, Rng& rng, int first, int tells) {
+void run_es_emitter(EvolutionStrategyEmitter& e, Rng& rng, int first, int tells) {
   for (int t = first; t < first + tells; ++t) tell_with(e, e.ask(rng), (t * 5) % 7 % 4);
 }
 
@@ -189,8 +190,8 @@ template <class ReadState>
 EvolutionStrategyEmitter expect_same_bits_and_continuation(const EvolutionStrategyEmitterParams& p, ReadState state) {
   EvolutionStrategyEmitter a(p, quarter), b(p, quarter);
   Rng ra(9), rb(9);
-  run(a, ra, 0, 20);
-  run(b, rb, 0, 20);
+  run_es_emitter(a, ra, 0, 20);
+  run_es_emitter(b, rb, 0, 20);
   EXPECT_TRUE(state(a) == state(b));
   EXPECT_GT(a.restarts(), 0);
 
@@ -201,8 +202,8 @@ EvolutionStrategyEmitter expect_same_bits_and_continuation(const EvolutionStrate
   resumed.load(in);
   in.finish();
   Rng rr = ra;
-  run(a, ra, 20, 15);
-  run(resumed, rr, 20, 15);
+  run_es_emitter(a, ra, 20, 15);
+  run_es_emitter(resumed, rr, 20, 15);
   EXPECT_TRUE(state(a) == state(resumed));
   EXPECT_EQ(a.restarts(), resumed.restarts());
   EXPECT_EQ(a.tells(), resumed.tells());
@@ -210,20 +211,21 @@ EvolutionStrategyEmitter expect_same_bits_and_continuation(const EvolutionStrate
 }
 
 TEST(EvolutionStrategyEmitter, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
-  expect_same_bits_and_continuation(params(), [](const EvolutionStrategyEmitter& e) { return e.optimiser().state(); });
+  expect_same_bits_and_continuation(es_emitter_params(),
+                                    [](const EvolutionStrategyEmitter& e) { return e.optimiser().state(); });
 }
 
 // es = sep-cma-es: the emitter runs meta/sep_cma_es.hpp's separable CMA-ES through the same
 // rules: same bits for the same seed, restarts to the picked mean, checkpoints that continue.
 TEST(EvolutionStrategyEmitter, SeparableEsSameBitsRestartsAndCheckpointsContinueBitForBit) {
-  auto p = params();
+  auto p = es_emitter_params();
   p.es = EvolutionStrategyKind::kSepCmaEs;
   EvolutionStrategyEmitter resumed = expect_same_bits_and_continuation(
       p, [](const EvolutionStrategyEmitter& e) { return e.separable_optimiser().state(); });
   EXPECT_GT(resumed.separable_optimiser().state().generation, 0);
   // A full ES's checkpoint does not load into a separable emitter.
   BinaryWriter full;
-  EvolutionStrategyEmitter(params(), quarter).save(full);
+  EvolutionStrategyEmitter(es_emitter_params(), quarter).save(full);
   BinaryReader wrong(full.bytes(), "test");
   EXPECT_THROW(resumed.load(wrong), InputError);
 
@@ -237,7 +239,7 @@ TEST(EvolutionStrategyEmitter, SeparableEsSameBitsRestartsAndCheckpointsContinue
 }
 
 TEST(EvolutionStrategyEmitter, SeparableEsRefusesTheFullEsOnlySettingsAndTheOtherAccessor) {
-  auto p = params();
+  auto p = es_emitter_params();
   p.es = EvolutionStrategyKind::kSepCmaEs;
   p.rank_one = CmaRankOne::kPyribs;
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.rank_one = pyribs is not available with es = "
@@ -246,7 +248,7 @@ TEST(EvolutionStrategyEmitter, SeparableEsRefusesTheFullEsOnlySettingsAndTheOthe
   const EvolutionStrategyEmitter sep(p, quarter);
   EXPECT_INPUT_ERROR(sep.optimiser(),
                      "EvolutionStrategyEmitter::optimiser: this emitter runs es = sep-cma-es; use separable_optimiser()");
-  const EvolutionStrategyEmitter full(params(), quarter);
+  const EvolutionStrategyEmitter full(es_emitter_params(), quarter);
   EXPECT_INPUT_ERROR(full.separable_optimiser(),
                      "EvolutionStrategyEmitter::separable_optimiser: this emitter runs es = cma-es; use optimiser()");
   EXPECT_EQ(evolution_strategy_kind_from_string("sep-cma-es"), EvolutionStrategyKind::kSepCmaEs);

@@ -12,7 +12,7 @@
 namespace qdmeta {
 namespace {
 
-GaussianEmitterParams params() {
+GaussianEmitterParams gaussian_params() {
   GaussianEmitterParams p;
   p.x0 = {0.5, 0.5};
   p.sigma = 0.25;
@@ -26,20 +26,20 @@ TEST(GaussianEmitter, AddsNoiseToTheDrawnEliteOrToX0) {
     genes = {10.0, 20.0};
     return true;
   };
-  GaussianEmitter from_elites(params(), elite);
+  GaussianEmitter from_elites(gaussian_params(), elite);
   Rng rng(3), expected(3);
   const RowMatrix batch = from_elites.ask(rng);
   for (Index r = 0; r < 3; ++r) {
     EXPECT_EQ(batch(r, 0), static_cast<Real>(fused(0.25, expected.normal(), 10.0)));
     EXPECT_EQ(batch(r, 1), static_cast<Real>(fused(0.25, expected.normal(), 20.0)));
   }
-  GaussianEmitter empty_archive(params(), [](Rng&, std::vector<double>&) { return false; });
+  GaussianEmitter empty_archive(gaussian_params(), [](Rng&, std::vector<double>&) { return false; });
   Rng again(3), normals(3);
   EXPECT_EQ(empty_archive.ask(again)(0, 0), static_cast<Real>(fused(0.25, normals.normal(), 0.5)));
 }
 
 TEST(GaussianEmitter, ClampsToFiniteBounds) {
-  auto p = params();
+  auto p = gaussian_params();
   p.sigma = 10.0;
   p.batch_size = 50;
   p.lower_bound = 0.0;
@@ -52,20 +52,20 @@ TEST(GaussianEmitter, ClampsToFiniteBounds) {
 }
 
 TEST(GaussianEmitter, RefusesBadSettingsNamingTheKey) {
-  auto p = params();
+  auto p = gaussian_params();
   p.sigma = 0.0;
   EXPECT_INPUT_ERROR(p.validate(), "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
-  p = params();
+  p = gaussian_params();
   p.batch_size = 0;
   EXPECT_INPUT_ERROR(GaussianEmitter(p, {}), "GaussianEmitterParams.batch_size = 0 is out of range: must be at least 1");
-  p = params();
+  p = gaussian_params();
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "GaussianEmitterParams.x0 is empty: give the first parent, one value per gene");
-  p = params();
+  p = gaussian_params();
   p.lower_bound = 1.0;
   p.upper_bound = 1.0;
   EXPECT_INPUT_ERROR(p.validate(), "GaussianEmitterParams.upper_bound = 1 is invalid: must be > lower_bound = 1");
-  GaussianEmitter e(params(), {});
+  GaussianEmitter e(gaussian_params(), {});
   Rng rng(1);
   e.ask(rng);
   EXPECT_INPUT_ERROR(e.ask(rng), "GaussianEmitter::ask: called twice without tell; tell the last batch's outcomes first");

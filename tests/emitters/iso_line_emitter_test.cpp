@@ -22,7 +22,7 @@ bool pick_elite(Rng& rng, std::vector<double>& genes) {
   return true;
 }
 
-IsoLineEmitterParams params(double iso, double line, int batch) {
+IsoLineEmitterParams iso_line_params(double iso, double line, int batch) {
   IsoLineEmitterParams p;
   p.x0 = {0.5, 0.5};
   p.iso_sigma = iso;
@@ -32,7 +32,7 @@ IsoLineEmitterParams params(double iso, double line, int batch) {
 }
 
 TEST(IsoLineEmitter, ARowIsTheFirstEliteAlongTheSecondPlusIsotropicNoise) {
-  IsoLineEmitter e(params(0.1, 0.3, 4), pick_elite);
+  IsoLineEmitter e(iso_line_params(0.1, 0.3, 4), pick_elite);
   Rng rng(7), expected(7);
   const RowMatrix batch = e.ask(rng);
   for (Index r = 0; r < 4; ++r) {
@@ -47,7 +47,7 @@ TEST(IsoLineEmitter, ARowIsTheFirstEliteAlongTheSecondPlusIsotropicNoise) {
 }
 
 TEST(IsoLineEmitter, WithoutIsotropicNoiseEveryRowLiesOnALineBetweenTwoElites) {
-  IsoLineEmitter e(params(0.0, 1.0, 500), pick_elite);
+  IsoLineEmitter e(iso_line_params(0.0, 1.0, 500), pick_elite);
   Rng rng(8);
   const RowMatrix batch = e.ask(rng);
   int off_the_axes = 0;
@@ -66,7 +66,7 @@ TEST(IsoLineEmitter, MeanAndCovarianceMatchTheClosedForm) {
   // Cov[row] = (1 + 2 line^2) S + iso^2 I, the line's normal being shared by the genes.
   const double iso = 0.5, line = 1.0;
   const int n = 200000;
-  IsoLineEmitter e(params(iso, line, n), pick_elite);
+  IsoLineEmitter e(iso_line_params(iso, line, n), pick_elite);
   Rng rng(9);
   const RowMatrix batch = e.ask(rng);
   const double m[2] = {4.0 / 3, 2.0 / 3};
@@ -92,7 +92,7 @@ TEST(IsoLineEmitter, MeanAndCovarianceMatchTheClosedForm) {
 }
 
 TEST(IsoLineEmitter, StartsFromX0AndClampsToTheBounds) {
-  auto p = params(0.2, 0.2, 300);
+  auto p = iso_line_params(0.2, 0.2, 300);
   p.lower_bound = 0.4;
   p.upper_bound = 0.6;
   IsoLineEmitter e(p, [](Rng&, std::vector<double>&) { return false; });
@@ -105,16 +105,16 @@ TEST(IsoLineEmitter, StartsFromX0AndClampsToTheBounds) {
 }
 
 TEST(IsoLineEmitter, RefusesBadSettingsNamingTheKey) {
-  auto p = params(-0.1, 0.2, 1);
+  auto p = iso_line_params(-0.1, 0.2, 1);
   EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.iso_sigma = -0.1 is invalid: must be finite and >= 0");
-  p = params(0.1, NAN, 1);
+  p = iso_line_params(0.1, NAN, 1);
   EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.line_sigma = nan is invalid: must be finite and >= 0");
-  p = params(0.1, 0.2, 0);
+  p = iso_line_params(0.1, 0.2, 0);
   EXPECT_INPUT_ERROR(IsoLineEmitter(p, {}), "IsoLineEmitterParams.batch_size = 0 is out of range: must be at least 1");
-  p = params(0.1, 0.2, 1);
+  p = iso_line_params(0.1, 0.2, 1);
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.x0 is empty: give the first parent, one value per gene");
-  IsoLineEmitter e(params(0.1, 0.2, 1), {});
+  IsoLineEmitter e(iso_line_params(0.1, 0.2, 1), {});
   Rng rng(1);
   e.ask(rng);
   EXPECT_INPUT_ERROR(e.ask(rng), "IsoLineEmitter::ask: called twice without tell; tell the last batch's outcomes first");

@@ -18,7 +18,7 @@ using test::evaluate_sphere;
 using test::kSphereGenes;
 using test::sphere_grid;
 
-EvolutionStrategyEmitterParams emitter_params() {
+EvolutionStrategyEmitterParams restarting_emitter_params() {
   EvolutionStrategyEmitterParams p;
   p.x0.assign(kSphereGenes, 0.0);
   p.sigma0 = 0.5;
@@ -48,7 +48,7 @@ std::string snapshot(const GridArchive& archive, const S& scheduler) {
 
 TEST(SchedulerBatchMode, EachTellIsOfferBatchAgainstTheThresholdsBeforeIt) {
   GridArchive archive(sphere_grid());
-  Scheduler s(archive, kMae, make_evolution_strategy_emitters(archive, emitter_params(), 3), AddMode::kBatch);
+  Scheduler s(archive, kMae, make_evolution_strategy_emitters(archive, restarting_emitter_params(), 3), AddMode::kBatch);
   EXPECT_EQ(s.add_mode(), AddMode::kBatch);
   CellThresholds mirror(archive.cells(), kMae);
   Rng rng(3);
@@ -73,7 +73,7 @@ TEST(SchedulerBatchMode, EachTellIsOfferBatchAgainstTheThresholdsBeforeIt) {
 }
 
 TEST(SchedulerBatchMode, SameSeedSameBitsCheckpointsContinueAndSingleModeDiffers) {
-  const auto p = emitter_params();
+  const auto p = restarting_emitter_params();
   GridArchive a(sphere_grid()), b(sphere_grid()), single(sphere_grid());
   Scheduler sa(a, kMae, make_evolution_strategy_emitters(a, p, 3), AddMode::kBatch);
   Scheduler sb(b, kMae, make_evolution_strategy_emitters(b, p, 3), AddMode::kBatch);
@@ -105,7 +105,7 @@ TEST(SchedulerBatchMode, SameSeedSameBitsCheckpointsContinueAndSingleModeDiffers
 // The BanditScheduler passes its add mode to its Scheduler: with every emitter active it is the
 // Scheduler of that mode, row for row.
 TEST(SchedulerBatchMode, BanditSchedulerWithAllActiveIsTheBatchScheduler) {
-  const auto p = emitter_params();
+  const auto p = restarting_emitter_params();
   GridArchive a(sphere_grid()), b(sphere_grid());
   BanditScheduler bandit(a, kMae, make_evolution_strategy_emitters(a, p, 3), BanditParams{3, BanditReselect::kAll, 0.05},
                          AddMode::kBatch);

@@ -17,9 +17,11 @@
 namespace qdmeta {
 namespace {
 
+using test::checkpoint_bytes;
 using test::evaluate_sphere;
 using test::kSphereGenes;
 using test::sphere_grid;
+using test::sphere_step;
 
 constexpr int kEmitters = 5;
 constexpr int kEmitterBatch = 20;
@@ -41,22 +43,13 @@ ThresholdParams thresholds(double alpha, double threshold_min) {
   return t;
 }
 
-// One ask/tell round on the sphere.
-template <class S>
-void step(S& scheduler, Rng& rng) {
-  std::vector<Real> objectives;
-  RowMatrix measures;
-  evaluate_sphere(scheduler.ask(rng), objectives, measures);
-  scheduler.tell(objectives, measures);
-}
-
 double emitter_qd_score(ThresholdParams t, EmitterRanker ranker, std::uint64_t seed) {
   GridArchive archive(sphere_grid());
   auto p = emitter_params();
   p.ranker = ranker;
   Scheduler scheduler(archive, t, make_evolution_strategy_emitters(archive, p, kEmitters));
   Rng rng(seed);
-  for (int i = 0; i < kIterations; ++i) step(scheduler, rng);
+  for (int i = 0; i < kIterations; ++i) sphere_step(scheduler, rng);
   return archive.stats().qd_score;
 }
 
@@ -108,7 +101,7 @@ TEST(Scheduler, GaussianEmittersAtAlphaOneAreMapElitesBitForBit) {
   emitters.push_back(std::make_unique<GaussianEmitter>(p, elite_picker(scheduled)));
   Scheduler scheduler(scheduled, thresholds(1.0, kMinusInf), std::move(emitters));
   Rng rng(4);
-  for (int i = 0; i < kIterations; ++i) step(scheduler, rng);
+  for (int i = 0; i < kIterations; ++i) sphere_step(scheduler, rng);
   BinaryWriter a, b;
   written_out.save(a);
   scheduled.save(b);
@@ -176,15 +169,6 @@ TEST(Scheduler, RefusesBadSettingsNamingTheKey) {
   EXPECT_FALSE(archive.empty());
 }
 
-// The archive's elites and the scheduler's checkpoint, as bytes.
-template <class S>
-std::string snapshot(const GridArchive& archive, const S& scheduler) {
-  BinaryWriter out;
-  archive.save(out);
-  scheduler.save(out);
-  return out.bytes();
-}
-
 TEST(Scheduler, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
   const auto tp = thresholds(0.05, 0.0);
   auto p = emitter_params();  // restarts every 10 tells, so that the continuation draws elites
@@ -195,12 +179,12 @@ TEST(Scheduler, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
   Scheduler sb(b, tp, make_evolution_strategy_emitters(b, p, 3));
   Rng ra(21), rb(21);
   for (int i = 0; i < 30; ++i) {
-    step(sa, ra);
-    step(sb, rb);
+    sphere_step(sa, ra);
+    sphere_step(sb, rb);
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(b, sb));
+  EXPECT_EQ(checkpoint_bytes(a, sa), checkpoint_bytes(b, sb));
 
-  const std::string saved = snapshot(a, sa);
+  const std::string saved = checkpoint_bytes(a, sa);
   GridArchive c(sphere_grid());
   Scheduler sc(c, tp, make_evolution_strategy_emitters(c, p, 3));
   BinaryReader in(saved, "test");
@@ -210,13 +194,13 @@ TEST(Scheduler, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
   Rng rc = ra;
   std::int64_t restarts = 0;
   for (int i = 0; i < 40; ++i) {
-    step(sa, ra);
-    step(sc, rc);
+    sphere_step(sa, ra);
+    sphere_step(sc, rc);
   }
   for (std::size_t e = 0; e < sa.emitter_count(); ++e) {
     restarts += dynamic_cast<const EvolutionStrategyEmitter&>(sa.emitter(e)).restarts();
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(c, sc));
+  EXPECT_EQ(checkpoint_bytes(a, sa), checkpoint_bytes(c, sc));
   EXPECT_GT(restarts, 0);  // the continuation went through restarts, which draw elites
 }
 

@@ -6,9 +6,12 @@
 // outside [-5.12, 5.12] is folded to 5.12 / x_i (so the outer cells are hard to reach), on a
 // 20 x 20 grid over [-25.6, 25.6]^2.
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "qdmeta/archive/grid_archive.hpp"
+#include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 
 namespace qdmeta::test {
@@ -43,6 +46,24 @@ inline void evaluate_sphere(const RowMatrix& x, std::vector<Real>& objectives, R
     measures(r, 0) = static_cast<Real>(first);
     measures(r, 1) = static_cast<Real>(last);
   }
+}
+
+// One ask/tell round of a scheduler on the sphere.
+template <class Scheduler>
+void sphere_step(Scheduler& scheduler, Rng& rng) {
+  std::vector<Real> objectives;
+  RowMatrix measures;
+  evaluate_sphere(scheduler.ask(rng), objectives, measures);
+  scheduler.tell(objectives, measures);
+}
+
+// The archive's elites and the scheduler's checkpoint, as bytes.
+template <class Scheduler>
+std::string checkpoint_bytes(const GridArchive& archive, const Scheduler& scheduler) {
+  BinaryWriter out;
+  archive.save(out);
+  scheduler.save(out);
+  return out.bytes();
 }
 
 }  // namespace qdmeta::test

@@ -11,10 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "es_objectives.hpp"
 #include "qdmeta/core/error.hpp"
 
 namespace qdmeta {
 namespace {
+
+using test::evaluate;
+using test::sphere;
 
 CmaEsParams unbounded(int n, double x0, double sigma0) {
   CmaEsParams p;
@@ -25,8 +29,6 @@ CmaEsParams unbounded(int n, double x0, double sigma0) {
   p.bounds = CmaBoundsHandling::kNone;
   return p;
 }
-
-double sphere(const Eigen::VectorXd& x) { return x.squaredNorm(); }
 
 double ellipsoid(const Eigen::VectorXd& x) {  // condition number 1e6
   double f = 0.0;
@@ -43,13 +45,6 @@ double rosenbrock(const Eigen::VectorXd& x) {
     f += 100.0 * std::pow(x(i + 1) - x(i) * x(i), 2) + std::pow(1.0 - x(i), 2);
   }
   return f;
-}
-
-Eigen::VectorXd evaluate(const Eigen::MatrixXd& x,
-                         const std::function<double(const Eigen::VectorXd&)>& f) {
-  Eigen::VectorXd values(x.cols());
-  for (Eigen::Index k = 0; k < x.cols(); ++k) values(k) = f(x.col(k));
-  return values;
 }
 
 // Runs until the best value of a generation is below 1e-8; returns the evaluations used

@@ -11,8 +11,8 @@
 namespace qdmeta {
 namespace {
 
-constexpr Index kGenes = 3;
-constexpr Index kBase = 2;
+constexpr Index kRowGenes = 3;
+constexpr Index kRowBase = 2;
 
 // Row number i has genes (i, i + 0.25, i + 0.5), base features (-i, -i - 0.5), fitness 10 i.
 struct Row {
@@ -35,8 +35,12 @@ void insert_rows(Database& db, Index first, Index count) {
 // Rank `rank` of `db` holds row number `number`.
 void expect_row(const Database& db, Index rank, Index number) {
   const Row r = row_number(number);
-  for (Index k = 0; k < kGenes; ++k) EXPECT_EQ(db.genotype(rank)[k], r.genes[static_cast<std::size_t>(k)]) << rank;
-  for (Index k = 0; k < kBase; ++k) EXPECT_EQ(db.base_features(rank)[k], r.base[static_cast<std::size_t>(k)]) << rank;
+  for (Index k = 0; k < kRowGenes; ++k) {
+    EXPECT_EQ(db.genotype(rank)[k], r.genes[static_cast<std::size_t>(k)]) << rank;
+  }
+  for (Index k = 0; k < kRowBase; ++k) {
+    EXPECT_EQ(db.base_features(rank)[k], r.base[static_cast<std::size_t>(k)]) << rank;
+  }
   EXPECT_EQ(db.fitness(rank), r.fitness) << rank;
 }
 
@@ -53,7 +57,7 @@ void expect_segments_cover(const Database& db) {
       EXPECT_EQ(seg.genotype(i), db.genotype(rank));
       EXPECT_EQ(seg.base_row(i), db.base_features(rank));
       EXPECT_EQ(seg.fitness[i], db.fitness(rank));
-      EXPECT_EQ(seg.genotypes + i * kGenes, db.genotype(rank));  // contiguous
+      EXPECT_EQ(seg.genotypes + i * kRowGenes, db.genotype(rank));  // contiguous
     }
     next_rank += seg.count;
   }
@@ -72,7 +76,7 @@ TEST(DatabaseParams, DefaultsAndValidation) {
 }
 
 TEST(Database, EmptyHasNoRowsAndNoSegments) {
-  const Database db(10, kGenes, kBase);
+  const Database db(10, kRowGenes, kRowBase);
   EXPECT_EQ(db.size(), 0);
   EXPECT_TRUE(db.empty());
   EXPECT_EQ(db.capacity(), 10);
@@ -82,7 +86,7 @@ TEST(Database, EmptyHasNoRowsAndNoSegments) {
 }
 
 TEST(Database, PartialFillKeepsInsertionOrder) {
-  Database db(10, kGenes, kBase);
+  Database db(10, kRowGenes, kRowBase);
   insert_rows(db, 0, 7);
   EXPECT_EQ(db.size(), 7);
   EXPECT_EQ(db.total_inserted(), 7);
@@ -95,7 +99,7 @@ TEST(Database, PartialFillKeepsInsertionOrder) {
 
 TEST(Database, KeepsExactlyTheNewestRowsInOrder) {
   const Index n = 8;
-  Database db(n, kGenes, kBase);
+  Database db(n, kRowGenes, kRowBase);
   insert_rows(db, 0, n * 5 / 2);  // 2.5 N
   EXPECT_EQ(db.size(), n);
   EXPECT_EQ(db.total_inserted(), n * 5 / 2);
@@ -106,7 +110,7 @@ TEST(Database, KeepsExactlyTheNewestRowsInOrder) {
 
 TEST(Database, SegmentsCoverTheStoredRowsAtEveryFill) {
   const Index n = 5;
-  Database db(n, kGenes, kBase);
+  Database db(n, kRowGenes, kRowBase);
   for (Index inserted = 0; inserted <= 3 * n; ++inserted) {
     SCOPED_TRACE("after " + std::to_string(inserted) + " inserts");
     EXPECT_EQ(db.size(), std::min(inserted, n));
@@ -120,7 +124,7 @@ TEST(Database, SegmentsCoverTheStoredRowsAtEveryFill) {
 }
 
 TEST(Database, CapacityOneKeepsTheLatestRow) {
-  Database db(1, kGenes, kBase);
+  Database db(1, kRowGenes, kRowBase);
   for (Index i = 0; i < 4; ++i) {
     insert_rows(db, i, 1);
     EXPECT_EQ(db.size(), 1);
@@ -131,7 +135,7 @@ TEST(Database, CapacityOneKeepsTheLatestRow) {
 }
 
 TEST(Database, WithoutBaseFeatures) {
-  Database db(3, kGenes, 0);
+  Database db(3, kRowGenes, 0);
   const Real genes[] = {1, 2, 3};
   db.insert(genes, nullptr, 5.0f);
   EXPECT_EQ(db.size(), 1);
@@ -140,15 +144,15 @@ TEST(Database, WithoutBaseFeatures) {
 }
 
 TEST(Database, InsertValidSkipsInvalidRowsInBatchOrder) {
-  Database db(10, kGenes, kBase);
+  Database db(10, kRowGenes, kRowBase);
   const Index count = 6;
-  RowMatrix genotypes(count, kGenes);
+  RowMatrix genotypes(count, kRowGenes);
   EvaluationBatch eval;
-  eval.resize(count, kBase);
+  eval.resize(count, kRowBase);
   for (Index i = 0; i < count; ++i) {
     const Row r = row_number(i);
-    for (Index k = 0; k < kGenes; ++k) genotypes(i, k) = r.genes[static_cast<std::size_t>(k)];
-    for (Index k = 0; k < kBase; ++k) eval.base_features(i, k) = r.base[static_cast<std::size_t>(k)];
+    for (Index k = 0; k < kRowGenes; ++k) genotypes(i, k) = r.genes[static_cast<std::size_t>(k)];
+    for (Index k = 0; k < kRowBase; ++k) eval.base_features(i, k) = r.base[static_cast<std::size_t>(k)];
     eval.fitness[i] = r.fitness;
     eval.valid[static_cast<std::size_t>(i)] = (i % 3 != 1) ? 1 : 0;  // rows 1 and 4 are dead
   }
@@ -160,24 +164,24 @@ TEST(Database, InsertValidSkipsInvalidRowsInBatchOrder) {
 }
 
 TEST(Database, InsertValidChecksSizes) {
-  Database db(10, kGenes, kBase);
-  RowMatrix genotypes(4, kGenes);
+  Database db(10, kRowGenes, kRowBase);
+  RowMatrix genotypes(4, kRowGenes);
   genotypes.setZero();
   EvaluationBatch eval;
-  eval.resize(3, kBase);
+  eval.resize(3, kRowBase);
   EXPECT_INPUT_ERROR(db.insert_valid(genotypes, eval),
                         "database: batch of 4 genotypes but 3 fitness values, 3 base-feature rows and 3 valid flags");
-  RowMatrix wide(3, kGenes + 1);
+  RowMatrix wide(3, kRowGenes + 1);
   EXPECT_INPUT_ERROR(db.insert_valid(wide, eval), "database: genotypes have 4 genes but the database stores 3");
   EvaluationBatch narrow;
-  narrow.resize(4, kBase - 1);
+  narrow.resize(4, kRowBase - 1);
   EXPECT_INPUT_ERROR(db.insert_valid(genotypes, narrow),
                         "database: evaluations have 1 base features but the database stores 2");
   EXPECT_EQ(db.size(), 0);
 }
 
 TEST(Database, StateRoundTripAndCopiesBehaveAlike) {
-  Database db(6, kGenes, kBase);
+  Database db(6, kRowGenes, kRowBase);
   insert_rows(db, 0, 9);  // wrapped
   const DatabaseState state = db.state();
   EXPECT_EQ(state.genotypes.rows(), 6);
@@ -206,7 +210,7 @@ TEST(Database, StateRoundTripAndCopiesBehaveAlike) {
 }
 
 TEST(Database, StateOfPartialFillAndBadStates) {
-  Database db(10, kGenes, kBase);
+  Database db(10, kRowGenes, kRowBase);
   insert_rows(db, 0, 3);
   DatabaseState state = db.state();
   Database restored(state);
@@ -229,7 +233,7 @@ TEST(Database, StateOfPartialFillAndBadStates) {
 }
 
 TEST(Database, ClearForgetsRowsButCountsInserts) {
-  Database db(4, kGenes, kBase);
+  Database db(4, kRowGenes, kRowBase);
   insert_rows(db, 0, 6);
   db.clear();
   EXPECT_EQ(db.size(), 0);

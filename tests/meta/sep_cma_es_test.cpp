@@ -13,13 +13,17 @@
 #include <numeric>
 #include <vector>
 
+#include "es_objectives.hpp"
 #include "expect_input_error.hpp"
 #include "qdmeta/core/binary_io.hpp"
 
 namespace qdmeta {
 namespace {
 
-CmaEsParams unbounded(int n, int lambda, double x0, double sigma0) {
+using test::evaluate;
+using test::sphere;
+
+CmaEsParams sep_unbounded(int n, int lambda, double x0, double sigma0) {
   CmaEsParams p;
   p.dimension = n;
   p.population_size = lambda;
@@ -29,19 +33,11 @@ CmaEsParams unbounded(int n, int lambda, double x0, double sigma0) {
   return p;
 }
 
-double ellipsoid(const Eigen::VectorXd& x) {  // separable, condition number 1e6
+double separable_ellipsoid(const Eigen::VectorXd& x) {  // separable, condition number 1e6
   const double n = static_cast<double>(x.size());
   double f = 0.0;
   for (Eigen::Index i = 0; i < x.size(); ++i) f += std::pow(1e6, static_cast<double>(i) / (n - 1.0)) * x(i) * x(i);
   return f;
-}
-
-double sphere(const Eigen::VectorXd& x) { return x.squaredNorm(); }
-
-Eigen::VectorXd evaluate(const Eigen::MatrixXd& x, const std::function<double(const Eigen::VectorXd&)>& f) {
-  Eigen::VectorXd values(x.cols());
-  for (Eigen::Index k = 0; k < x.cols(); ++k) values(k) = f(x.col(k));
-  return values;
 }
 
 // The reference: sep-CMA-ES's state and one generation's update, written from the equations
@@ -93,7 +89,7 @@ double max_relative_difference(const Eigen::ArrayXd& a, const Eigen::VectorXd& b
 
 TEST(SepCmaEsReference, SamplesAndUpdatesAsTheEquationsGivenTheSameNormals) {
   const int n = 7, lambda = 10;
-  SepCmaEs sep(unbounded(n, lambda, 0.3, 0.5));
+  SepCmaEs sep(sep_unbounded(n, lambda, 0.3, 0.5));
   Reference ref{Eigen::ArrayXd::Constant(n, 0.3), Eigen::ArrayXd::Ones(n), Eigen::ArrayXd::Zero(n),
                 Eigen::ArrayXd::Zero(n), 0.5};
   // A fixed, seed-free stream of "normals"; the ellipsoid gives C an unequal diagonal.
@@ -108,7 +104,7 @@ TEST(SepCmaEsReference, SamplesAndUpdatesAsTheEquationsGivenTheSameNormals) {
         ASSERT_NEAR(x(i, k), ref.m(i) + ref.sigma * std::sqrt(ref.C(i)) * z, 1e-12 * (1.0 + std::abs(x(i, k))));
       }
     }
-    const Eigen::VectorXd f = evaluate(x, ellipsoid);
+    const Eigen::VectorXd f = evaluate(x, separable_ellipsoid);
     sep.tell(f, CmaObjective::kMinimise);
     ref.update(x, f);
     const SepCmaEsState& s = sep.state();
@@ -125,7 +121,7 @@ TEST(SepCmaEsReference, SamplesAndUpdatesAsTheEquationsGivenTheSameNormals) {
 
 TEST(SepCmaEsStrategy, RatesAreTheFullEsScaledByNPlus2Over3) {
   for (const int n : {1, 2, 10, 100, 1000}) {
-    const CmaEsParams p = unbounded(n, 12, 0.0, 1.0);
+    const CmaEsParams p = sep_unbounded(n, 12, 0.0, 1.0);
     const CmaEsStrategy full = CmaEs(p).strategy();
     const CmaEsStrategy sep = SepCmaEs(p).strategy();
     const double factor = (n + 2.0) / 3.0;
@@ -141,7 +137,7 @@ TEST(SepCmaEsStrategy, RatesAreTheFullEsScaledByNPlus2Over3) {
 
 // Evaluations until the best of a generation is below 1e-8 (max_evaluations if never).
 template <class Es>
-std::int64_t evaluations_to_target(const CmaEsParams& p, const std::function<double(const Eigen::VectorXd&)>& f,
+std::int64_t es_evaluations_to_target(const CmaEsParams& p, const std::function<double(const Eigen::VectorXd&)>& f,
                                    std::uint64_t seed, std::int64_t max_evaluations) {
   Es es(p);
   Rng rng(seed);
@@ -154,10 +150,10 @@ std::int64_t evaluations_to_target(const CmaEsParams& p, const std::function<dou
 }
 
 TEST(SepCmaEsConvergence, SphereAndEllipsoidAt100DimensionsReachTheOptimum) {
-  const CmaEsParams p = unbounded(100, 17, 1.0, 1.0);  // 4 + floor(3 ln 100) = 17
+  const CmaEsParams p = sep_unbounded(100, 17, 1.0, 1.0);  // 4 + floor(3 ln 100) = 17
   for (const std::uint64_t seed : {1, 2, 3}) {
-    EXPECT_LT(evaluations_to_target<SepCmaEs>(p, sphere, seed, 40'000), 40'000) << seed;
-    EXPECT_LT(evaluations_to_target<SepCmaEs>(p, ellipsoid, seed, 150'000), 150'000) << seed;
+    EXPECT_LT(es_evaluations_to_target<SepCmaEs>(p, sphere, seed, 40'000), 40'000) << seed;
+    EXPECT_LT(es_evaluations_to_target<SepCmaEs>(p, separable_ellipsoid, seed, 150'000), 150'000) << seed;
   }
 }
 
@@ -165,10 +161,10 @@ TEST(SepCmaEsConvergence, SeparableEllipsoidTakesFewerEvaluationsThanTheFullEs) 
   // The full ES learns n (n + 1) / 2 covariances at rates ~ 1 / n^2, the separable one n at
   // ~ 1 / n: on the separable ellipsoid the full ES needs more than 3x the evaluations (n = 30
   // keeps the full runs quick; docs/cma_es.md quotes the counts this prints).
-  const CmaEsParams p = unbounded(30, 14, 1.0, 1.0);  // 4 + floor(3 ln 30) = 14
+  const CmaEsParams p = sep_unbounded(30, 14, 1.0, 1.0);  // 4 + floor(3 ln 30) = 14
   for (const std::uint64_t seed : {1, 2}) {
-    const std::int64_t sep = evaluations_to_target<SepCmaEs>(p, ellipsoid, seed, 40'000);
-    const std::int64_t full = evaluations_to_target<CmaEs>(p, ellipsoid, seed, 200'000);
+    const std::int64_t sep = es_evaluations_to_target<SepCmaEs>(p, separable_ellipsoid, seed, 40'000);
+    const std::int64_t full = es_evaluations_to_target<CmaEs>(p, separable_ellipsoid, seed, 200'000);
     std::printf("ellipsoid n = 30, lambda = 14, seed %d: separable %lld, full %lld evaluations\n",
                 static_cast<int>(seed), static_cast<long long>(sep), static_cast<long long>(full));
     ASSERT_LT(full, 200'000);
@@ -177,12 +173,12 @@ TEST(SepCmaEsConvergence, SeparableEllipsoidTakesFewerEvaluationsThanTheFullEs) 
 }
 
 TEST(SepCmaEsDeterminism, SameSeedSameBitsAndCheckpointsContinueToTheSameBits) {
-  const CmaEsParams p = unbounded(20, 8, 0.2, 0.3);
+  const CmaEsParams p = sep_unbounded(20, 8, 0.2, 0.3);
   SepCmaEs a(p), b(p);
   Rng ra(5), rb(5);
   for (int g = 0; g < 10; ++g) {
-    a.tell(evaluate(a.ask(ra), ellipsoid), CmaObjective::kMinimise);
-    b.tell(evaluate(b.ask(rb), ellipsoid), CmaObjective::kMinimise);
+    a.tell(evaluate(a.ask(ra), separable_ellipsoid), CmaObjective::kMinimise);
+    b.tell(evaluate(b.ask(rb), separable_ellipsoid), CmaObjective::kMinimise);
   }
   EXPECT_TRUE(a.state() == b.state());
   a.ask(ra);  // a pending ask is part of the checkpoint
@@ -195,8 +191,8 @@ TEST(SepCmaEsDeterminism, SameSeedSameBitsAndCheckpointsContinueToTheSameBits) {
   EXPECT_TRUE(resumed.state() == a.state());
   Rng rr = ra;
   for (int g = 0; g < 10; ++g) {
-    a.tell(evaluate(a.state().samples, ellipsoid), CmaObjective::kMinimise);
-    resumed.tell(evaluate(resumed.state().samples, ellipsoid), CmaObjective::kMinimise);
+    a.tell(evaluate(a.state().samples, separable_ellipsoid), CmaObjective::kMinimise);
+    resumed.tell(evaluate(resumed.state().samples, separable_ellipsoid), CmaObjective::kMinimise);
     a.ask(ra);
     resumed.ask(rr);
   }
@@ -209,7 +205,7 @@ TEST(SepCmaEsDeterminism, SameSeedSameBitsAndCheckpointsContinueToTheSameBits) {
 }
 
 TEST(SepCmaEsRanked, HalfTheBatchAsParentsIsTellBitForBitAndZeroOnlyClosesTheAsk) {
-  const CmaEsParams p = unbounded(6, 10, 0.4, 0.3);  // even: ln((lambda + 1) / 2) = ln(mu + 1/2)
+  const CmaEsParams p = sep_unbounded(6, 10, 0.4, 0.3);  // even: ln((lambda + 1) / 2) = ln(mu + 1/2)
   SepCmaEs told(p), ranked(p), closed(p);
   Rng r1(3), r2(3), r3(3);
   for (int g = 0; g < 8; ++g) {
@@ -231,7 +227,7 @@ TEST(SepCmaEsRanked, HalfTheBatchAsParentsIsTellBitForBitAndZeroOnlyClosesTheAsk
 }
 
 TEST(SepCmaEsBounds, ClampKeepsEveryCandidateInside) {
-  CmaEsParams p = unbounded(50, 10, 0.5, 2.0);
+  CmaEsParams p = sep_unbounded(50, 10, 0.5, 2.0);
   p.bounds = CmaBoundsHandling::kClamp;
   p.lower_bound = 0.0;
   p.upper_bound = 1.0;
@@ -244,7 +240,7 @@ TEST(SepCmaEsBounds, ClampKeepsEveryCandidateInside) {
 }
 
 TEST(SepCmaEsProtocol, RefusesMisuseAndTheFullEsOnlySettings) {
-  CmaEsParams p = unbounded(3, 4, 0.0, 1.0);
+  CmaEsParams p = sep_unbounded(3, 4, 0.0, 1.0);
   SepCmaEs sep(p);
   EXPECT_INPUT_ERROR(sep.tell(Eigen::VectorXd::Zero(4), CmaObjective::kMinimise),
                      "SepCmaEs::tell: called without a pending ask; call ask() first");
@@ -259,11 +255,11 @@ TEST(SepCmaEsProtocol, RefusesMisuseAndTheFullEsOnlySettings) {
   p.rank_one = CmaRankOne::kPyribs;
   EXPECT_INPUT_ERROR(SepCmaEs{p}, "CmaEsParams.rank_one = pyribs is not available in the separable CMA-ES: only "
                                   "tutorial");
-  p = unbounded(3, 1, 0.0, 1.0);
+  p = sep_unbounded(3, 1, 0.0, 1.0);
   p.small_population = CmaSmallPopulation::kAuthors;
   EXPECT_INPUT_ERROR(SepCmaEs{p},
                      "CmaEsParams.small_population = authors is not available in the separable CMA-ES: use one-one");
-  SepCmaEsState bad = SepCmaEs(unbounded(3, 4, 0.0, 1.0)).state();
+  SepCmaEsState bad = SepCmaEs(sep_unbounded(3, 4, 0.0, 1.0)).state();
   bad.C(1) = 0.0;
   EXPECT_INPUT_ERROR(sep.set_state(bad), "SepCmaEs::set_state: C has entries <= 0 or not finite");
 }

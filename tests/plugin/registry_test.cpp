@@ -12,7 +12,7 @@
 namespace qdmeta {
 namespace {
 
-using Names = std::vector<std::string>;
+using NameList = std::vector<std::string>;
 
 TEST(Registry, KeepsRegistrationOrderAndReplacesInPlace) {
   Registry<int> r;
@@ -21,7 +21,7 @@ TEST(Registry, KeepsRegistrationOrderAndReplacesInPlace) {
   r.add("a", 2);
   r.add("c", 3);
   r.add("b", 10);  // replaced, keeps its place
-  EXPECT_EQ(r.names(), (Names{"b", "a", "c"}));
+  EXPECT_EQ(r.names(), (NameList{"b", "a", "c"}));
   EXPECT_EQ(*r.find("b"), 10);
   EXPECT_EQ(r.find("d"), nullptr);
   EXPECT_TRUE(r.contains("a"));
@@ -42,41 +42,41 @@ TEST(Registry, AFoundPluginIsASnapshot) {
 }
 
 TEST(Registry, UpdateEditsACopyAndSwapsItInOnlyWhenSomethingChanged) {
-  Registry<Names> r;
-  r.add("t", Names{"k1"});
+  Registry<NameList> r;
+  r.add("t", NameList{"k1"});
   const auto before = r.find("t");
-  EXPECT_TRUE(r.update("t", [](Names& kinds) {
+  EXPECT_TRUE(r.update("t", [](NameList& kinds) {
     kinds.push_back("k2");
     return true;
   }));
-  EXPECT_EQ(*before, Names{"k1"});
-  EXPECT_EQ(*r.find("t"), (Names{"k1", "k2"}));
+  EXPECT_EQ(*before, NameList{"k1"});
+  EXPECT_EQ(*r.find("t"), (NameList{"k1", "k2"}));
   const auto after = r.find("t");
-  EXPECT_FALSE(r.update("t", [](Names& kinds) {
+  EXPECT_FALSE(r.update("t", [](NameList& kinds) {
     kinds.clear();  // a change the edit disowns: not applied
     return false;
   }));
   EXPECT_EQ(r.find("t").get(), after.get());
-  EXPECT_FALSE(r.update("absent", [](Names&) { return true; }));
-  EXPECT_EQ(r.names(), Names{"t"});
+  EXPECT_FALSE(r.update("absent", [](NameList&) { return true; }));
+  EXPECT_EQ(r.names(), NameList{"t"});
 }
 
 TEST(Registry, UnavailableNamesGiveWayToARegisteredPlugin) {
   Registry<int> r;
   r.add_unavailable("rhex", "needs DART");
   r.add_unavailable("other", "needs X");
-  EXPECT_EQ(r.unavailable_names(), (Names{"other", "rhex"}));
+  EXPECT_EQ(r.unavailable_names(), (NameList{"other", "rhex"}));
   EXPECT_EQ(r.why_unavailable("rhex"), "needs DART");
   EXPECT_EQ(r.why_unavailable("nothing"), "");
   r.add("rhex", 1);
-  EXPECT_EQ(r.unavailable_names(), Names{"other"});
-  EXPECT_TRUE(r.names() == Names{"rhex"});
+  EXPECT_EQ(r.unavailable_names(), NameList{"other"});
+  EXPECT_TRUE(r.names() == NameList{"rhex"});
 }
 
 // Registrations and lookups from several threads at once leave every name registered once.
 TEST(Registry, ConcurrentRegistrationsAreAllKept) {
   Registry<int> r;
-  Names names;
+  NameList names;
   for (int i = 0; i < 50; ++i) names.push_back(std::string("n").append(std::to_string(i)));
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t)

@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 constexpr std::string_view kConfig = "algorithm = \"map-elites\"\n[budget]\nevaluations = 2000\n";
 constexpr std::size_t kMagicBytes = 18;
 
-fs::path fresh_dir(const std::string& name) {
+fs::path fresh_checkpoint_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("qdmeta_checkpoint_test_" + std::to_string(getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -88,7 +88,7 @@ void forge_version(const fs::path& dir, const std::string& version) {
 }
 
 TEST(Checkpoint, OnlyThisProgramsVersionResumes) {
-  const fs::path dir = fresh_dir("version");
+  const fs::path dir = fresh_checkpoint_dir("version");
   checkpointed_run(dir);
   const std::string good = slurp(dir / kCheckpointFile);
   EXPECT_NO_THROW(read_back(dir));
@@ -107,7 +107,7 @@ TEST(Checkpoint, OnlyThisProgramsVersionResumes) {
 // 0.2.0 changed the API (CHANGELOG.md), not what a run draws: a 0.1.0 checkpoint resumes.
 TEST(Checkpoint, AVersionListedAsContinuedResumes) {
   ASSERT_NE(std::string(kVersion), "0.1.0");
-  const fs::path dir = fresh_dir("listed-version");
+  const fs::path dir = fresh_checkpoint_dir("listed-version");
   checkpointed_run(dir);
   forge_version(dir, "0.1.0");
   EXPECT_NO_THROW(read_back(dir));
@@ -126,7 +126,7 @@ void forge_value(const fs::path& dir, Real value, Real by) {
 }
 
 TEST(Checkpoint, ARestoredArchiveIsValueCheckedAsAdaptChecksArchiveCsv) {
-  const fs::path dir = fresh_dir("values");
+  const fs::path dir = fresh_checkpoint_dir("values");
   const EliteTable elites = checkpointed_run(dir);
   ASSERT_GT(elites.size(), 0);
   const std::string good = slurp(dir / kCheckpointFile);

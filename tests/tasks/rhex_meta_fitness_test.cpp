@@ -19,7 +19,7 @@ using rhex::DamageType;
 using rhex::ObstacleCourse;
 using rhex::RhexEnvironment;
 
-RhexParams short_params() {
+RhexParams short_meta_params() {
   RhexParams p;
   p.episode.duration = 0.5;
   p.episode.settle_steps = 200;
@@ -57,7 +57,7 @@ TEST(RhexMetaFitness, DrawsDistinctTrainingSets) {
 TEST(RhexMetaFitness, IsTheMeanDistanceOverSolutionsAndEnvironments) {
   const std::vector<RhexEnvironment> envs{RhexEnvironment::damaged(DamageType::kLegRemoval, 1),
                                           RhexEnvironment::obstacle(ObstacleCourse::kStairs)};
-  const RhexTask task(short_params());
+  const RhexTask task(short_meta_params());
   const RhexMetaFitness meta("rhex-test", {}, task, envs);
   const RowMatrix elites = two_elites();
   double expected = 0.0;

@@ -22,7 +22,8 @@ struct Column {
   std::string_view name;
   Cell (*value)(const Record&);
   // Its key in a JSON summary, where that differs from `name` (empty: `name`).
-  std::string_view summary_key = {};
+  // (from "" rather than {}: GCC 12 left the default constructor undefined in the unity-built io_test)
+  std::string_view summary_key = "";
   std::string_view key() const { return summary_key.empty() ? name : summary_key; }
 };
 
