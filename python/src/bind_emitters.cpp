@@ -49,8 +49,9 @@ Rng emitter_stream(py::handle seed) {
   return Rng::stream(value, {kEmitterStream});
 }
 
-// An integer argument (numpy's too) of at least `minimum`, else a one-line error naming it.
-int integer_argument(py::handle value, const char* name, int minimum) {
+// An integer argument (numpy's too) in the range of `param` (the config key's, core/params.hpp),
+// else a one-line error naming the argument.
+int integer_argument(py::handle value, const char* name, const IntParam& param) {
   const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
   if (!index) {
     PyErr_Clear();
@@ -59,9 +60,9 @@ int integer_argument(py::handle value, const char* name, int minimum) {
   }
   int overflow = 0;
   const long long v = PyLong_AsLongLongAndOverflow(index.ptr(), &overflow);
-  if (overflow != 0 || v < minimum || v > std::numeric_limits<int>::max())
+  if (overflow != 0 || v < param.lo || v > param.hi)
     throw InputError(fmt::format("{} = {} is invalid: must be an integer in [{}, {}]", name,
-                                 py::str(index).cast<std::string>(), minimum, std::numeric_limits<int>::max()));
+                                 py::str(index).cast<std::string>(), param.lo, param.hi));
   return static_cast<int>(v);
 }
 
@@ -93,7 +94,7 @@ std::string es_name(const std::string& name) {
 // restart_rule: "no_improvement", "basic" or an integer n (restart every n iterations).
 std::pair<std::string, int> restart_rule(py::handle rule) {
   if (!py::isinstance<py::str>(rule) && !py::isinstance<py::bool_>(rule) && PyIndex_Check(rule.ptr()))
-    return {"every-n", integer_argument(rule, "restart_rule", 1)};
+    return {"every-n", integer_argument(rule, "restart_rule", EvolutionStrategyEmitterParams::kRestartEvery)};
   const std::string name = py::str(rule).cast<std::string>();
   if (py::isinstance<py::str>(rule) && name == "no_improvement") return {"no-improvement", 0};
   if (py::isinstance<py::str>(rule) && name == "basic") return {"basic", 0};
@@ -102,7 +103,7 @@ std::pair<std::string, int> restart_rule(py::handle rule) {
 }
 
 int batch_size_argument(py::handle batch_size, int otherwise) {
-  return batch_size.is_none() ? otherwise : integer_argument(batch_size, "batch_size", 1);
+  return batch_size.is_none() ? otherwise : integer_argument(batch_size, "batch_size", kEmitterBatchSize);
 }
 
 // pyribs's bounds (one (lower, upper) pair per gene, or None); qdmeta's emitters clamp every gene

@@ -164,12 +164,10 @@ TEST(CmaMae, GaussianAndIsoLineKindsMakeThoseEmittersWithTheSharedSettings) {
 
   p.kind = EmitterKind::kGaussian;
   p.sigma = 0.0;
-  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
-                     "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p), "emitters.sigma = 0 is out of range: must be a positive number");
   p.kind = EmitterKind::kIsoLine;
   p.iso_sigma = -1.0;
-  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
-                     "IsoLineEmitterParams.iso_sigma = -1 is invalid: must be finite and >= 0");
+  EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p), "emitters.iso_sigma = -1 is out of range: must be a number >= 0");
   p.kind = static_cast<EmitterKind>(7);
   EXPECT_INPUT_ERROR(make(cma_mae_rastrigin(), p),
                      "CmaMaeParams.kind = 7 is invalid: must be one of evolution-strategy, gaussian, iso-line");

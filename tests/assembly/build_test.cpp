@@ -4,6 +4,7 @@
 
 #include "expect_input_error.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -230,6 +231,18 @@ TEST(BuildRun, MutationStepThatDoesNotDivideOneNamesTheFile) {
   const std::string msg = input_error_message([&] { build_run(cfg, "case.toml", {}); });
   EXPECT_TRUE(contains(msg, "mutation.step = 0.3")) << msg;
   EXPECT_TRUE(msg.starts_with("case.toml: ")) << msg;
+}
+
+// meta_fitness.dimension_count is read up to its declared 10^4 and then held to the task's N.
+TEST(BuildRun, DimensionCountAboveTheGenotypeSizeNamesTheKey) {
+  const auto config = [](int count) {
+    return toml::parse(fmt::format("algorithm = \"qd-meta\"\n[task]\ndimensions = 4\n[meta_fitness]\n"
+                                   "kind = \"dimension\"\ndimension_count = {}\n",
+                                   count));
+  };
+  EXPECT_NO_THROW(build_run(config(4), "case.toml", {}));
+  EXPECT_EQ(input_error_message([&] { build_run(config(5), "case.toml", {}); }),
+            "case.toml: meta_fitness.dimension_count = 5 is out of range: must be in [1, 4]");
 }
 
 }  // namespace

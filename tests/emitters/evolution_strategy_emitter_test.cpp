@@ -125,18 +125,18 @@ TEST(EvolutionStrategyEmitter, ConvergedOnConditionNumberAndWidth) {
 TEST(EvolutionStrategyEmitter, RefusesBadSettingsNamingTheKey) {
   auto p = es_emitter_params();
   p.batch_size = 0;
-  EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.batch_size = 0 is out of range: must be at least 1");
+  EXPECT_INPUT_ERROR(p.validate(), "emitters.batch_size = 0 is out of range: must be in [1, 1000000]");
   p = es_emitter_params();
   p.sigma0 = 0.0;
-  EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.sigma0 = 0 is invalid: must be finite and > 0");
+  EXPECT_INPUT_ERROR(p.validate(), "emitters.sigma0 = 0 is out of range: must be a positive number");
   p.sigma0 = -1.0;
   EXPECT_INPUT_ERROR(EvolutionStrategyEmitter(p, quarter),
-                     "EvolutionStrategyEmitterParams.sigma0 = -1 is invalid: must be finite and > 0");
+                     "emitters.sigma0 = -1 is out of range: must be a positive number");
   p = es_emitter_params();
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "EvolutionStrategyEmitterParams.x0 is empty: give the first mean, one value per gene");
   EXPECT_INPUT_ERROR(es_emitter_params(EmitterRestart::kEveryN, 0).validate(),
-                     "EvolutionStrategyEmitterParams.restart_every = 0 is out of range: must be at least 1");
+                     "emitters.restart_every = 0 is out of range: must be in [1, 1000000000]");
   EvolutionStrategyEmitter e(es_emitter_params(), quarter);
   EXPECT_INPUT_ERROR(tell_with(e, RowMatrix::Zero(kBatch, 3), 1),
                      "EvolutionStrategyEmitter::tell: called without a pending ask; call ask() first");

@@ -54,10 +54,10 @@ TEST(GaussianEmitter, ClampsToFiniteBounds) {
 TEST(GaussianEmitter, RefusesBadSettingsNamingTheKey) {
   auto p = gaussian_params();
   p.sigma = 0.0;
-  EXPECT_INPUT_ERROR(p.validate(), "GaussianEmitterParams.sigma = 0 is invalid: must be finite and > 0");
+  EXPECT_INPUT_ERROR(p.validate(), "emitters.sigma = 0 is out of range: must be a positive number");
   p = gaussian_params();
   p.batch_size = 0;
-  EXPECT_INPUT_ERROR(GaussianEmitter(p, {}), "GaussianEmitterParams.batch_size = 0 is out of range: must be at least 1");
+  EXPECT_INPUT_ERROR(GaussianEmitter(p, {}), "emitters.batch_size = 0 is out of range: must be in [1, 1000000]");
   p = gaussian_params();
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "GaussianEmitterParams.x0 is empty: give the first parent, one value per gene");

@@ -106,11 +106,11 @@ TEST(IsoLineEmitter, StartsFromX0AndClampsToTheBounds) {
 
 TEST(IsoLineEmitter, RefusesBadSettingsNamingTheKey) {
   auto p = iso_line_params(-0.1, 0.2, 1);
-  EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.iso_sigma = -0.1 is invalid: must be finite and >= 0");
+  EXPECT_INPUT_ERROR(p.validate(), "emitters.iso_sigma = -0.1 is out of range: must be a number >= 0");
   p = iso_line_params(0.1, NAN, 1);
-  EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.line_sigma = nan is invalid: must be finite and >= 0");
+  EXPECT_INPUT_ERROR(p.validate(), "emitters.line_sigma = nan is out of range: must be a number >= 0");
   p = iso_line_params(0.1, 0.2, 0);
-  EXPECT_INPUT_ERROR(IsoLineEmitter(p, {}), "IsoLineEmitterParams.batch_size = 0 is out of range: must be at least 1");
+  EXPECT_INPUT_ERROR(IsoLineEmitter(p, {}), "emitters.batch_size = 0 is out of range: must be in [1, 1000000]");
   p = iso_line_params(0.1, 0.2, 1);
   p.x0.clear();
   EXPECT_INPUT_ERROR(p.validate(), "IsoLineEmitterParams.x0 is empty: give the first parent, one value per gene");

@@ -29,6 +29,9 @@
 #include "qdmeta/control/state_tree.hpp"
 #include "qdmeta/core/mutation.hpp"
 #include "qdmeta/emitters/cell_thresholds.hpp"
+#include "qdmeta/emitters/evolution_strategy_emitter.hpp"
+#include "qdmeta/emitters/gaussian_emitter.hpp"
+#include "qdmeta/emitters/iso_line_emitter.hpp"
 #include "qdmeta/tasks/rastrigin/meta_fitness.hpp"
 #include "qdmeta/tasks/rastrigin/rastrigin_task.hpp"
 #ifdef QDMETA_TEST_RHEX
@@ -66,6 +69,7 @@ std::vector<Probe> every_declared_parameter() {
   using UA = UnstructuredArchiveParams;
   using ST = StateTreeParams;
   using SP = SarsaParams;
+  using ESE = EvolutionStrategyEmitterParams;
   std::vector<Probe> probes = {
       probe<MapElitesParams>(MapElitesParams::kBatchSize, [](auto& p, double v) { p.batch_size = static_cast<Index>(v); }),
       probe<MapElitesParams>(MapElitesParams::kInitialPopulation,
@@ -143,12 +147,32 @@ std::vector<Probe> every_declared_parameter() {
       probe<MutationParams>(MutationParams::kIsoSigma, [](auto& p, double v) { p.kind = MutationKind::kIsoLine, p.iso_sigma = v; }),
       probe<MutationParams>(MutationParams::kLineSigma, [](auto& p, double v) { p.kind = MutationKind::kIsoLine, p.line_sigma = v; }),
       probe<CmaMaeParams>(CmaMaeParams::kCount, [](auto& p, double v) { p.emitters = static_cast<int>(v); }),
+      // [emitters]: CmaMaeParams checks x0 and each kind's keys through its emitter's struct, which
+      // the Python emitters validate with too. A valid x0 of one gene besides the key probed.
+      probe<CmaMaeParams>(CmaMaeParams::kX0, [](auto& p, double v) { p.emitter.x0 = {v}; }),
+      probe<CmaMaeParams>(kEmitterBatchSize, [](auto& p, double v) { p.emitter.x0 = {0.5}, p.emitter.batch_size = static_cast<int>(v); }),
+      probe<CmaMaeParams>(ESE::kSigma0, [](auto& p, double v) { p.emitter.x0 = {0.5}, p.emitter.sigma0 = v; }),
+      probe<CmaMaeParams>(ESE::kRestartEvery, [](auto& p, double v) {
+        p.emitter.x0 = {0.5}, p.emitter.restart = EmitterRestart::kEveryN, p.emitter.restart_every = static_cast<int>(v);
+      }),
+      probe<CmaMaeParams>(GaussianEmitterParams::kSigma, [](auto& p, double v) {
+        p.emitter.x0 = {0.5}, p.kind = EmitterKind::kGaussian, p.sigma = v;
+      }),
+      probe<CmaMaeParams>(IsoLineEmitterParams::kIsoSigma, [](auto& p, double v) {
+        p.emitter.x0 = {0.5}, p.kind = EmitterKind::kIsoLine, p.iso_sigma = v;
+      }),
+      probe<CmaMaeParams>(IsoLineEmitterParams::kLineSigma, [](auto& p, double v) {
+        p.emitter.x0 = {0.5}, p.kind = EmitterKind::kIsoLine, p.line_sigma = v;
+      }),
       probe<ThresholdParams>(ThresholdParams::kLearningRate, [](auto& p, double v) { p.alpha = v, p.threshold_min = 0.0; }),
       // -inf is CMA-ME's floor, at learning rate 1 only: here the rate is CMA-MAE's.
       probe<ThresholdParams>(ThresholdParams::kThresholdMin, [](auto& p, double v) { p.alpha = 0.5, p.threshold_min = v; }),
       probe<RastriginMetaParams>(RastriginMetaParams::kSampleFraction, [](auto& p, double v) { p.sample_fraction = v; }),
       probe<RastriginMetaParams>(RastriginMetaParams::kTransformRepetitions,
                                  [](auto& p, double v) { p.transform_repetitions = static_cast<int>(v); }),
+      // Its upper bound is the task's N besides (tests/assembly/build_test.cpp).
+      probe<RastriginMetaParams>(RastriginMetaParams::kDimensionCount,
+                                 [](auto& p, double v) { p.dimension_count = static_cast<int>(v); }),
       probe<RastriginParams>(RastriginParams::kDimensions, [](auto& p, double v) { p.dimensions = static_cast<int>(v); }),
       probe<RastriginParams>(RastriginParams::kScoreM, [](auto& p, double v) { p.score_m = v; }),
   };
@@ -247,6 +271,36 @@ TEST(ParamRanges, TheReaderReadsEachWithItsDescriptorsRangeAndMeaning) {
       EXPECT_TRUE(declared.contains(r.key)) << r.key << " is declared but not probed here";
     }
   }
+}
+
+// aurora.hidden, an array: two descriptors, each width's range and the number of layers. The
+// reader reads with both and the autoencoder accepts the ends of both and refuses just outside.
+TEST(ParamRanges, AuroraHiddenIsReadAndCheckedWithItsWidthAndLayerRanges) {
+  using AE = AutoencoderParams;
+  const IntParam width = AE::kHiddenWidth, layers = AE::kHiddenLayers;
+  int read = 0;
+  for (const ConfigKeyRecord& r : keys_the_code_reads()) {
+    if (r.key != "aurora.hidden") continue;
+    ++read;
+    EXPECT_EQ(r.range, fmt::format("{} to {} entries, each {}", layers.lo, layers.hi, range_text(width)));
+  }
+  EXPECT_GT(read, 0) << "aurora.hidden is read by no kind of config";
+  const auto check = [](std::vector<Index> hidden) {
+    AE p;
+    p.hidden = std::move(hidden);
+    return input_error_message([&] { p.validate(); });
+  };
+  EXPECT_EQ(check({width.lo}), "(no InputError)");
+  EXPECT_EQ(check({width.hi}), "(no InputError)");
+  EXPECT_EQ(check({width.lo - 1}), fmt::format("aurora.hidden entry = {} is out of range: must be in [{}, {}]",
+                                               width.lo - 1, width.lo, width.hi));
+  EXPECT_EQ(check({width.hi + 1}), fmt::format("aurora.hidden entry = {} is out of range: must be in [{}, {}]",
+                                               width.hi + 1, width.lo, width.hi));
+  EXPECT_EQ(check(std::vector<Index>(static_cast<std::size_t>(layers.hi), 1)), "(no InputError)");
+  EXPECT_EQ(check(std::vector<Index>(static_cast<std::size_t>(layers.hi + 1), 1)),
+            fmt::format("aurora.hidden has {} entries: must have between {} and {}", layers.hi + 1, layers.lo, layers.hi));
+  ASSERT_EQ(layers.lo, 1);  // fewer than one layer is the "empty" message
+  EXPECT_EQ(check({}), "aurora.hidden is empty: give at least one hidden layer width");
 }
 
 }  // namespace

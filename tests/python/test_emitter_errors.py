@@ -29,13 +29,14 @@ def test_the_archives_threshold_arguments_are_checked(named, message):
 
 
 EMITTER_ERRORS = [
-    (dict(batch_size=0), r"^batch_size = 0 is invalid: must be an integer in \[1, 2147483647\]$"),
-    (dict(sigma0=0.0), r"sigma0 = 0 is invalid: must be finite and > 0$"),
-    (dict(sigma0=-1.0), r"sigma0 = -1 is invalid"),
+    (dict(batch_size=0), r"^batch_size = 0 is invalid: must be an integer in \[1, 1000000\]$"),
+    (dict(batch_size=10**6 + 1), r"^batch_size = 1000001 is invalid: must be an integer in \[1, 1000000\]$"),
+    (dict(sigma0=0.0), r"^emitters\.sigma0 = 0 is out of range: must be a positive number$"),
+    (dict(sigma0=-1.0), r"^emitters\.sigma0 = -1 is out of range"),
     (dict(x0=np.zeros(3)), r"^x0 has 3 values; the archive's solution_dim is 10$"),
     (dict(ranker="nov"), r"^ranker = 'nov' is not one of imp, 2imp, obj, 2obj, rd, 2rd$"),
     (dict(restart_rule="never"), r"^restart_rule = 'never' is not 'no_improvement', 'basic' or an integer >= 1$"),
-    (dict(restart_rule=0), r"^restart_rule = 0 is invalid: must be an integer in \[1, 2147483647\]$"),
+    (dict(restart_rule=0), r"^restart_rule = 0 is invalid: must be an integer in \[1, 1000000000\]$"),
     (dict(restart_rule=True), r"^restart_rule = True is not 'no_improvement', 'basic' or an integer >= 1$"),
     (dict(selection_rule="best"), r"^selection_rule = 'best' is not 'filter' or 'mu'$"),
     (dict(es="lm_ma_es"), r"^es = 'lm_ma_es' is not 'cma_es' or 'sep_cma_es' \(qdmeta has no other evolution strategy\)$"),
@@ -62,7 +63,7 @@ def test_integer_arguments_of_another_type_are_one_line_type_errors():
 
 def test_the_gaussian_emitters_arguments_are_checked():
     archive = grid()
-    with pytest.raises(qdmeta.InputError, match=r"sigma = 0 is invalid: must be finite and > 0$"):
+    with pytest.raises(qdmeta.InputError, match=r"^emitters\.sigma = 0 is out of range: must be a positive number$"):
         qdmeta.GaussianEmitter(archive, sigma=0.0, x0=np.zeros(DIM))
     with pytest.raises(qdmeta.InputError, match=r"^batch_size = 0 is invalid: must be an integer in \[1, "):
         qdmeta.GaussianEmitter(archive, sigma=1.0, x0=np.zeros(DIM), batch_size=0)

@@ -57,7 +57,7 @@ def test_refuses_bad_arguments_naming_them():
     a = archive()
     with pytest.raises(qdmeta.InputError, match="x0 is None: give the first parent"):
         qdmeta.IsoLineEmitter(a)
-    with pytest.raises(qdmeta.InputError, match="IsoLineEmitterParams.iso_sigma = -1 is invalid"):
+    with pytest.raises(qdmeta.InputError, match=r"^emitters\.iso_sigma = -1 is out of range: must be a number >= 0$"):
         qdmeta.IsoLineEmitter(a, x0=[0.0, 0.0], iso_sigma=-1.0)
     with pytest.raises(qdmeta.InputError, match="x0 has 3 values; the archive's solution_dim is 2"):
         qdmeta.IsoLineEmitter(a, x0=[0.0, 0.0, 0.0])

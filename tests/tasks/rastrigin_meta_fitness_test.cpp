@@ -150,7 +150,8 @@ TEST(RastriginMetaParams, ValidateNamesFieldValueAndRule) {
             "meta_fitness.sample_fraction = nan is out of range: must be in (0, 1]");
   EXPECT_EQ(msg([](auto& p) { p.score_m = 0.0; }), "score_m = 0 is out of range: must be positive and finite");
   EXPECT_EQ(msg([](auto& p) { p.score_m = INFINITY; }), "score_m = inf is out of range: must be positive and finite");
-  EXPECT_EQ(msg([](auto& p) { p.dimension_count = 0; }), "dimension_count = 0 is out of range: must be at least 1");
+  EXPECT_EQ(msg([](auto& p) { p.dimension_count = 0; }),
+            "meta_fitness.dimension_count = 0 is out of range: must be in [1, 10000]");
   EXPECT_EQ(msg([](auto& p) { p.transform_repetitions = -1; }),
             "meta_fitness.transform_repetitions = -1 is out of range: must be in [1, 1000]");
 }

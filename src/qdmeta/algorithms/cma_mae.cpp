@@ -46,6 +46,7 @@ std::string to_string(EmitterKind value) { return std::string(enum_to_string(kEm
 
 void CmaMaeParams::validate() const {
   require(kCount, emitters);
+  for (double gene : emitter.x0) require(kX0, gene);  // before the emitter's own x0 checks
   emitter.validate();
   switch (kind) {
     case EmitterKind::kEvolutionStrategy: break;

@@ -40,6 +40,11 @@ struct CmaMaeParams {
                                    "emitters; each evolution-strategy emitter has its own CMA-ES (15 in the CMA-MAE paper)"};
   int emitters = 15;                       // emitters (kCount)
   EmitterKind kind = EmitterKind::kEvolutionStrategy;
+  // Every gene of the first mean (or parent), as the config gives it: genes live in [0, 1].
+  static constexpr RealParam kX0{"emitters", "x0", 0.0, 1.0, Open::kNone,
+                                 "every gene of the first mean (pyribs's `x0`, one value for all genes); restarts "
+                                 "start from a uniformly drawn elite; the Gaussian and iso+line emitters' parent while "
+                                 "the archive is empty"};
   // kEvolutionStrategy: every emitter's. Every kind takes x0 (one value per gene), batch_size
   // and the gene bounds (lower_bound, upper_bound unless bounds = none) from here.
   EvolutionStrategyEmitterParams emitter;

@@ -14,6 +14,8 @@
 #include "qdmeta/assembly/cvt_centroids.hpp"
 #include "qdmeta/assembly/standard_tables.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/emitters/gaussian_emitter.hpp"
+#include "qdmeta/emitters/iso_line_emitter.hpp"
 #include "qdmeta/featuremap/select_feature_map.hpp"
 #include "qdmeta/plugin/config.hpp"
 
@@ -48,12 +50,12 @@ void refuse_other_kinds_keys(const ConfigReader& e, std::initializer_list<const 
 
 // The evolution-strategy emitters' keys: pyribs's EvolutionStrategyEmitter arguments.
 void read_evolution_strategy_keys(ConfigReader& e, const EmitterDefaults& d, EvolutionStrategyEmitterParams& es) {
-  es.sigma0 = e.number("sigma0", es.sigma0, 0.0, kNoUpper, Open::kLower);
+  es.sigma0 = e.number(EvolutionStrategyEmitterParams::kSigma0, es.sigma0);
   es.ranker = e.choice("ranker", d.ranker, kEmitterRankerNames);
   es.selection = e.choice("selection_rule", d.selection, kEmitterSelectionNames);
   es.restart = e.choice("restart_rule", d.restart, kEmitterRestartNames);
   if (es.restart == EmitterRestart::kEveryN)
-    es.restart_every = static_cast<int>(e.integer("restart_every", 100, 1, 1'000'000'000));
+    es.restart_every = static_cast<int>(e.integer(EvolutionStrategyEmitterParams::kRestartEvery, 100));
   else if (e.has("restart_every"))
     throw InputError(fmt::format("{}: emitters.restart_every applies only to restart_rule = \"every-n\" (here \"{}\")",
                                  e.source(), to_string(es.restart)));
@@ -70,8 +72,8 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
   if (e.has("kind")) p.kind = e.choice("kind", p.kind, kEmitterKindNames);
   p.emitters = static_cast<int>(e.integer(CmaMaeParams::kCount, p.emitters));
   if (e.has("add_mode")) p.add_mode = e.choice("add_mode", p.add_mode, kAddModeNames);
-  es.batch_size = static_cast<int>(e.integer("batch_size", es.batch_size, 1, 1'000'000));
-  es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number("x0", 0.5, 0.0, 1.0));
+  es.batch_size = static_cast<int>(e.integer(kEmitterBatchSize, es.batch_size));
+  es.x0.assign(static_cast<std::size_t>(task.genotype_size()), e.number(CmaMaeParams::kX0, 0.5));
   const auto es_keys = {"sigma0", "ranker", "selection_rule", "restart_rule", "restart_every", "bounds", "es"};
   switch (p.kind) {
     case EmitterKind::kEvolutionStrategy:
@@ -82,14 +84,14 @@ CmaMaeParams read_emitters_table(ConfigReader& e, const Task& task, const Emitte
     case EmitterKind::kGaussian:
       refuse_other_kinds_keys(e, es_keys, p.kind, "\"evolution-strategy\"");
       refuse_other_kinds_keys(e, {"iso_sigma", "line_sigma"}, p.kind, "\"iso-line\"");
-      p.sigma = e.number("sigma", p.sigma, 0.0, kNoUpper, Open::kLower);
+      p.sigma = e.number(GaussianEmitterParams::kSigma, p.sigma);
       es.bounds = CmaBoundsHandling::kClamp;
       break;
     case EmitterKind::kIsoLine:
       refuse_other_kinds_keys(e, es_keys, p.kind, "\"evolution-strategy\"");
       refuse_other_kinds_keys(e, {"sigma"}, p.kind, "\"gaussian\"");
-      p.iso_sigma = e.number("iso_sigma", p.iso_sigma, 0.0, kNoUpper);
-      p.line_sigma = e.number("line_sigma", p.line_sigma, 0.0, kNoUpper);
+      p.iso_sigma = e.number(IsoLineEmitterParams::kIsoSigma, p.iso_sigma);
+      p.line_sigma = e.number(IsoLineEmitterParams::kLineSigma, p.line_sigma);
       es.bounds = CmaBoundsHandling::kClamp;
       break;
   }

@@ -275,7 +275,9 @@ AuroraParams read_aurora_table(ConfigReader& a) {
   p.batch_size = a.integer(AuroraParams::kBatchSize, p.batch_size);
   p.initial_population = a.integer(AuroraParams::kInitialPopulation, p.initial_population);
   p.latent_size = a.integer(AutoencoderParams::kLatentSize, p.latent_size);
-  const auto hidden = a.integers("hidden", std::vector<std::int64_t>(p.hidden.begin(), p.hidden.end()), 1, 100'000, 1, 16);
+  using AE = AutoencoderParams;
+  const auto hidden = a.integers(AE::kHiddenWidth.key, std::vector<std::int64_t>(p.hidden.begin(), p.hidden.end()),
+                                 AE::kHiddenWidth.lo, AE::kHiddenWidth.hi, AE::kHiddenLayers.lo, AE::kHiddenLayers.hi);
   p.hidden.assign(hidden.begin(), hidden.end());
   p.learning_rate = a.number(AutoencoderParams::kLearningRate, p.learning_rate);
   p.max_epochs = static_cast<int>(a.integer(AutoencoderParams::kMaxEpochs, p.max_epochs));

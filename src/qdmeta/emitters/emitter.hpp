@@ -12,6 +12,7 @@
 
 #include "qdmeta/archive/elite_batch.hpp"
 #include "qdmeta/core/binary_io.hpp"
+#include "qdmeta/core/params.hpp"
 #include "qdmeta/core/rng.hpp"
 #include "qdmeta/core/types.hpp"
 #include "qdmeta/emitters/cell_thresholds.hpp"
@@ -26,6 +27,12 @@ struct EmitterResults {
   std::span<const ThresholdOutcome> outcomes;    // status and improvement value per row
   Index rows() const { return solutions.rows; }
 };
+
+// emitters.batch_size, every kind's (docs/config.md): each emitter struct's validate() checks it,
+// and the Python emitters take the same range.
+inline constexpr IntParam kEmitterBatchSize{"emitters", "batch_size", 1, 1'000'000,
+                                            "rows per emitter per step, CMA-ES's lambda (36 in the CMA-MAE paper), "
+                                            "every kind"};
 
 // Writes a uniformly drawn elite's genes into `genes` (solution_size values) and returns true,
 // or returns false when the archive is empty (scheduler.hpp's elite_picker).

@@ -60,13 +60,9 @@ void EvolutionStrategyEmitterParams::validate() const {
   if (x0.empty()) {
     throw InputError("EvolutionStrategyEmitterParams.x0 is empty: give the first mean, one value per gene");
   }
-  if (!std::isfinite(sigma0) || sigma0 <= 0.0) {
-    throw InputError(fmt::format("EvolutionStrategyEmitterParams.sigma0 = {} is invalid: must be finite and > 0", sigma0));
-  }
-  require_at_least("EvolutionStrategyEmitterParams.batch_size", batch_size, 1);
-  if (restart == EmitterRestart::kEveryN) {
-    require_at_least("EvolutionStrategyEmitterParams.restart_every", restart_every, 1);
-  }
+  require(kSigma0, sigma0);
+  require(kEmitterBatchSize, batch_size);
+  if (restart == EmitterRestart::kEveryN) require(kRestartEvery, restart_every);
   if (needs_direction(ranker) && measure_ranges.empty()) {
     throw InputError(fmt::format("EvolutionStrategyEmitterParams.measure_ranges is empty: the {} ranker needs the "
                                  "extent of each measure",

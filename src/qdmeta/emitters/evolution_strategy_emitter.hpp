@@ -53,12 +53,17 @@ EvolutionStrategyKind evolution_strategy_kind_from_string(std::string_view text)
 
 struct EvolutionStrategyEmitterParams {
   std::vector<double> x0;  // the first mean, one value per gene (required)
-  double sigma0 = 0.1;     // CMA-ES's initial step size at the start and at each restart (> 0)
-  int batch_size = 36;     // rows per ask (CMA-ES's lambda, >= 1)
+  static constexpr RealParam kSigma0{"emitters", "sigma0", 0.0, kNoUpper, Open::kLower,
+                                     "CMA-ES's step size at the start and at each restart, in gene units (genes are "
+                                     "in [0, 1])"};
+  static constexpr IntParam kRestartEvery{"emitters", "restart_every", 1, 1'000'000'000,
+                                          "every-n only (refused with another rule): steps between restarts"};
+  double sigma0 = 0.1;     // CMA-ES's initial step size at the start and at each restart (kSigma0)
+  int batch_size = 36;     // rows per ask (CMA-ES's lambda, kEmitterBatchSize)
   EmitterRanker ranker = EmitterRanker::kTwoStageImprovement;
   EmitterSelection selection = EmitterSelection::kFilter;
   EmitterRestart restart = EmitterRestart::kNoImprovement;
-  int restart_every = 0;  // kEveryN: tells between restarts (>= 1); unused otherwise
+  int restart_every = 0;  // kEveryN: tells between restarts (kRestartEvery); unused otherwise
   // Gene bounds, as CMA-ES's (meta/cma_es.hpp); kNone leaves the genes unbounded.
   CmaBoundsHandling bounds = CmaBoundsHandling::kNone;
   double lower_bound = 0.0;

@@ -13,10 +13,8 @@ namespace qdmeta {
 
 void GaussianEmitterParams::validate() const {
   check_x0_and_bounds("GaussianEmitterParams", x0, lower_bound, upper_bound);
-  if (!std::isfinite(sigma) || sigma <= 0.0) {
-    throw InputError(fmt::format("GaussianEmitterParams.sigma = {} is invalid: must be finite and > 0", sigma));
-  }
-  require_at_least("GaussianEmitterParams.batch_size", batch_size, 1);
+  require(kSigma, sigma);
+  require(kEmitterBatchSize, batch_size);
 }
 
 namespace {

@@ -12,8 +12,11 @@ namespace qdmeta {
 
 struct GaussianEmitterParams {
   std::vector<double> x0;  // the parent while the archive is empty, one value per gene (required)
-  double sigma = 0.1;      // SD of the noise on every gene (> 0)
-  int batch_size = 36;     // rows per ask (>= 1)
+  static constexpr RealParam kSigma{"emitters", "sigma", 0.0, kNoUpper, Open::kLower,
+                                    "gaussian only: the noise's SD on every gene, in gene units (pyribs's "
+                                    "GaussianEmitter `sigma`)"};
+  double sigma = 0.1;      // SD of the noise on every gene (kSigma)
+  int batch_size = 36;     // rows per ask (kEmitterBatchSize)
   double lower_bound = -std::numeric_limits<double>::infinity();  // genes are clamped to these
   double upper_bound = std::numeric_limits<double>::infinity();   // (> lower_bound)
   // Throws InputError naming the field, its value and the rule it breaks.

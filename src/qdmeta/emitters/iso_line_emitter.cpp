@@ -13,13 +13,9 @@ namespace qdmeta {
 
 void IsoLineEmitterParams::validate() const {
   check_x0_and_bounds("IsoLineEmitterParams", x0, lower_bound, upper_bound);
-  const auto check_sigma = [](const char* name, double sigma) {
-    if (!std::isfinite(sigma) || sigma < 0.0)
-      throw InputError(fmt::format("IsoLineEmitterParams.{} = {} is invalid: must be finite and >= 0", name, sigma));
-  };
-  check_sigma("iso_sigma", iso_sigma);
-  check_sigma("line_sigma", line_sigma);
-  require_at_least("IsoLineEmitterParams.batch_size", batch_size, 1);
+  require(kIsoSigma, iso_sigma);
+  require(kLineSigma, line_sigma);
+  require(kEmitterBatchSize, batch_size);
 }
 
 namespace {

@@ -13,9 +13,15 @@ namespace qdmeta {
 
 struct IsoLineEmitterParams {
   std::vector<double> x0;  // the parents while the archive is empty, one value per gene (required)
-  double iso_sigma = 0.01;   // SD of the isotropic noise on every gene (>= 0)
-  double line_sigma = 0.2;   // SD of the step along x_j - x_i (>= 0)
-  int batch_size = 64;       // rows per ask (>= 1)
+  static constexpr RealParam kIsoSigma{"emitters", "iso_sigma", 0.0, kNoUpper, Open::kNone,
+                                       "iso-line only: the isotropic noise's SD on every gene (pyribs's "
+                                       "IsoLineEmitter `iso_sigma`)"};
+  static constexpr RealParam kLineSigma{"emitters", "line_sigma", 0.0, kNoUpper, Open::kNone,
+                                        "iso-line only: the SD of the step along the line between two elites "
+                                        "(pyribs's `line_sigma`)"};
+  double iso_sigma = 0.01;   // SD of the isotropic noise on every gene (kIsoSigma)
+  double line_sigma = 0.2;   // SD of the step along x_j - x_i (kLineSigma)
+  int batch_size = 64;       // rows per ask (kEmitterBatchSize)
   double lower_bound = -std::numeric_limits<double>::infinity();  // genes are clamped to these
   double upper_bound = std::numeric_limits<double>::infinity();   // (> lower_bound)
   // Throws InputError naming the field, its value and the rule it breaks.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/params.hpp"
@@ -15,7 +16,10 @@ void AutoencoderParams::validate() const {
   require_range("aurora input size", input_size, Index{1}, Index{1'000'000});
   require(kLatentSize, latent_size);
   if (hidden.empty()) throw InputError("aurora.hidden is empty: give at least one hidden layer width");
-  for (Index h : hidden) require_range("aurora.hidden entry", h, Index{1}, Index{100'000});
+  if (std::cmp_greater(hidden.size(), kHiddenLayers.hi))
+    throw InputError(fmt::format("aurora.hidden has {} entries: must have between {} and {}", hidden.size(),
+                                 kHiddenLayers.lo, kHiddenLayers.hi));
+  for (Index h : hidden) require_range("aurora.hidden entry", h, Index{kHiddenWidth.lo}, Index{kHiddenWidth.hi});
   require(kLearningRate, learning_rate);
   require(kMaxEpochs, max_epochs);
   require(kMaxTrainingRows, max_training_rows);

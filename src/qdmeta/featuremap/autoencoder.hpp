@@ -29,9 +29,13 @@ struct AutoencoderParams {
       "full-batch Adam steps per training at most (early stopping may end it sooner)"};
   static constexpr IntParam kMaxTrainingRows{"aurora", "max_training_rows", 1, 100'000'000,
       "archive rows trained on at most; a larger archive is subsampled uniformly"};
+  // aurora.hidden, an array: the range of each width and of the number of layers. The array is
+  // read with both (ConfigReader::integers) and validate() checks both.
+  static constexpr IntParam kHiddenWidth{"aurora", "hidden", 1, 100'000, "each encoder hidden width"};
+  static constexpr IntParam kHiddenLayers{"aurora", "hidden", 1, 16, "encoder hidden layers"};
   Index input_size = 20;                // inputs per row (N_b), >= 1
   Index latent_size = 2;                // code size, >= 1
-  std::vector<Index> hidden = {32, 8};  // encoder hidden widths, the decoder mirrors them; each >= 1
+  std::vector<Index> hidden = {32, 8};  // encoder hidden widths, the decoder mirrors them (kHiddenWidth, kHiddenLayers)
   double learning_rate = 1e-3;          // Adam step size, > 0
   int max_epochs = 100;                 // full-batch Adam steps per training at most, >= 1
   Index max_training_rows = 10'000;     // larger training sets are subsampled uniformly, >= 1

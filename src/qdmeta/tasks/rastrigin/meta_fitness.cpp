@@ -76,7 +76,7 @@ void RastriginMetaParams::validate() const {
   require(kSampleFraction, sample_fraction);
   if (!(score_m > 0.0 && std::isfinite(score_m)))
     throw InputError(fmt::format("score_m = {} is out of range: must be positive and finite", score_m));
-  require_at_least("dimension_count", dimension_count, 1);
+  require(kDimensionCount, dimension_count);
   require(kTransformRepetitions, transform_repetitions);
 }
 

@@ -29,9 +29,13 @@ struct RastriginMetaParams {
       "fraction of the archive scored, n = max(1, round(fraction x size)), drawn anew each time"};
   static constexpr IntParam kTransformRepetitions{"meta_fitness", "transform_repetitions", 1, 1000,
                                                   "translation: transforms per each of the 8 ranges (16 in all)"};
+  // |J|; at most the task's genotype size besides, which the config reader checks (the one place
+  // that knows it: read_dimension_meta).
+  static constexpr IntParam kDimensionCount{"meta_fitness", "dimension_count", 1, 10'000,
+                                            "dimension: the size of J, dimensions removed one at a time"};
   double sample_fraction = 0.10;                // share of the archive scored (kSampleFraction)
   double score_m = rastrigin::kDefaultScoreM;   // M: per-task scores are M + max(-M, f), M > 0 and finite
-  int dimension_count = 10;                     // |J|: dimensions removed by the Dimension meta-fitness, >= 1
+  int dimension_count = 10;                     // |J|: dimensions removed by the Dimension meta-fitness (kDimensionCount)
   int transform_repetitions = 2;                // Translation: transforms per each of the 8 ranges (kTransformRepetitions)
   bool transform_per_solution = false;          // Translation: a fresh set of transforms per solution (authors' code)
   void validate() const;                        // throws InputError naming the field, value and rule

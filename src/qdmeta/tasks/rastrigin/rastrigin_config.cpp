@@ -40,7 +40,10 @@ RastriginMetaParams read_common(ConfigReader& m, const Task& task) {
 std::unique_ptr<MetaObjective> read_dimension_meta(ConfigReader& m, const Task& task, std::uint64_t seed) {
   RastriginMetaParams p = read_common(m, task);
   const auto n = task.genotype_size();
-  p.dimension_count = static_cast<int>(m.integer("dimension_count", p.dimension_count, 1, n, "1 to N (task.dimensions)"));
+  p.dimension_count = static_cast<int>(m.integer(RastriginMetaParams::kDimensionCount, p.dimension_count));
+  IntParam at_most_genes = RastriginMetaParams::kDimensionCount;  // |J| <= N as well
+  at_most_genes.hi = n;
+  naming_source(m, [&] { require(at_most_genes, p.dimension_count); });
   std::vector<std::int64_t> drawn;
   Rng rng = Rng::stream(seed, {key(StreamKey::kMetaFitness), 0xD1D1});
   for (int d : rastrigin::sample_dimensions(rng, static_cast<int>(n), p.dimension_count)) drawn.push_back(d);

@@ -66,6 +66,8 @@ std::unique_ptr<MetaObjective> read_rhex_meta_fitness(ConfigReader& m, const Tas
       return nullptr;
     });
   };
+  // damage_type_count and course_count keep literal ranges: they land in no params struct (the
+  // meta-fitness takes the drawn environments), so the reader is their only check.
   switch (kind) {
     case RhexMetaKind::kDamage: {
       const auto count = m.integer("damage_type_count", 2, 1, 4);
