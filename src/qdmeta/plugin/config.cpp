@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <sstream>
-#include <stdexcept>
 
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/io/regular_file.hpp"
@@ -114,7 +113,7 @@ const toml::node* ConfigReader::lookup(std::string_view key) {
 
 void ConfigReader::require_table(std::string_view table) const {
   if (table != prefix_)
-    throw std::logic_error(fmt::format("a parameter of [{}] read from the table \"{}\"", table, prefix_));
+    throw Error(fmt::format("a parameter of [{}] read from the table \"{}\" (a programming error)", table, prefix_));
 }
 
 std::int64_t ConfigReader::integer(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi,
