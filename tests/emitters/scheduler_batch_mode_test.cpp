@@ -14,9 +14,11 @@
 namespace qdmeta {
 namespace {
 
+using test::checkpoint_bytes;
 using test::evaluate_sphere;
 using test::kSphereGenes;
 using test::sphere_grid;
+using test::sphere_step;
 
 EvolutionStrategyEmitterParams restarting_emitter_params() {
   EvolutionStrategyEmitterParams p;
@@ -29,22 +31,6 @@ EvolutionStrategyEmitterParams restarting_emitter_params() {
 }
 
 const ThresholdParams kMae{0.05, 0.0};
-
-template <class S>
-void step(S& scheduler, Rng& rng) {
-  std::vector<Real> objectives;
-  RowMatrix measures;
-  evaluate_sphere(scheduler.ask(rng), objectives, measures);
-  scheduler.tell(objectives, measures);
-}
-
-template <class S>
-std::string snapshot(const GridArchive& archive, const S& scheduler) {
-  BinaryWriter out;
-  archive.save(out);
-  scheduler.save(out);
-  return out.bytes();
-}
 
 TEST(SchedulerBatchMode, EachTellIsOfferBatchAgainstTheThresholdsBeforeIt) {
   GridArchive archive(sphere_grid());
@@ -80,14 +66,14 @@ TEST(SchedulerBatchMode, SameSeedSameBitsCheckpointsContinueAndSingleModeDiffers
   Scheduler ss(single, kMae, make_evolution_strategy_emitters(single, p, 3));
   Rng ra(21), rb(21), rs(21);
   for (int i = 0; i < 30; ++i) {
-    step(sa, ra);
-    step(sb, rb);
-    step(ss, rs);
+    sphere_step(sa, ra);
+    sphere_step(sb, rb);
+    sphere_step(ss, rs);
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(b, sb));
-  EXPECT_NE(snapshot(a, sa), snapshot(single, ss));
+  EXPECT_EQ(checkpoint_bytes(a, sa), checkpoint_bytes(b, sb));
+  EXPECT_NE(checkpoint_bytes(a, sa), checkpoint_bytes(single, ss));
 
-  const std::string saved = snapshot(a, sa);
+  const std::string saved = checkpoint_bytes(a, sa);
   GridArchive c(sphere_grid());
   Scheduler sc(c, kMae, make_evolution_strategy_emitters(c, p, 3), AddMode::kBatch);
   BinaryReader in(saved, "test");
@@ -96,10 +82,10 @@ TEST(SchedulerBatchMode, SameSeedSameBitsCheckpointsContinueAndSingleModeDiffers
   in.finish();
   Rng rc = ra;
   for (int i = 0; i < 30; ++i) {
-    step(sa, ra);
-    step(sc, rc);
+    sphere_step(sa, ra);
+    sphere_step(sc, rc);
   }
-  EXPECT_EQ(snapshot(a, sa), snapshot(c, sc));
+  EXPECT_EQ(checkpoint_bytes(a, sa), checkpoint_bytes(c, sc));
 }
 
 // The BanditScheduler passes its add mode to its Scheduler: with every emitter active it is the
@@ -113,8 +99,8 @@ TEST(SchedulerBatchMode, BanditSchedulerWithAllActiveIsTheBatchScheduler) {
   EXPECT_EQ(bandit.scheduler().add_mode(), AddMode::kBatch);
   Rng ra(8), rb(8);
   for (int i = 0; i < 12; ++i) {
-    step(bandit, ra);
-    step(plain, rb);
+    sphere_step(bandit, ra);
+    sphere_step(plain, rb);
   }
   EXPECT_EQ(bandit.thresholds(), plain.thresholds());
   BinaryWriter wa, wb;

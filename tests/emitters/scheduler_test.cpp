@@ -13,6 +13,7 @@
 #include "qdmeta/core/fused.hpp"
 #include "qdmeta/emitters/gaussian_emitter.hpp"
 #include "sphere_problem.hpp"
+#include "threshold_cases.hpp"
 
 namespace qdmeta {
 namespace {
@@ -21,6 +22,7 @@ using test::checkpoint_bytes;
 using test::evaluate_sphere;
 using test::kSphereGenes;
 using test::sphere_grid;
+using test::mae;
 using test::sphere_step;
 
 constexpr int kEmitters = 5;
@@ -34,13 +36,6 @@ EvolutionStrategyEmitterParams emitter_params() {
   p.sigma0 = 0.5;
   p.batch_size = kEmitterBatch;
   return p;
-}
-
-ThresholdParams thresholds(double alpha, double threshold_min) {
-  ThresholdParams t;
-  t.alpha = alpha;
-  t.threshold_min = threshold_min;
-  return t;
 }
 
 double emitter_qd_score(ThresholdParams t, EmitterRanker ranker, std::uint64_t seed) {
@@ -81,7 +76,7 @@ double map_elites_qd_score(std::uint64_t seed) {
 
 TEST(Scheduler, SolutionsAreZeroBeforeTheFirstAskThenTheLastBatch) {
   GridArchive archive(sphere_grid());
-  Scheduler scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 2));
+  Scheduler scheduler(archive, mae(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 2));
   EXPECT_TRUE(scheduler.solutions().isZero(0));
   EXPECT_EQ(scheduler.solutions().rows(), 2 * kEmitterBatch);
   Rng rng(3);
@@ -99,7 +94,7 @@ TEST(Scheduler, GaussianEmittersAtAlphaOneAreMapElitesBitForBit) {
   p.batch_size = kEmitters * kEmitterBatch;
   std::vector<std::unique_ptr<Emitter>> emitters;
   emitters.push_back(std::make_unique<GaussianEmitter>(p, elite_picker(scheduled)));
-  Scheduler scheduler(scheduled, thresholds(1.0, kMinusInf), std::move(emitters));
+  Scheduler scheduler(scheduled, mae(1.0, kMinusInf), std::move(emitters));
   Rng rng(4);
   for (int i = 0; i < kIterations; ++i) sphere_step(scheduler, rng);
   BinaryWriter a, b;
@@ -112,8 +107,8 @@ TEST(Scheduler, GaussianEmittersAtAlphaOneAreMapElitesBitForBit) {
 TEST(Scheduler, CmaMeAndCmaMaeBeatGaussianMapElitesAtEqualEvaluations) {
   for (const std::uint64_t seed : {1u, 2u, 3u}) {
     const double me = map_elites_qd_score(seed);
-    const double cma_me = emitter_qd_score(thresholds(1.0, kMinusInf), EmitterRanker::kTwoStageImprovement, seed);
-    const double cma_mae = emitter_qd_score(thresholds(0.01, 0.0), EmitterRanker::kImprovement, seed);
+    const double cma_me = emitter_qd_score(mae(1.0, kMinusInf), EmitterRanker::kTwoStageImprovement, seed);
+    const double cma_mae = emitter_qd_score(mae(0.01, 0.0), EmitterRanker::kImprovement, seed);
     std::printf("seed %d: MAP-Elites %.1f, CMA-ME %.1f, CMA-MAE %.1f\n", static_cast<int>(seed), me, cma_me, cma_mae);
     EXPECT_GT(cma_me, me) << "seed " << seed;
     EXPECT_GT(cma_mae, me) << "seed " << seed;
@@ -122,7 +117,7 @@ TEST(Scheduler, CmaMeAndCmaMaeBeatGaussianMapElitesAtEqualEvaluations) {
 
 TEST(Scheduler, StacksTheEmittersBatchesAndTellsEachItsOwnRows) {
   GridArchive archive(sphere_grid());
-  Scheduler scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 3));
+  Scheduler scheduler(archive, mae(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 3));
   EXPECT_EQ(scheduler.batch_size(), 3 * kEmitterBatch);
   Rng rng(8);
   std::vector<Real> objectives;
@@ -147,15 +142,15 @@ TEST(Scheduler, StacksTheEmittersBatchesAndTellsEachItsOwnRows) {
 
 TEST(Scheduler, RefusesBadSettingsNamingTheKey) {
   GridArchive archive(sphere_grid());
-  EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.0, kMinusInf), {}),
+  EXPECT_INPUT_ERROR(Scheduler(archive, mae(1.0, kMinusInf), {}),
                      "Scheduler emitters is empty: give at least one emitter");
-  EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.5, 0.0), make_evolution_strategy_emitters(archive, emitter_params(), 1)),
+  EXPECT_INPUT_ERROR(Scheduler(archive, mae(1.5, 0.0), make_evolution_strategy_emitters(archive, emitter_params(), 1)),
                      "archive.learning_rate = 1.5 is out of range: must be in [0, 1]");
   auto p = emitter_params();
   p.x0.assign(3, 0.0);
-  EXPECT_INPUT_ERROR(Scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, p, 2)),
+  EXPECT_INPUT_ERROR(Scheduler(archive, mae(1.0, kMinusInf), make_evolution_strategy_emitters(archive, p, 2)),
                      "Scheduler emitters[0] proposes 3 genes; the archive holds 10");
-  Scheduler scheduler(archive, thresholds(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 1));
+  Scheduler scheduler(archive, mae(1.0, kMinusInf), make_evolution_strategy_emitters(archive, emitter_params(), 1));
   EXPECT_INPUT_ERROR(scheduler.tell({}, RowsView()), "Scheduler::tell: called without a pending ask; call ask() first");
   // A tell of the wrong size changes nothing: the same batch can then be told in full.
   Rng rng(2);
@@ -170,7 +165,7 @@ TEST(Scheduler, RefusesBadSettingsNamingTheKey) {
 }
 
 TEST(Scheduler, SameSeedSameBitsAndCheckpointsContinueBitForBit) {
-  const auto tp = thresholds(0.05, 0.0);
+  const auto tp = mae(0.05, 0.0);
   auto p = emitter_params();  // restarts every 10 tells, so that the continuation draws elites
   p.restart = EmitterRestart::kEveryN;
   p.restart_every = 10;

@@ -1,6 +1,7 @@
 #pragma once
-// What the threshold tests share (cell_thresholds_test.cpp, batch_thresholds_test.cpp): CMA-MAE's
-// threshold settings by value, and one outcome checked against its hand-worked status and value.
+// What the threshold and scheduler tests share (cell_thresholds_test.cpp, batch_thresholds_test.cpp,
+// scheduler_test.cpp): CMA-MAE's threshold settings by value, and one outcome checked against its
+// hand-worked status and value.
 #include <gtest/gtest.h>
 
 #include <limits>
