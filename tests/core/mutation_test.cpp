@@ -15,6 +15,7 @@
 
 #include "qdmeta/core/copy_row.hpp"
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/fused.hpp"
 
 namespace qdmeta {
 namespace {
@@ -285,7 +286,7 @@ TEST(Mutation, GaussianFastPathGivesTheBitsOfThePerGeneDefinition) {
     std::uint64_t pos = b.geometric(inv);
     const auto n = static_cast<std::uint64_t>(slow.size());
     while (pos < n) {
-      const float g = slow.data()[pos] + static_cast<float>(p.sigma) * b.normal_float();
+      const float g = qdmeta::fused(static_cast<float>(p.sigma), b.normal_float(), slow.data()[pos]);
       slow.data()[pos] = std::clamp(g, 0.0f, 1.0f);
       pos += 1 + b.geometric(inv);
     }

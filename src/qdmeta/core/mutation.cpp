@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include "qdmeta/core/fused.hpp"
+
 namespace qdmeta {
 
 void MutationParams::validate() const {
@@ -32,7 +34,7 @@ Mutation::Mutation(MutationParams params) : params_(std::move(params)) {
 Real Mutation::mutate_gene(Real gene, Rng& rng) const {
   switch (params_.kind) {
     case MutationKind::kGaussian: {
-      const Real g = gene + static_cast<Real>(params_.sigma) * rng.normal_float();
+      const Real g = fused(static_cast<Real>(params_.sigma), rng.normal_float(), gene);
       return std::clamp(g, Real{0}, Real{1});
     }
     case MutationKind::kDiscreteStep: {
@@ -59,7 +61,8 @@ void Mutation::apply_gaussian(Real* genes, std::uint64_t n, Rng& rng) const {
   const float inv = inv_log1m_rate_;
   std::uint64_t pos = local.geometric(inv);
   while (pos < n) {
-    const Real g = genes[pos] + sigma * local.normal_float();
+    // Fused as written, so that the bits do not hang on the compiler contracting gene + sigma * z.
+    const Real g = fused(sigma, local.normal_float(), genes[pos]);
     genes[pos] = std::clamp(g, Real{0}, Real{1});
     pos += 1 + local.geometric(inv);
   }

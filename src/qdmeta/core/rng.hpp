@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "qdmeta/core/fused.hpp"
+
 namespace qdmeta {
 
 // SplitMix64 finaliser: a bijective 64-bit mixer, used to seed and to derive streams.
@@ -118,7 +120,9 @@ class Rng {
       const std::uint64_t bits = (*this)();
       u = static_cast<float>(bits >> 40) * 0x1.0p-23f - 1.0f;
       v = static_cast<float>((bits >> 16) & 0xFFFFFF) * 0x1.0p-23f - 1.0f;
-      s = u * u + v * v;
+      // Fused as GCC contracts it in the library's optimised files, written out so that a caller's
+      // inline copy compiled without contraction (-O0, -ffp-contract=off) draws the same bits.
+      s = fused(u, u, v * v);
     } while (s >= 1.0f || s == 0.0f);
     const float factor = std::sqrt(-2.0f * std::log(s) / s);
     spare_float_ = v * factor;
