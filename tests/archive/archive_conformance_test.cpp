@@ -159,6 +159,34 @@ TYPED_TEST(ArchiveConformance, NonFiniteObjectivesOrMeasuresAreRejectedWithTheRo
   }
 }
 
+// The batch's finiteness is decided by one pass over the bits (elite_batch.cpp): its edges, the
+// largest float, the smallest subnormal and -0 accepted, every infinity and NaN (a negative NaN
+// too) refused with its row and gene, and an invalid row never looked at.
+TYPED_TEST(ArchiveConformance, EveryNonFiniteGeneIsRejectedAndEveryFiniteOneKept) {
+  using limits = std::numeric_limits<Real>;
+  const Real nan = limits::quiet_NaN(), inf = limits::infinity();
+  for (const Real gene : {limits::max(), limits::denorm_min(), -0.0f, -limits::max()}) {
+    auto a = TypeParam::make();
+    Rows rows;
+    rows.push(0.1f, 0.1f, 1.0f, gene);
+    EXPECT_EQ(add_error(a, rows.batch()), "no error") << gene;
+    EXPECT_EQ(a.elites().solutions(0, 0), gene);
+  }
+  for (const auto& [gene, printed] : std::vector<std::pair<Real, std::string>>{
+           {inf, "inf"}, {-inf, "-inf"}, {nan, "nan"}, {-nan, "-nan"}}) {
+    auto a = TypeParam::make();
+    Rows rows;
+    rows.push(0.1f, 0.1f, 1.0f, 0.5f);
+    rows.push(0.6f, 0.1f, 1.0f, 0.5f, false);
+    rows.solutions(1, 0) = nan;  // invalid: not looked at
+    rows.push(0.6f, 0.6f, 1.0f, gene);
+    const std::string want = "row 2 of the batch has solution value 0 = " + printed + "; solutions must be finite";
+    const std::string error = add_error(a, rows.batch());
+    EXPECT_NE(error.find(want), std::string::npos) << error;
+    EXPECT_TRUE(a.empty()) << "nothing is added from a rejected batch";
+  }
+}
+
 TYPED_TEST(ArchiveConformance, ShapeMismatchesAreRejected) {
   auto& a = this->archive;
   Rows rows;
