@@ -52,22 +52,24 @@ std::string unavailable() {
 
 // `mpirun -np N qdmeta ARGS` on this machine: shared memory between ranks, more ranks than
 // cores allowed, and OpenMPI's consent to run as root (CI containers run as root).
-std::string mpirun_command(int ranks, const std::string& args, const std::string& env) {
+std::string mpirun_command(int ranks, const std::string& args, const std::string& env,
+                           const std::string& binary = QDMETA_BINARY) {
 #ifdef QDMETA_MPIEXEC
   const std::string root = geteuid() == 0 ? "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " : "";
   // LeakSanitizer would report OpenMPI's own allocations (sanitizer builds only).
   const std::string lsan = "LSAN_OPTIONS=suppressions=" + std::string(QDMETA_SOURCE_DIR) + "/tests/lsan-openmpi.supp ";
   // `timeout`: a rank 0 that waits for a dead rank must fail the test, not hang it.
   return root + lsan + env + " timeout -k 5 120 " + QDMETA_MPIEXEC + " --oversubscribe --mca btl self,vader -np " +
-         std::to_string(ranks) + " " + QDMETA_BINARY + " " + args;
+         std::to_string(ranks) + " " + binary + " " + args;
 #else
-  (void)ranks, (void)args, (void)env;
+  (void)ranks, (void)args, (void)env, (void)binary;
   return "false";
 #endif
 }
 
-Outcome mpirun(int ranks, const std::string& args, const std::string& env = "") {
-  return shell(mpirun_command(ranks, args, env));
+Outcome mpirun(int ranks, const std::string& args, const std::string& env = "",
+               const std::string& binary = QDMETA_BINARY) {
+  return shell(mpirun_command(ranks, args, env, binary));
 }
 
 using Clock = std::chrono::steady_clock;
@@ -174,6 +176,24 @@ TEST(Mpi, AKilledWorkerStopsTheRunWithACheckpointThatResumesToTheSameBits) {
   EXPECT_NE(r.output.find("resuming from checkpoint"), std::string::npos) << r.output;
   expect_same_files(straight, killed);
   EXPECT_FALSE(fs::exists(killed / "checkpoint.bin"));
+}
+
+// A task whose own code throws on a worker rank ends the run as on threads (task_failure_test):
+// one line naming the generation, the rank, the task and its batch row, and what was kept, with
+// the exit status of a failed evaluation (4), not of a config error (2), which it had while a
+// worker's report carried only its text.
+TEST(Mpi, ATaskThatThrowsOnAWorkerIsAFailedEvaluation) {
+  if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
+  const fs::path dir = fresh_dir("throws-on-worker"), config = scratch() / "throws-on-worker.toml";
+  std::ofstream(config) << "algorithm = \"map-elites\"\nseed = 1\n[budget]\nevaluations = 5000\n[task]\n"
+                           "name = \"throws\"\nthrow_after = 300\nthrow_on_rank = 1\n[map_elites]\nbatch_size = 100\n"
+                           "initial_population = 500\n[archive]\nbins = [8, 8]\nmeasures = [0, 1]\n";
+  const Outcome o = mpirun(2, "run --quiet --config " + config.string() + " --out " + dir.string(), "", QDMETA_FAULTY_BINARY);
+  EXPECT_EQ(o.status, 4) << o.output;
+  EXPECT_NE(o.output.find("qdmeta: error: evaluation failed in generation "), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find(" of the run: MPI rank 1: task 'throws' threw on row "), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("of the batch: simulator diverged"), std::string::npos) << o.output;
+  EXPECT_FALSE(fs::exists(dir / "summary.json")) << "a failed run must not look finished";
 }
 
 TEST(Mpi, AKilledWorkerCanBeResumedUnderMpirunToo) {

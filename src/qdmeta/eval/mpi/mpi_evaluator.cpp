@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <unordered_map>
@@ -71,9 +72,10 @@ class MpiEvaluator final : public Evaluator {
   };
   void handshake(const std::string& config, int threads);
   void send_piece(const Piece& p, std::int64_t id, int worker);
-  // Handles every message waiting; returns whether there was one.
+  // Handles every message waiting; returns whether there was one. A worker's failure lands in
+  // `failure` (a TaskFailed when the task's own code threw), the first one only.
   bool poll(std::vector<Piece>& pieces, std::vector<std::deque<std::int64_t>>& in_flight, std::size_t& finished,
-            std::string& failure);
+            std::exception_ptr& failure);
   void abort_if_stopped() const {
     if (stop_ && stop_->load())
       throw EvaluationAborted("the MPI job was stopped (SIGTERM or SIGINT) while a batch was being evaluated");
@@ -155,7 +157,7 @@ void MpiEvaluator::handshake(const std::string& config, int threads) {
       throw EvaluationAborted(fmt::format("rank {} was stopped by a signal while starting", from));
     }
     if (status.MPI_TAG == mpi::kFailed)
-      throw Error(fmt::format("MPI rank {}: {}", from, text.substr(sizeof(mpi::ResultHeader))));
+      throw Error(fmt::format("MPI rank {}: {}", from, mpi::unpack_failure(text).message));
     if (status.MPI_TAG != mpi::kReady || ready[static_cast<std::size_t>(from)]) continue;
     if (text != expected)
       throw Error(fmt::format("MPI rank {} built other tasks than rank 0 from the same config: [{}] vs [{}]", from, text,
@@ -174,7 +176,7 @@ void MpiEvaluator::send_piece(const Piece& p, std::int64_t id, int worker) {
 }
 
 bool MpiEvaluator::poll(std::vector<Piece>& pieces, std::vector<std::deque<std::int64_t>>& in_flight,
-                        std::size_t& finished, std::string& failure) {
+                        std::size_t& finished, std::exception_ptr& failure) {
   bool any = false;
   for (;;) {
     int flag = 0;
@@ -191,10 +193,13 @@ bool MpiEvaluator::poll(std::vector<Piece>& pieces, std::vector<std::deque<std::
       continue;  // a signal is on its way to rank 0 too; the stop flag ends the wait
     }
     if (status.MPI_TAG == mpi::kFailed) {
-      mpi::Unpacker in({bytes.data(), bytes.size()});
-      const auto h = in.get<mpi::ResultHeader>();
-      if (failure.empty()) failure = fmt::format("MPI rank {}: {}", from, in.rest());
-      if (const auto it = std::find(mine.begin(), mine.end(), h.piece); h.request == request_ && it != mine.end())
+      const mpi::Failure f = mpi::unpack_failure({bytes.data(), bytes.size()});
+      if (!failure) {
+        const std::string message = fmt::format("MPI rank {}: {}", from, f.message);
+        failure = f.task_failed ? std::make_exception_ptr(TaskFailed(message, f.task, f.row))
+                                : std::make_exception_ptr(Error(message));
+      }
+      if (const auto it = std::find(mine.begin(), mine.end(), f.piece); f.request == request_ && it != mine.end())
         mine.erase(it);
       continue;
     }
@@ -251,7 +256,7 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
 
   std::vector<std::deque<std::int64_t>> in_flight(static_cast<std::size_t>(ranks));
   std::size_t next = 0, finished = 0;
-  std::string failure;
+  std::exception_ptr failure;  // the first worker's failure, rethrown once every piece is back
   std::int64_t mine = -1;  // the piece rank 0 is evaluating, row by slice
   Index mine_done = 0;
   const auto outstanding = [&] {
@@ -259,8 +264,8 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
       if (!q.empty()) return true;
     return mine >= 0;
   };
-  while (failure.empty() ? finished < pieces.size() : outstanding()) {
-    if (failure.empty())
+  while (!failure ? finished < pieces.size() : outstanding()) {
+    if (!failure)
       for (int w = 1; w < ranks; ++w) {
         auto& q = in_flight[static_cast<std::size_t>(w)];
         // A worker with nothing to do sends no heartbeat: its silence counts from now.
@@ -274,7 +279,7 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     bool busy = poll(pieces, in_flight, finished, failure);
     abort_if_stopped();
     abort_if_dead(&in_flight);
-    if (mine < 0 && failure.empty() && next < pieces.size()) {
+    if (mine < 0 && !failure && next < pieces.size()) {
       mine = static_cast<std::int64_t>(next++);
       mine_done = 0;
     }
@@ -295,7 +300,7 @@ void MpiEvaluator::evaluate_jobs(std::span<const EvaluationJob> jobs) {
     }
     if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(50));
   }
-  if (!failure.empty()) throw Error(failure);
+  if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ enum Tag : int {
   kReady = 2,      // w -> 0: the worker's PeerIdentity + description of the tasks it built
   kWork = 3,       // 0 -> w: WorkHeader + genotypes (rows x genes Real)
   kResult = 4,     // w -> 0: ResultHeader + fitness + base features + valid
-  kFailed = 5,     // w -> 0: ResultHeader (the piece, or -1) + a one-line error; the worker carries on
+  kFailed = 5,     // w -> 0: a Failure (pack_failure); the worker carries on
   kBye = 6,        // w -> 0: the worker got SIGTERM/SIGINT and exits
   kStop = 7,       // 0 -> w: the end (or, after kBye, exit); answer kStopped, then wait for kFinalize/kAbort
   kAlive = 8,      // w -> 0: heartbeat, every kHeartbeat while the worker holds pieces
@@ -86,6 +86,38 @@ class Unpacker {
   std::string_view bytes_;
   std::size_t pos_ = 0;
 };
+
+// What a worker reports with kFailed: the piece (or -1 before any), the one-line error, and, when
+// a task's own code threw (TaskFailed), the task and its batch row, so that rank 0 ends the run as
+// a failed evaluation (exit status 4) rather than as a fault of qdmeta's (2).
+struct Failure {
+  std::int64_t request = -1, piece = -1;
+  std::string message;
+  bool task_failed = false;
+  std::string task;
+  std::int64_t row = -1;  // TaskFailed::row(): -1 when no row threw alone
+};
+
+inline std::vector<char> pack_failure(const Failure& f) {
+  Packer p;
+  p.put(ResultHeader{f.request, f.piece, 0, 0});
+  p.put(std::int64_t{f.task_failed ? 1 : 0});
+  p.put(f.row);
+  p.put(static_cast<std::int64_t>(f.task.size()));
+  p.put(f.task.data(), f.task.size());
+  p.put(f.message.data(), f.message.size());
+  return std::move(p.bytes());
+}
+
+inline Failure unpack_failure(std::string_view bytes) {
+  Unpacker in(bytes);
+  const auto h = in.get<ResultHeader>();
+  Failure f{h.request, h.piece, {}, in.get<std::int64_t>() != 0, {}, in.get<std::int64_t>()};
+  f.task.resize(static_cast<std::size_t>(in.get<std::int64_t>()));
+  in.get(f.task.data(), f.task.size());
+  f.message = std::string(in.rest());
+  return f;
+}
 
 // Receives the message that MPI_Iprobe/MPI_Probe announced in `status`.
 inline std::vector<char> receive(const MPI_Status& status, MPI_Comm comm) {

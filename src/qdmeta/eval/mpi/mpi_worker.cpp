@@ -55,10 +55,16 @@ struct Rank0Watch {
 };
 
 std::vector<char> failed(const mpi::WorkHeader& h, const std::string& message) {
-  mpi::Packer p;
-  p.put(mpi::ResultHeader{h.request, h.piece, 0, 0});
-  p.put(message.data(), message.size());
-  return std::move(p.bytes());
+  mpi::Failure f;
+  f.request = h.request;
+  f.piece = h.piece;
+  f.message = message;
+  return mpi::pack_failure(f);
+}
+
+// A task's own code threw: rank 0 rethrows it as TaskFailed, with the task and batch row.
+std::vector<char> task_failed(const mpi::WorkHeader& h, const TaskFailed& e) {
+  return mpi::pack_failure({h.request, h.piece, e.what(), true, e.task(), e.row()});
 }
 
 std::vector<char> evaluate(const Work& w, const Task& task, Evaluator& evaluator) {
@@ -92,6 +98,8 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
   const auto finish_running = [&] {
     try {
       outbox.send(running.get(), 0, mpi::kResult, MPI_COMM_WORLD);
+    } catch (const TaskFailed& e) {
+      outbox.send(task_failed(running_header, e), 0, mpi::kFailed, MPI_COMM_WORLD);
     } catch (const std::exception& e) {
       outbox.send(failed(running_header, e.what()), 0, mpi::kFailed, MPI_COMM_WORLD);
     }
