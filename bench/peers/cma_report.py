@@ -157,7 +157,7 @@ def page():
         "",
         "### Every run",
         "",
-        f"Wall and task seconds are each run's own, two runs at a time on a 2-core machine shared with",
+        f"Wall and task seconds are each run's own, one or two runs at a time on a 2-core machine shared with",
         f"other work (1-minute load average at each run's start: {load_range(rows)}); compare speed in",
         "the timed runs below, not here.",
         "",
