@@ -71,6 +71,16 @@ inline std::filesystem::path write_scratch_config(const std::string& tag, const 
   return path;
 }
 
+// TMPDIR/qdmeta_<tag>_<pid>/<name>.toml: a MAP-Elites run of the faulty-task binary's task
+// `task_table` (its [task] table): 500 random genotypes, then batches of 100, 5,000 evaluations.
+inline std::filesystem::path faulty_task_config(const std::string& tag, const std::string& name,
+                                                const std::string& task_table) {
+  return write_scratch_config(tag, name,
+                              "algorithm = \"map-elites\"\nseed = 1\n[budget]\nevaluations = 5000\n" + task_table +
+                                  "\n[map_elites]\nbatch_size = 100\ninitial_population = 500\n[archive]\nbins = [8, 8]\n"
+                                  "measures = [0, 1]\n");
+}
+
 inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path);
   std::stringstream s;

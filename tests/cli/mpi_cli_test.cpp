@@ -184,10 +184,9 @@ TEST(Mpi, AKilledWorkerStopsTheRunWithACheckpointThatResumesToTheSameBits) {
 // worker's report carried only its text.
 TEST(Mpi, ATaskThatThrowsOnAWorkerIsAFailedEvaluation) {
   if (const std::string why = unavailable(); !why.empty()) GTEST_SKIP() << why;
-  const fs::path dir = fresh_dir("throws-on-worker"), config = scratch() / "throws-on-worker.toml";
-  std::ofstream(config) << "algorithm = \"map-elites\"\nseed = 1\n[budget]\nevaluations = 5000\n[task]\n"
-                           "name = \"throws\"\nthrow_after = 300\nthrow_on_rank = 1\n[map_elites]\nbatch_size = 100\n"
-                           "initial_population = 500\n[archive]\nbins = [8, 8]\nmeasures = [0, 1]\n";
+  const fs::path dir = fresh_dir("throws-on-worker");
+  const fs::path config = qdmeta::cli_test::faulty_task_config(
+      "mpi_test", "throws-on-worker", "[task]\nname = \"throws\"\nthrow_after = 300\nthrow_on_rank = 1");
   const Outcome o = mpirun(2, "run --quiet --config " + config.string() + " --out " + dir.string(), "", QDMETA_FAULTY_BINARY);
   EXPECT_EQ(o.status, 4) << o.output;
   EXPECT_NE(o.output.find("qdmeta: error: evaluation failed in generation "), std::string::npos) << o.output;

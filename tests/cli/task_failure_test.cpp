@@ -18,13 +18,8 @@ using cli_test::shell;
 
 const std::string kFaulty = QDMETA_FAULTY_BINARY;
 
-// A MAP-Elites config of the task `task`: 500 random genotypes, then batches of 100.
 fs::path config_of(const std::string& name, const std::string& task_table) {
-  const fs::path file = cli_test::process_scratch("task_failure") / (name + ".toml");
-  std::ofstream(file) << "algorithm = \"map-elites\"\nseed = 1\n[budget]\nevaluations = 5000\n" << task_table
-                      << "\n[map_elites]\nbatch_size = 100\ninitial_population = 500\n[archive]\nbins = [8, 8]\n"
-                         "measures = [0, 1]\n";
-  return file;
+  return cli_test::faulty_task_config("task_failure", name, task_table);
 }
 
 Outcome run(const std::string& name, const std::string& task_table) {

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "qdmeta/cli/distribution.hpp"
+#include "qdmeta/cli/exit_status.hpp"
 
 namespace qdmeta {
 namespace {
@@ -33,7 +34,7 @@ LauncherPlace launcher_place() {
 // whole command into the same directory, so each exits at once, rank 0 saying why.
 class NotAnMpiProgram final : public Distribution {
  public:
-  std::optional<int> serve_if_worker() override { return 2; }  // a config error's status
+  std::optional<int> serve_if_worker() override { return kExitBadInput; }
 };
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "qdmeta/assembly/standard_tables.hpp"
 #include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/cli/distribution_factory.hpp"
+#include "qdmeta/cli/exit_status.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/one_line.hpp"
@@ -48,11 +49,6 @@ int parse_and_run(int argc, char** argv);
 
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
-
-constexpr int kExitBadInput = 2;
-constexpr int kExitRankFailed = 3;  // an MPI rank died mid-run; a checkpoint was written
-constexpr int kExitEvaluationFailed = 4;  // a task's own code threw; the last checkpoint stands
-constexpr int kExitInterrupted = 130;
 
 Distribution* g_distribution = nullptr;  // set by run_cli_with_tools for its lifetime
 

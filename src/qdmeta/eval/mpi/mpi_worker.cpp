@@ -55,11 +55,7 @@ struct Rank0Watch {
 };
 
 std::vector<char> failed(const mpi::WorkHeader& h, const std::string& message) {
-  mpi::Failure f;
-  f.request = h.request;
-  f.piece = h.piece;
-  f.message = message;
-  return mpi::pack_failure(f);
+  return mpi::pack_failure({h.request, h.piece, message, false, {}, -1});
 }
 
 // A task's own code threw: rank 0 rethrows it as TaskFailed, with the task and batch row.
