@@ -1,13 +1,15 @@
 // One iteration of the CMA-MAE paper's loop as bench/peers/cma_peer runs it: 15 evolution-strategy
 // emitters of batch 36 on the 100-D linear-projection sphere, a 100 x 100 grid, alpha 0.01
-// (ask, evaluate, tell). Arg 0: CMA-ES decomposes C at the tutorial's gap (after every
-// generation at this size, as before the emitters had a gap of their own); Arg 1: pyribs's
-// gap, the emitters' default (every third generation). Each benchmark first runs 200
-// iterations untimed, so that the archive and the emitters are past their start.
+// (ask, evaluate, tell). Args (gap, threads): gap 0, CMA-ES decomposes C at the tutorial's gap
+// (after every generation at this size, as before the emitters had a gap of their own); gap 1,
+// pyribs's gap, the emitters' default (every third generation); threads, the task arena the
+// loop runs in (the scheduler tells the 15 emitters at once on it). Each benchmark first runs
+// 200 iterations untimed, so that the archive and the emitters are past their start.
 // BM_EvolutionStrategyAskTell: one emitter's evolution strategy alone, ask + tell_ranked of a
 // batch of 36 with 18 parents on the sphere, Args (n, es): es 0 the full CMA-ES at pyribs's
 // eigen gap (decompositions amortised), 1 the separable one (meta/sep_cma_es.hpp).
 #include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <numeric>
@@ -49,11 +51,20 @@ void BM_CmaMaeSphereIteration(benchmark::State& state) {
     peers::evaluate_rows(x, peers::lin_proj_sphere, objectives, measures);
     scheduler.tell(objectives, measures);
   };
-  for (int i = 0; i < 200; ++i) iterate();
-  for (auto _ : state) iterate();
+  tbb::task_arena arena(static_cast<int>(state.range(1)));
+  arena.execute([&] {
+    for (int i = 0; i < 200; ++i) iterate();
+    for (auto _ : state) iterate();
+  });
   state.SetItemsProcessed(state.iterations() * scheduler.batch_size());
 }
-BENCHMARK(BM_CmaMaeSphereIteration)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CmaMaeSphereIteration)
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Args({1, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 template <class Es>
 void ask_tell_loop(benchmark::State& state, Es& es) {

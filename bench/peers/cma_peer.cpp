@@ -6,7 +6,10 @@
 //
 //   cma_peer --domain sphere|arm --algorithm cma-me|cma-mae [--iterations 10000] [--seed 1]
 //            [--genes 100] [--eigen-gap purecma|tutorial]
-//            [--rank-one tutorial|pyribs] [--add-mode single|batch]
+//            [--rank-one tutorial|pyribs] [--add-mode single|batch] [--threads 1]
+//
+// --threads: the task arena the loop runs in (the scheduler tells its emitters at once on it);
+// 1, the default, is the comparison's (pyribs runs on one thread).
 //
 // --add-mode batch runs pyribs's Scheduler default (every row against the thresholds before the
 // batch); qdmeta's default is single (rows one at a time, in order), docs/fidelity.md.
@@ -17,6 +20,8 @@
 #include <limits>
 #include <string>
 #include <string_view>
+
+#include <tbb/task_arena.h>
 
 #include <fmt/format.h>
 
@@ -44,6 +49,7 @@ struct Options {
   CmaEigenGap eigen_gap = CmaEigenGap::kPurecma;  // the emitters' default, pyribs's gap
   CmaRankOne rank_one = CmaRankOne::kTutorial;     // "pyribs": pyribs 0.12's term (fidelity.md)
   AddMode add_mode = AddMode::kSingle;             // "batch": pyribs's Scheduler default
+  int threads = 1;
 };
 
 Options parse(int argc, char** argv) {
@@ -60,6 +66,7 @@ Options parse(int argc, char** argv) {
     else if (key == "--eigen-gap") o.eigen_gap = cma_eigen_gap_from_string(value);
     else if (key == "--rank-one") o.rank_one = cma_rank_one_from_string(value);
     else if (key == "--add-mode") o.add_mode = enum_from_string(kAddModeNames, "cma_peer --add-mode", value);
+    else if (key == "--threads") o.threads = std::atoi(value);
     else throw InputError(fmt::format("cma_peer: unknown option {}", key));
   }
   if (o.domain != "sphere" && o.domain != "arm") throw InputError(fmt::format("cma_peer --domain = {}: sphere or arm", o.domain));
@@ -67,6 +74,7 @@ Options parse(int argc, char** argv) {
     throw InputError(fmt::format("cma_peer --algorithm = {}: cma-me or cma-mae", o.algorithm));
   }
   if (o.iterations < 1 || o.genes < 2) throw InputError("cma_peer: --iterations must be >= 1 and --genes >= 2");
+  if (o.threads < 1) throw InputError("cma_peer: --threads must be >= 1");
   return o;
 }
 
@@ -99,24 +107,28 @@ int run(const Options& o, const peers::CmaDomain& domain, Evaluate evaluate_one)
   RowMatrix measures;
   double task_s = 0.0, obj_max = -std::numeric_limits<double>::infinity();
   const auto start = Clock::now();
-  for (long it = 0; it < o.iterations; ++it) {
-    const RowMatrix& x = scheduler.ask(rng);
-    const auto task_start = Clock::now();
-    peers::evaluate_rows(x, evaluate_one, objectives, measures);
-    task_s += std::chrono::duration<double>(Clock::now() - task_start).count();
-    for (Real f : objectives) obj_max = std::max(obj_max, static_cast<double>(f));
-    scheduler.tell(objectives, measures);
-  }
+  tbb::task_arena arena(o.threads);
+  arena.execute([&] {
+    for (long it = 0; it < o.iterations; ++it) {
+      const RowMatrix& x = scheduler.ask(rng);
+      const auto task_start = Clock::now();
+      peers::evaluate_rows(x, evaluate_one, objectives, measures);
+      task_s += std::chrono::duration<double>(Clock::now() - task_start).count();
+      for (Real f : objectives) obj_max = std::max(obj_max, static_cast<double>(f));
+      scheduler.tell(objectives, measures);
+    }
+  });
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const ArchiveStats stats = archive.stats();
   const long evals = o.iterations * scheduler.batch_size();
   // The paper's QD-score: the sum of the elites' objectives over all cells; coverage in percent.
   fmt::print(R"({{"library": "qdmeta", "version": "{}", "algorithm": "{}", "domain": "{}", "iterations": {}, )"
              R"("evals": {}, "wall_s": {}, "task_s": {}, "num_elites": {}, "qd_score": {}, "coverage": {}, )"
-             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), one thread, eigen gap {}, rank-one {}, add mode {}"}})"
+             R"("obj_max": {}, "seed": {}, "note": "C++ emitters (scheduler.hpp), {}, eigen gap {}, rank-one {}, add mode {}"}})"
              "\n",
              kVersion, o.algorithm, domain.name, o.iterations, evals, wall, task_s, stats.num_elites,
-             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed, to_string(o.eigen_gap), to_string(o.rank_one), to_string(o.add_mode));
+             stats.qd_score / static_cast<double>(archive.cells()), 100.0 * stats.coverage, obj_max, o.seed,
+             o.threads == 1 ? std::string("one thread") : fmt::format("{} threads", o.threads), to_string(o.eigen_gap), to_string(o.rank_one), to_string(o.add_mode));
   return 0;
 }
 

@@ -51,6 +51,7 @@ class HandleEmitter final : public Emitter {
   const RowMatrix& ask(Rng& /*scheduler's*/) override { return h_->emitter->ask(h_->rng); }
   void tell(const EmitterResults& results) override { h_->emitter->tell(results); }
   std::int64_t ended_runs() const override { return h_->emitter->ended_runs(); }
+  bool tells_alone() const override { return h_->emitter->tells_alone(); }
   void save(BinaryWriter& out) const override { h_->save(out); }
   void load(BinaryReader& in) override { h_->load(in); }
 

@@ -101,6 +101,8 @@ class CmaMae final : public Algorithm {
   void next_request(std::vector<EvaluationJob>& jobs) override;
   bool take_results() override;
   void before_step(Evaluator& evaluator) override { prepare(evaluator); }
+  // The scheduler tells its evolution-strategy emitters at once: on the evaluator's threads.
+  bool parallel_inside() const override { return true; }
   // ask() changes the emitters (a restart happens there), tell() the archive too: the undo is
   // the generation and the scheduler; a failed step never reached the archive.
   void save_undo(BinaryWriter& out) const override;

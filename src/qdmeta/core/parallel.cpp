@@ -4,6 +4,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
+#include <exception>
+#include <vector>
+
 namespace qdmeta {
 
 void parallel_indices(Index n, const std::function<void(Index)>& body) {
@@ -14,6 +17,19 @@ void parallel_indices(Index n, const std::function<void(Index)>& body) {
         for (Index i = range.begin(); i < range.end(); ++i) body(i);
       },
       tbb::simple_partitioner());
+}
+
+void parallel_indices_lowest_error(Index n, const std::function<void(Index)>& body) {
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+  parallel_indices(n, [&](Index i) {
+    try {
+      body(i);
+    } catch (...) {
+      errors[static_cast<std::size_t>(i)] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
 }
 
 }  // namespace qdmeta

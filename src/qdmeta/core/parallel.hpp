@@ -11,4 +11,9 @@ namespace qdmeta {
 
 void parallel_indices(Index n, const std::function<void(Index)>& body);
 
+// parallel_indices whose error is the one a loop in index order would throw: every index runs,
+// then the exception of the lowest index that threw is rethrown (the same message at any thread
+// count, where oneTBB would rethrow whichever came first).
+void parallel_indices_lowest_error(Index n, const std::function<void(Index)>& body);
+
 }  // namespace qdmeta

@@ -56,6 +56,10 @@ class Emitter {
   // BanditScheduler of reselect "terminated" follows; -1 for an emitter without runs (a
   // BanditScheduler then reselects it at every ask, as pyribs's does).
   virtual std::int64_t ended_runs() const { return -1; }
+  // True when tell() reads and writes nothing but this emitter and `results` (no shared state,
+  // no Python), so a Scheduler may tell several such emitters at once; the default, false, has
+  // a user's emitter told on the calling thread in emitter order.
+  virtual bool tells_alone() const { return false; }
   // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
   virtual void save(BinaryWriter& out) const = 0;
   virtual void load(BinaryReader& in) = 0;
@@ -89,6 +93,7 @@ class BatchEmitter : public Emitter {
 class StatelessEmitter : public BatchEmitter {
  public:
   void tell(const EmitterResults& results) override;
+  bool tells_alone() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
 

@@ -96,6 +96,9 @@ class EvolutionStrategyEmitter : public BatchEmitter {
   const EvolutionStrategyEmitterParams& params() const { return params_; }
   const RowMatrix& ask(Rng& rng) override;
   void tell(const EmitterResults& results) override;
+  // Its tell ranks, updates its own CMA-ES and decomposes C there: a Scheduler's costliest step,
+  // run for several emitters at once.
+  bool tells_alone() const override { return true; }
   void save(BinaryWriter& out) const override;
   void load(BinaryReader& in) override;
 

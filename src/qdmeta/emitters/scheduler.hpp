@@ -2,7 +2,8 @@
 // CMA-ME and CMA-MAE as one ask/tell loop (Fontaine et al. 2020; Fontaine & Nikolaidis 2023):
 // ask() stacks each emitter's batch in emitter order; tell() takes the rows' objectives and
 // measures, adds every row to the archive under the thresholds (thresholded_add.hpp), and tells
-// each emitter the outcomes of its own rows. ThresholdParams{alpha = 1, threshold_min = -inf} is
+// each emitter the outcomes of its own rows: at once on oneTBB when every emitter tells_alone()
+// (each then touches only itself, so the bits do not depend on the threads), in order otherwise. ThresholdParams{alpha = 1, threshold_min = -inf} is
 // CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
 // archive (each cell keeps its best elite); the scheduler holds the thresholds beside it, and
 // archive.clear() resets them to threshold_min (as pyribs, whose empty cells score against
@@ -25,6 +26,7 @@
 #include <fmt/format.h>
 
 #include "qdmeta/core/error.hpp"
+#include "qdmeta/core/parallel.hpp"
 #include "qdmeta/emitters/emitter.hpp"
 #include "qdmeta/emitters/evolution_strategy_emitter.hpp"
 #include "qdmeta/emitters/thresholded_add.hpp"
@@ -140,17 +142,29 @@ class Scheduler {
     add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, base_features, valid},
                         outcomes_, add_mode_);
     awaiting_tell_ = false;
+    std::vector<std::pair<Emitter*, Index>> told;  // each active emitter and its first row
     Index row = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) {
       if (!active_[i]) continue;
-      Emitter* emitter = emitters_[i].get();
+      told.emplace_back(emitters_[i].get(), row);
+      row += emitters_[i]->batch_size();
+    }
+    const auto tell_one = [&](std::size_t k) {
+      const auto [emitter, first_row] = told[k];
       const Index rows = emitter->batch_size();
-      const auto first = static_cast<std::size_t>(row);
+      const auto first = static_cast<std::size_t>(first_row);
       const auto count = static_cast<std::size_t>(rows);
-      emitter->tell({RowsView(solutions_.row(row).data(), rows, solutions_.cols()), objectives.subspan(first, count),
-                     RowsView(measures.row(row), rows, measures.cols, measures.stride),
+      emitter->tell({RowsView(solutions_.row(first_row).data(), rows, solutions_.cols()), objectives.subspan(first, count),
+                     RowsView(measures.row(first_row), rows, measures.cols, measures.stride),
                      std::span<const ThresholdOutcome>(outcomes_).subspan(first, count)});
-      row += rows;
+    };
+    const bool at_once = told.size() > 1 && std::all_of(told.begin(), told.end(), [](const auto& t) {
+                           return t.first->tells_alone();
+                         });
+    if (at_once) {
+      parallel_indices_lowest_error(static_cast<Index>(told.size()), [&](Index k) { tell_one(static_cast<std::size_t>(k)); });
+    } else {
+      for (std::size_t k = 0; k < told.size(); ++k) tell_one(k);
     }
   }
 
