@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "qdmeta/cli/distribution.hpp"
-#include "qdmeta/cli/exit_status.hpp"
+#include "qdmeta/core/exit_status.hpp"
 
 namespace qdmeta {
 namespace {

@@ -22,7 +22,7 @@
 #include "qdmeta/assembly/standard_tables.hpp"
 #include "qdmeta/cli/distribution.hpp"
 #include "qdmeta/cli/distribution_factory.hpp"
-#include "qdmeta/cli/exit_status.hpp"
+#include "qdmeta/core/exit_status.hpp"
 #include "qdmeta/core/error.hpp"
 #include "qdmeta/core/notice.hpp"
 #include "qdmeta/core/one_line.hpp"

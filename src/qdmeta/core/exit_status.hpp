@@ -1,6 +1,6 @@
 #pragma once
-// The command line's exit statuses (README, "Exit status"), for run_cli and the Distribution that
-// refuses to start.
+// The command line's exit statuses (README, "Exit status"), for run_cli, the Distribution that
+// refuses to start and the MPI workers that leave a broken job (so mpirun reports the same 3).
 namespace qdmeta {
 
 constexpr int kExitBadInput = 2;          // a config or input error, named in one line
