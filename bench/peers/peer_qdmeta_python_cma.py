@@ -16,9 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "build" / "python"))
-import qdmeta  # noqa: E402
+try:
+    import qdmeta  # a PYTHONPATH's module first (the tests name their build's)
+except ImportError:
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "build" / "python"))
+    import qdmeta
 
 import common  # noqa: E402
 
