@@ -52,6 +52,8 @@ class HandleEmitter final : public Emitter {
   void tell(const EmitterResults& results) override { h_->emitter->tell(results); }
   std::int64_t ended_runs() const override { return h_->emitter->ended_runs(); }
   bool tells_alone() const override { return h_->emitter->tells_alone(); }
+  // Its own stream, and the library's emitters read nothing but the archive while asked.
+  bool asks_alone() const override { return true; }
   void save(BinaryWriter& out) const override { h_->save(out); }
   void load(BinaryReader& in) override { h_->load(in); }
 

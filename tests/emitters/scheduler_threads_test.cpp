@@ -1,13 +1,14 @@
-// Tests of the Scheduler's tell on several threads (emitters/scheduler.hpp): emitters that
+// Tests of the Scheduler on several threads (emitters/scheduler.hpp): emitters that
 // tells_alone() are told at once, with the bits of the in-order loop at any thread count and the
 // error of the lowest emitter that threw; any other emitter is told in order on the calling
-// thread.
+// thread. Emitters with streams of their own (asks_alone()) are asked at once, to the same bits.
 #include <gtest/gtest.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -71,13 +72,14 @@ EvolutionStrategyEmitterParams told_emitter_params() {
   return p;
 }
 
-// The archive and scheduler bytes after `iterations` rounds in an arena of `threads`, the
-// emitters wrapped as telling alone or not.
-std::string told_run_bytes(int threads, bool alone, int iterations = 60) {
+// The archive and scheduler bytes after `iterations` rounds in an arena of `threads`, each
+// evolution-strategy emitter wrapped by `wrap`.
+template <class Wrap>
+std::string bytes_after_rounds(int threads, Wrap wrap, int iterations = 60) {
   GridArchive archive(sphere_grid());
   std::vector<std::unique_ptr<Emitter>> emitters;
   for (auto& e : make_evolution_strategy_emitters(archive, told_emitter_params(), kToldEmitters))
-    emitters.push_back(std::make_unique<ToldWrapper>(std::move(e), alone));
+    emitters.push_back(wrap(std::move(e)));
   Scheduler scheduler(archive, ThresholdParams{0.01, 0.0}, std::move(emitters));
   Rng rng(7);
   tbb::task_arena arena(threads);
@@ -85,6 +87,13 @@ std::string told_run_bytes(int threads, bool alone, int iterations = 60) {
     for (int i = 0; i < iterations; ++i) sphere_step(scheduler, rng);
   });
   return checkpoint_bytes(archive, scheduler);
+}
+
+// The emitters wrapped as telling alone or not.
+std::string told_run_bytes(int threads, bool alone, int iterations = 60) {
+  return bytes_after_rounds(
+      threads, [alone](std::unique_ptr<Emitter> e) { return std::make_unique<ToldWrapper>(std::move(e), alone); },
+      iterations);
 }
 
 TEST(SchedulerThreads, EmittersToldAtOnceGiveTheInOrderBitsAtAnyThreadCount) {
@@ -96,12 +105,52 @@ TEST(SchedulerThreads, EmittersToldAtOnceGiveTheInOrderBitsAtAnyThreadCount) {
   EXPECT_NE(told_run_bytes(1, false, 61), in_order);
 }
 
+// An emitter of the Python module's kind: asked with a stream of its own (the scheduler's
+// ignored), and saying that it asks alone as told.
+class OwnStream final : public Emitter {
+ public:
+  OwnStream(std::unique_ptr<Emitter> inner, std::uint64_t seed, bool alone)
+      : inner_(std::move(inner)), rng_(seed), alone_(alone) {}
+  Index batch_size() const override { return inner_->batch_size(); }
+  Index solution_size() const override { return inner_->solution_size(); }
+  const RowMatrix& ask(Rng& /*scheduler's*/) override { return inner_->ask(rng_); }
+  void tell(const EmitterResults& results) override { inner_->tell(results); }
+  bool tells_alone() const override { return alone_; }
+  bool asks_alone() const override { return alone_; }
+  void save(BinaryWriter& out) const override {
+    inner_->save(out);
+    for (std::uint64_t word : rng_.state().words) out.value(word);
+  }
+  void load(BinaryReader& /*in*/) override {}
+
+ private:
+  std::unique_ptr<Emitter> inner_;
+  Rng rng_;
+  bool alone_;
+};
+
+std::string own_stream_run_bytes(int threads, bool alone) {
+  std::uint64_t seed = 100;
+  return bytes_after_rounds(threads, [&seed, alone](std::unique_ptr<Emitter> e) {
+    return std::make_unique<OwnStream>(std::move(e), seed++, alone);
+  });
+}
+
+TEST(SchedulerThreads, EmittersAskedAtOnceFromTheirOwnStreamsGiveTheInOrderBits) {
+  const std::string in_order = own_stream_run_bytes(1, false);
+  EXPECT_EQ(own_stream_run_bytes(1, true), in_order);
+  EXPECT_EQ(own_stream_run_bytes(2, true), in_order);
+  EXPECT_EQ(own_stream_run_bytes(std::max(2, tbb::info::default_concurrency()), true), in_order);
+}
+
 TEST(SchedulerThreads, EvolutionStrategyAndVariationEmittersTellAlone) {
   GridArchive archive(sphere_grid());
   EXPECT_TRUE(EvolutionStrategyEmitter(told_emitter_params(), elite_picker(archive)).tells_alone());
   GaussianEmitterParams gaussian;
   gaussian.x0.assign(kSphereGenes, 0.0);
   EXPECT_TRUE(GaussianEmitter(gaussian, elite_picker(archive)).tells_alone());
+  // They draw from the stream they are given, so a scheduler asks them in order.
+  EXPECT_FALSE(EvolutionStrategyEmitter(told_emitter_params(), elite_picker(archive)).asks_alone());
 }
 
 // Runs one round whose emitters 2 and 5 throw, 2 after a delay (so that 5 throws first in time).

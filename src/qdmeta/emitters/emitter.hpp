@@ -60,6 +60,10 @@ class Emitter {
   // no Python), so a Scheduler may tell several such emitters at once; the default, false, has
   // a user's emitter told on the calling thread in emitter order.
   virtual bool tells_alone() const { return false; }
+  // True when ask() ignores the scheduler's stream (the emitter draws from one of its own, as
+  // the Python module's emitters do) and only reads what others share (the archive), so a
+  // Scheduler may ask several such emitters at once; false by default.
+  virtual bool asks_alone() const { return false; }
   // Checkpoints for bit-exact continuation: load() into an emitter built with the same params.
   virtual void save(BinaryWriter& out) const = 0;
   virtual void load(BinaryReader& in) = 0;

@@ -3,11 +3,13 @@
 // ask() stacks each emitter's batch in emitter order; tell() takes the rows' objectives and
 // measures, adds every row to the archive under the thresholds (thresholded_add.hpp), and tells
 // each emitter the outcomes of its own rows: at once on oneTBB when every emitter tells_alone()
-// (each then touches only itself, so the bits do not depend on the threads), in order otherwise. ThresholdParams{alpha = 1, threshold_min = -inf} is
-// CMA-ME; alpha < 1 with a finite threshold_min is CMA-MAE. The archive is the caller's result
-// archive (each cell keeps its best elite); the scheduler holds the thresholds beside it, and
-// archive.clear() resets them to threshold_min (as pyribs, whose empty cells score against
-// threshold_min whatever their threshold was). `add_mode` is pyribs's: kSingle (the default) offers
+// (each then touches only itself, so the bits do not depend on the threads), in order otherwise.
+// ask() likewise asks at once emitters that draw from streams of their own (asks_alone()).
+// ThresholdParams{alpha = 1, threshold_min = -inf} is CMA-ME; alpha < 1 with a finite
+// threshold_min is CMA-MAE. The archive is the caller's result archive (each cell keeps its
+// best elite); the scheduler holds the thresholds beside it, and archive.clear() resets them to
+// threshold_min (as pyribs, whose empty cells score against threshold_min whatever their
+// threshold was). `add_mode` is pyribs's: kSingle (the default) offers
 // the rows to the thresholds one at a time, in order; kBatch scores them all against the
 // thresholds before the batch (CellThresholds::offer_batch).
 //
@@ -120,12 +122,15 @@ class Scheduler {
   // Every emitter's batch, stacked in emitter order; valid until the next ask() or load().
   const RowMatrix& ask(Rng& rng) {
     if (awaiting_tell_) throw InputError("Scheduler::ask: called twice without tell; tell the last batch's results first");
-    Index row = 0;
-    for (std::size_t i = 0; i < emitters_.size(); ++i) {
-      if (!active_[i]) continue;
-      const RowMatrix& batch = emitters_[i]->ask(rng);
-      solutions_.middleRows(row, batch.rows()) = batch;
-      row += batch.rows();
+    const std::vector<std::pair<Emitter*, Index>> asked = active_emitters();
+    const auto ask_one = [&](std::size_t k) {
+      const RowMatrix& batch = asked[k].first->ask(rng);
+      solutions_.middleRows(asked[k].second, batch.rows()) = batch;
+    };
+    if (at_once(asked, &Emitter::asks_alone)) {
+      parallel_indices_lowest_error(static_cast<Index>(asked.size()), [&](Index k) { ask_one(static_cast<std::size_t>(k)); });
+    } else {
+      for (std::size_t k = 0; k < asked.size(); ++k) ask_one(k);
     }
     awaiting_tell_ = true;
     return solutions_;
@@ -142,13 +147,7 @@ class Scheduler {
     add_with_thresholds(archive_, thresholds_, EliteBatch{solutions_, objectives, measures, base_features, valid},
                         outcomes_, add_mode_);
     awaiting_tell_ = false;
-    std::vector<std::pair<Emitter*, Index>> told;  // each active emitter and its first row
-    Index row = 0;
-    for (std::size_t i = 0; i < emitters_.size(); ++i) {
-      if (!active_[i]) continue;
-      told.emplace_back(emitters_[i].get(), row);
-      row += emitters_[i]->batch_size();
-    }
+    const std::vector<std::pair<Emitter*, Index>> told = active_emitters();
     const auto tell_one = [&](std::size_t k) {
       const auto [emitter, first_row] = told[k];
       const Index rows = emitter->batch_size();
@@ -158,10 +157,7 @@ class Scheduler {
                      RowsView(measures.row(first_row), rows, measures.cols, measures.stride),
                      std::span<const ThresholdOutcome>(outcomes_).subspan(first, count)});
     };
-    const bool at_once = told.size() > 1 && std::all_of(told.begin(), told.end(), [](const auto& t) {
-                           return t.first->tells_alone();
-                         });
-    if (at_once) {
+    if (at_once(told, &Emitter::tells_alone)) {
       parallel_indices_lowest_error(static_cast<Index>(told.size()), [&](Index k) { tell_one(static_cast<std::size_t>(k)); });
     } else {
       for (std::size_t k = 0; k < told.size(); ++k) tell_one(k);
@@ -193,6 +189,23 @@ class Scheduler {
   }
 
  private:
+  // Each active emitter and the first row of its batch, in emitter order.
+  std::vector<std::pair<Emitter*, Index>> active_emitters() const {
+    std::vector<std::pair<Emitter*, Index>> active;
+    Index row = 0;
+    for (std::size_t i = 0; i < emitters_.size(); ++i) {
+      if (!active_[i]) continue;
+      active.emplace_back(emitters_[i].get(), row);
+      row += emitters_[i]->batch_size();
+    }
+    return active;
+  }
+  // True when there are several emitters and each says `alone` (tells_alone or asks_alone).
+  static bool at_once(const std::vector<std::pair<Emitter*, Index>>& emitters, bool (Emitter::*alone)() const) {
+    return emitters.size() > 1 &&
+           std::all_of(emitters.begin(), emitters.end(), [alone](const auto& e) { return (e.first->*alone)(); });
+  }
+
   Index active_rows() const {
     Index rows = 0;
     for (std::size_t i = 0; i < emitters_.size(); ++i) rows += active_[i] ? emitters_[i]->batch_size() : 0;
