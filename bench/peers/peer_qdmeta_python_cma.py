@@ -3,8 +3,8 @@ pyribs's names swapped for qdmeta's (docs/tutorials/pyribs-cma-mae.md), on the s
 domains (common.CMA_DOMAINS) and settings: 15 EvolutionStrategyEmitters of batch 36 from x0 = 0,
 selection "mu", restart "basic"; CMA-ME ranks by "2imp", CMA-MAE by "imp" over an archive of
 learning_rate 0.01 and threshold_min 0 (whose cells keep their best elites, pyribs's result
-archive). Prints one JSON line (common.emit). The scheduler tells its emitters on every core the
-process may use (taskset -c 0 gives it one); the note says how many that was.
+archive). Prints one JSON line (common.emit). The scheduler asks and tells its emitters on every
+core the process may use (taskset -c 0 gives it one); the note says how many that was.
 
     python peer_qdmeta_python_cma.py --domain sphere --algorithm cma-mae --iterations 300 --seed 1
 """

@@ -1,6 +1,6 @@
 """bench/peers/peer_qdmeta_python_cma.py, the CMA-MAE peers' runner on qdmeta's module: its JSON
-line counts what the archive holds, and a run pinned to one core (the scheduler then tells its
-emitters on one thread) ends with the QD-score of a run on every core."""
+line counts what the archive holds, and a run pinned to one core (the scheduler then asks and
+tells its emitters on one thread) ends with the QD-score of a run on every core."""
 import json
 import os
 import pathlib
