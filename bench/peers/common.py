@@ -17,6 +17,7 @@ clamped to [0, 1]; "iso-line" (Vassiliades & Mouret 2018), x_i + 0.01 N(0, I) + 
 import argparse
 import json
 import sys
+import time
 
 import numpy as np
 
@@ -107,6 +108,55 @@ CMA_DOMAINS = {
 CMA_EMITTERS = 15
 CMA_EMITTER_BATCH = 36
 CMA_GRID = (100, 100)
+
+
+def cma_arguments(description):
+    """The command line of a CMA-ME / CMA-MAE runner (peer_pyribs_cma.py, peer_qdmeta_python_cma.py)."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--domain", choices=sorted(CMA_DOMAINS), required=True)
+    p.add_argument("--algorithm", choices=["cma-me", "cma-mae"], required=True)
+    p.add_argument("--iterations", type=int, default=10_000)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--genes", type=int, default=100)
+    return p.parse_args()
+
+
+def cma_emitter_settings(args, sigma0):
+    """Each emitter's keyword arguments but its archive, as the paper's sphere example sets them
+    (both libraries take the same names): CMA-ME ranks by "2imp", CMA-MAE by "imp"; emitter i
+    is seeded seed * 1000 + i, as the paper's scripts give them their own seeds."""
+    ranker = "imp" if args.algorithm == "cma-mae" else "2imp"
+    return [dict(x0=np.zeros(args.genes), sigma0=sigma0, ranker=ranker, selection_rule="mu", restart_rule="basic",
+                 batch_size=CMA_EMITTER_BATCH, seed=args.seed * 1000 + i) for i in range(CMA_EMITTERS)]
+
+
+def run_cma_loop(scheduler, evaluate, iterations):
+    """`iterations` of ask, evaluate (timed apart: the task's share) and tell; returns the loop's
+    wall seconds, the task's seconds, the evaluations and the best objective seen."""
+    obj_max = -np.inf
+    task_s = 0.0
+    evals = 0
+    start = time.perf_counter()
+    for _ in range(iterations):
+        solutions = scheduler.ask()
+        task_start = time.perf_counter()
+        objectives, measures = evaluate(solutions)
+        task_s += time.perf_counter() - task_start
+        obj_max = max(obj_max, float(np.max(objectives)))
+        scheduler.tell(objectives, measures)
+        evals += len(solutions)
+    return time.perf_counter() - start, task_s, evals, obj_max
+
+
+def emit_cma(args, library, version, loop, elites, note):
+    """The CMA runner's result line: `loop` is run_cma_loop's, `elites` the result archive's
+    objectives; the QD-score is the paper's (summed over all cells), coverage in percent."""
+    wall, task_s, evals, obj_max = loop
+    cells = CMA_GRID[0] * CMA_GRID[1]
+    emit(library=library, version=version, algorithm=args.algorithm, domain=args.domain, iterations=args.iterations,
+         evals=evals, wall_s=wall, task_s=task_s, num_elites=len(elites),
+         qd_score=float(np.sum(elites, dtype=np.float64)) / cells, coverage=100.0 * len(elites) / cells,
+         obj_max=obj_max, seed=args.seed, note=note)
 
 
 def mutate(parents, rng):

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "qdmeta/core/error.hpp"
-#include "qdmeta/core/exit_status.hpp"
 
 namespace qdmeta::mpi {
 
@@ -30,7 +29,6 @@ enum Tag : int {
 };
 
 constexpr auto kHeartbeat = std::chrono::milliseconds(200);
-constexpr int kExitAbandoned = kExitRankFailed;  // a worker told (or finding) that the job is broken
 
 struct WorkHeader {
   std::int64_t request = 0;  // serial number of the evaluate call on rank 0

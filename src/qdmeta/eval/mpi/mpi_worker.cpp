@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "qdmeta/core/exit_status.hpp"
 #include "qdmeta/eval/evaluator.hpp"
 #include "qdmeta/eval/mpi/mpi_evaluator.hpp"
 #include "qdmeta/eval/mpi/mpi_protocol.hpp"
@@ -50,7 +51,7 @@ struct Rank0Watch {
   void check() {
     if (Clock::now() < next) return;
     next = Clock::now() + std::chrono::milliseconds(50);
-    if (session.gone(0)) std::quick_exit(mpi::kExitAbandoned);
+    if (session.gone(0)) std::quick_exit(kExitRankFailed);
   }
 };
 
@@ -138,7 +139,7 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
     if (flag) {
       const std::vector<char> bytes = mpi::receive(status, MPI_COMM_WORLD);
       mpi::Unpacker in({bytes.data(), bytes.size()});
-      if (status.MPI_TAG == mpi::kAbort) std::quick_exit(mpi::kExitAbandoned);
+      if (status.MPI_TAG == mpi::kAbort) std::quick_exit(kExitRankFailed);
       if (status.MPI_TAG == mpi::kStop) {
         if (kill_at == kKillAtStop) std::raise(kill_with);
         if (running.valid()) running.wait();
@@ -157,7 +158,7 @@ int run_mpi_worker(MpiSession& session, const TaskListBuilder& build) {
             continue;
           }
           mpi::receive(status, MPI_COMM_WORLD);
-          if (status.MPI_TAG == mpi::kAbort) std::quick_exit(mpi::kExitAbandoned);
+          if (status.MPI_TAG == mpi::kAbort) std::quick_exit(kExitRankFailed);
           if (status.MPI_TAG == mpi::kFinalize) {
             while (!outbox.empty()) {
               outbox.progress();
