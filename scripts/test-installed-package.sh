@@ -181,7 +181,7 @@ message=$(configure_links "$cli" "") && fail "run_cli was used without qdmeta::c
   || fail "run_cli without qdmeta::cli: $message"
 message=$(configure_links "$cli" qdmeta::cli) || fail "run_cli with qdmeta::cli was refused: $message"
 
-step "a program that asks for qdmeta 0.1 is refused: 0.2 broke its API (CHANGELOG.md)"
+step "a program that asks for qdmeta 0.1 or 0.2 is refused: 0.2 and 0.3 broke their APIs (CHANGELOG.md)"
 versioned=$consumer/versioned
 mkdir -p "$versioned/source"
 cat > "$versioned/source/CMakeLists.txt" <<'CMAKE'
@@ -196,10 +196,12 @@ asks_version() {
   cmake -S "$versioned/source" -B "$versioned/build" -DWANT_VERSION="$1" -DCMAKE_PREFIX_PATH="$prefix" 2>&1 | tr -s ' \n' ' '
   return "${PIPESTATUS[0]}"
 }
-message=$(asks_version 0.1) && fail "find_package(qdmeta 0.1) accepted this installation: $message"
-[[ $message == *"qdmetaConfig.cmake, version: 0.2."* ]] || fail "find_package(qdmeta 0.1): $message"
-message=$(asks_version 0.2) || fail "find_package(qdmeta 0.2): $message"
-[[ $message == *"found qdmeta 0.2."* ]] || fail "find_package(qdmeta 0.2): $message"
+for old in 0.1 0.2; do
+  message=$(asks_version $old) && fail "find_package(qdmeta $old) accepted this installation: $message"
+  [[ $message == *"qdmetaConfig.cmake, version: 0.3."* ]] || fail "find_package(qdmeta $old): $message"
+done
+message=$(asks_version 0.3) || fail "find_package(qdmeta 0.3): $message"
+[[ $message == *"found qdmeta 0.3."* ]] || fail "find_package(qdmeta 0.3): $message"
 
 step "building examples/own-task against it, for the x86-64 baseline"
 configure "$root/examples/own-task" "$example"

@@ -104,12 +104,16 @@ TEST(Checkpoint, OnlyThisProgramsVersionResumes) {
   EXPECT_NO_THROW(read_back(dir));
 }
 
-// 0.2.0 changed the API (CHANGELOG.md), not what a run draws: a 0.1.0 checkpoint resumes.
+// 0.2.0 and 0.3.0 changed the API (CHANGELOG.md), not what a run draws: 0.1.0 and 0.2.0
+// checkpoints resume.
 TEST(Checkpoint, AVersionListedAsContinuedResumes) {
   ASSERT_NE(std::string(kVersion), "0.1.0");
+  ASSERT_NE(std::string(kVersion), "0.2.0");
   const fs::path dir = fresh_checkpoint_dir("listed-version");
   checkpointed_run(dir);
   forge_version(dir, "0.1.0");
+  EXPECT_NO_THROW(read_back(dir));
+  forge_version(dir, "0.2.0");
   EXPECT_NO_THROW(read_back(dir));
   forge_version(dir, "0.1.1");
   expect_input_error([&] { read_back(dir); }, "was written by qdmeta 0.1.1, whose runs this qdmeta");

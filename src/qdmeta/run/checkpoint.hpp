@@ -30,7 +30,8 @@ inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 // the bits of an uninterrupted run). A version bump that changes no result adds the old version
 // here; one that changes results leaves it out, and its checkpoints are refused, naming both
 // versions. The version is at most kMaxVersionBytes of [0-9A-Za-z.+-]; anything else is damage.
-inline constexpr std::array<std::string_view, 1> kCheckpointResumesFrom{"0.1.0"};  // 0.2.0 broke APIs, not results
+// 0.2.0 and 0.3.0 broke APIs, not results.
+inline constexpr std::array<std::string_view, 2> kCheckpointResumesFrom{"0.1.0", "0.2.0"};
 inline constexpr std::size_t kMaxVersionBytes = 64;
 
 // The run driver's own state between two generations.
