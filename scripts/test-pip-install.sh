@@ -12,7 +12,7 @@ fail() { echo "test-pip-install: FAILED: $*" >&2; exit 1; }
 
 # A fresh environment each time; the CMake build folder is kept, so a second run rebuilds only
 # what changed.
-rm -rf "$scratch/venv" "$scratch/tests" "$scratch/docs" "$scratch/README.md"
+rm -rf "$scratch/venv" "$scratch/tests" "$scratch/docs" "$scratch/bench" "$scratch/README.md"
 mkdir -p "$scratch"
 step "a fresh virtual environment in $scratch/venv"
 /usr/bin/python3 -m venv "$scratch/venv" || fail "python3 -m venv (Debian: python3-venv)"
@@ -32,5 +32,7 @@ step "the Python suite against the installed package"
 mkdir -p "$scratch/tests" && cp -r "$root/tests/python" "$scratch/tests/python"
 mkdir -p "$scratch/docs/tutorials" && cp "$root/docs/python.md" "$scratch/docs/" && cp "$root/README.md" "$scratch/"
 cp "$root/docs/tutorials/pyribs-cma-mae.md" "$scratch/docs/tutorials/"  # tests/python/test_tutorials.py runs it
+# tests/python/test_peer_cma_runner.py runs the CMA peers' runner on the installed module.
+mkdir -p "$scratch/bench/peers" && cp "$root/bench/peers/common.py" "$root/bench/peers/peer_qdmeta_python_cma.py" "$scratch/bench/peers/"
 (cd "$scratch" && "$py" -m pytest -q -p no:cacheprovider tests/python) || fail "pytest"
 step "passed"
