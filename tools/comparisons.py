@@ -35,7 +35,8 @@ def compared(pairs, measure):
 
 def verdicts(pairs, measures, first, second):
     """The pair (first, second)'s verdicts over the (label, measure) list, grouped: "higher on A
-    and B; lower on C; no difference shown on D" (groups without a measure left out). The pair
+    and B; lower on C; no difference shown on D" (groups without a measure left out), or "higher
+    on every measure" when one verdict holds for all (of two or more). The pair
     must be one of `pairs`, whose Holm adjustment the verdicts take."""
     if (first, second) not in pairs:
         raise ValueError(f"{first[0]} against {second[0]} is not one of the pairs")
@@ -43,6 +44,8 @@ def verdicts(pairs, measures, first, second):
     groups = {}
     for label, measure in measures:
         groups.setdefault(compared(pairs, measure)[index]["verdict"], []).append(label)
+    if len(groups) == 1 and len(measures) > 1:
+        return f"{next(iter(groups))} on every measure"
     return "; ".join(f"{word} on {_joined(groups[word])}" for word in ("higher", "lower", "no difference shown")
                      if word in groups)
 

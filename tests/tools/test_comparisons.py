@@ -63,6 +63,8 @@ def test_verdicts_group_the_measures_by_direction(sides):
     assert comparisons.verdicts([(a, b)], MEASURES, a, b) == "higher on size; lower on average; no difference shown on QD"
     assert comparisons.verdicts([(a, b)], MEASURES[:2] + [("worth", "final:num_elites")], a, b) == \
         "higher on size and worth; lower on average"
+    assert comparisons.verdicts([(a, b)], [MEASURES[0], ("worth", "final:num_elites")], a, b) == "higher on every measure"
+    assert comparisons.verdicts([(a, b)], MEASURES[:1], a, b) == "higher on size"
     with pytest.raises(ValueError, match="C there against B there is not one of the pairs"):
         comparisons.verdicts([(a, b)], MEASURES, c, b)
 
