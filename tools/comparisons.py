@@ -33,17 +33,20 @@ def compared(pairs, measure):
     return rows
 
 
+def verdict(pairs, measure, first, second):
+    """compared()'s verdict for the pair (first, second), which must be one of `pairs`."""
+    if (first, second) not in pairs:
+        raise ValueError(f"{first[0]} against {second[0]} is not one of the pairs")
+    return compared(pairs, measure)[pairs.index((first, second))]["verdict"]
+
+
 def verdicts(pairs, measures, first, second):
     """The pair (first, second)'s verdicts over the (label, measure) list, grouped: "higher on A
     and B; lower on C; no difference shown on D" (groups without a measure left out), or "higher
-    on every measure" when one verdict holds for all (of two or more). The pair
-    must be one of `pairs`, whose Holm adjustment the verdicts take."""
-    if (first, second) not in pairs:
-        raise ValueError(f"{first[0]} against {second[0]} is not one of the pairs")
-    index = pairs.index((first, second))
+    on every measure" when one verdict holds for all (of two or more)."""
     groups = {}
     for label, measure in measures:
-        groups.setdefault(compared(pairs, measure)[index]["verdict"], []).append(label)
+        groups.setdefault(verdict(pairs, measure, first, second), []).append(label)
     if len(groups) == 1 and len(measures) > 1:
         return f"{next(iter(groups))} on every measure"
     return "; ".join(f"{word} on {_joined(groups[word])}" for word in ("higher", "lower", "no difference shown")

@@ -25,8 +25,9 @@ S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXP
 texts of its claims; ratio_stat(NUMERATOR VALUES, [DENOMINATOR VALUES, ...]) a ratio claim's
 (ratio, SE) as tools/claims.py computes it; table2(study) (the report's Table 2 from
 data/generalisation.csv); scorecard(ROWS, COLUMNS) (tools/scorecard.py: each claim's verdict
-under each setting and variant, and the cause of a miss); comparison_table(PAIRS, MEASURES) and
-comparison_verdicts(PAIRS, MEASURES, FIRST, SECOND) (tools/comparisons.py: conditions of different
+under each setting and variant, and the cause of a miss); comparison_table(PAIRS, MEASURES),
+comparison_verdict(PAIRS, MEASURE, FIRST, SECOND) and comparison_verdicts(PAIRS, MEASURES, FIRST,
+SECOND) (tools/comparisons.py: conditions of different
 studies compared run against run); config(PATH) (a committed TOML file, parsed); and Python's builtins
 (min, max, sorted, ...).
 """
@@ -97,7 +98,8 @@ def namespace():
             return tomllib.load(f)
     return {"study": study, "study_if_run": study_if_run, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
             "claim_texts": claim_texts, "ratio_stat": claims.ratio_stat, "scorecard": scorecard,
-            "comparison_table": comparisons.table, "comparison_verdicts": comparisons.verdicts}
+            "comparison_table": comparisons.table, "comparison_verdict": comparisons.verdict,
+            "comparison_verdicts": comparisons.verdicts}
 
 
 def value_text(value, spec):

@@ -53,6 +53,8 @@ def test_holm_over_the_pairs_of_a_measure_decides_the_verdict(sides):
     both = comparisons.compared([(a, b), (a, c)], "final:num_elites")
     assert both[0]["holm"] == pytest.approx(4 / 70) and both[0]["verdict"] == "no difference shown"
     assert comparisons.compared([(b, a)], "final:num_elites")[0]["verdict"] == "lower"
+    assert comparisons.verdict([(a, b), (a, c)], "final:num_elites", a, b) == "no difference shown"
+    assert comparisons.verdict([(b, a)], "final:num_elites", b, a) == "lower"
 
 
 MEASURES = [("size", "final:num_elites"), ("average", "final:obj_mean"), ("QD", "final:qd_score")]
