@@ -54,7 +54,7 @@ import numpy as np
 
 import significance
 
-ALPHA = 0.05
+ALPHA = significance.ALPHA
 REPRODUCED = "reproduced"
 NOT_REPRODUCED = "not reproduced"
 NOT_AT_BUDGET = "not testable at this budget"

@@ -9,7 +9,7 @@ where higher is better (fitness, test scores, archive size, QD-score).
 """
 import significance
 
-ALPHA = 0.05
+ALPHA = significance.ALPHA
 
 
 def pair(first, second, measure):

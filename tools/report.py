@@ -604,7 +604,7 @@ def test_table(conditions, tests):
     return "\n".join(lines)
 
 
-ALPHA = 0.05
+ALPHA = significance.ALPHA
 
 
 def comparison_table(title, samples):

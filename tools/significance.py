@@ -7,8 +7,12 @@ python3 needs nothing beyond itself:
   correction of 1/2.
 - holm(p_values): Holm's step-down adjustment over the comparisons of one table.
 - a12(x, y): the Vargha-Delaney effect size, P(X > Y) + P(X = Y) / 2.
+- ALPHA: the level below which an adjusted p counts as a difference, in every table and verdict
+  (the report's * marks, the claims' order and top rules, the results pages' comparisons).
 """
 import math
+
+ALPHA = 0.05
 
 
 def _ranks(values):
