@@ -340,7 +340,7 @@ def check(claim, samples, budget, earlier=None):
         """Each (a, b, m) pair's Holm-adjusted p over all the pairs (a above b), the largest, and
         the verdict: reproduced when every a is above its b by mean with every adjusted p below
         ALPHA; too few replicates when no p could be."""
-        adjusted = significance.holm([significance.mann_whitney_u(data[a, m], data[b, m])[1] for a, b, m in pairs])
+        adjusted = [p for _, p in significance.pairwise([(data[a, m], data[b, m]) for a, b, m in pairs])]
         ordered = all(mean(a, m) > mean(b, m) for a, b, m in pairs)
         if ordered and max(adjusted) < ALPHA:
             return adjusted, REPRODUCED

@@ -615,11 +615,10 @@ def comparison_table(title, samples):
     pairs = [(a, b) for i, a in enumerate(names) for b in names[i + 1:]]
     if not pairs:
         return ""
-    tests = [significance.mann_whitney_u(samples[a], samples[b]) for a, b in pairs]
-    adjusted = significance.holm([p for _, p in tests])
+    tested = significance.pairwise([(samples[a], samples[b]) for a, b in pairs])
     lines = [f"**{title}**", "", "| first | second | median first | median second | U | p (Holm) | A12 | |",
              "|---|---|---|---|---|---|---|---|"]
-    for (a, b), (u, _), p in zip(pairs, tests, adjusted):
+    for (a, b), (u, p) in zip(pairs, tested):
         mark = "*" if p < ALPHA else ""
         lines.append(f"| {a} | {b} | {np.median(samples[a]):.4g} | {np.median(samples[b]):.4g} | {u:g} | {p:.3g} | "
                      f"{significance.a12(samples[a], samples[b]):.2f} | {mark} |")

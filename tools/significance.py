@@ -6,6 +6,8 @@ python3 needs nothing beyond itself:
   no value is tied, else the normal approximation with the tie correction and a continuity
   correction of 1/2.
 - holm(p_values): Holm's step-down adjustment over the comparisons of one table.
+- pairwise(sample_pairs): each pair's U and p Holm-adjusted over the pairs, the one rule behind
+  every pairwise table and verdict.
 - a12(x, y): the Vargha-Delaney effect size, P(X > Y) + P(X = Y) / 2.
 - ALPHA: the level below which an adjusted p counts as a difference, in every table and verdict
   (the report's * marks, the claims' order and top rules, the results pages' comparisons).
@@ -96,6 +98,13 @@ def holm(p_values):
         running = max(running, min(1.0, (m - rank) * p_values[i]))
         adjusted[i] = running
     return adjusted
+
+
+def pairwise(sample_pairs):
+    """For each (x, y) of `sample_pairs`: (U of x over y, its two-sided Mann-Whitney p adjusted
+    by Holm's method over all the pairs)."""
+    tests = [mann_whitney_u(x, y) for x, y in sample_pairs]
+    return [(u, p) for (u, _), p in zip(tests, holm([p for _, p in tests]))]
 
 
 def a12(x, y):

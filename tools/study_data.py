@@ -132,9 +132,8 @@ class Study:
         have the measure: the p of the report's pairwise table for that measure."""
         names = [c for c in self.conditions if self.samples(c, measure)]
         pairs = [(a, b) for i, a in enumerate(names) for b in names[i + 1:]]
-        adjusted = significance.holm([significance.mann_whitney_u(self.values(a, measure),
-                                                                   self.values(b, measure))[1] for a, b in pairs])
-        for (a, b), p in zip(pairs, adjusted):
+        tested = significance.pairwise([(self.values(a, measure), self.values(b, measure)) for a, b in pairs])
+        for (a, b), (_, p) in zip(pairs, tested):
             if {a, b} == {first, second}:
                 return p
         raise StudyError(f"{self.directory}: no pair '{first}', '{second}' on '{measure}'")

@@ -73,3 +73,12 @@ def test_agrees_with_scipy_when_present():
         reference = stats.mannwhitneyu(x, y, alternative="two-sided")
         assert u == pytest.approx(reference.statistic)
         assert p == pytest.approx(reference.pvalue, rel=1e-9, abs=1e-12), (x, y)
+
+
+def test_pairwise_adjusts_each_pairs_p_over_all_the_pairs():
+    # (x1, y1): every x above every y, U = 4, exact p = 1/3; (x2, y2): the centre, U = 2, p = 1.
+    # Holm over the two: 2 x 1/3 = 2/3 for the smaller, then max(2/3, 1 x 1) = 1.
+    tested = sig.pairwise([([3, 4], [1, 2]), ([1, 4], [2, 3])])
+    assert tested == [(4.0, pytest.approx(2 / 3)), (2.0, 1.0)]
+    assert sig.pairwise([([3, 4], [1, 2])]) == [(4.0, pytest.approx(1 / 3))]
+    assert sig.pairwise([]) == []
