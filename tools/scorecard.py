@@ -1,16 +1,17 @@
 #!/usr/bin/python3
 """The scorecard of a results page: each of the paper's claims, its verdict under each setting
 (the authors' effective one, the stated one, each of the authors' variants) and a one-line cause
-where a variant explains a miss, every cell computed from committed reports.
+where another setting or a variant explains a miss, every cell computed from committed reports.
 
 A column is (label, kind): kind "setting" or "variant". A row is (label, {column label:
 (experiment file, claim text, Study or None)}); a column the row does not name shows "—". A cell is the claim's verdict (tools/claims.py) on the runs the study has, with
 "(k of R replicates)" when a condition of the claim has fewer than the experiment file's R;
 "pending (k of R)" when a condition has none yet; "not run yet" when the study has no report.
 
-The cause, from the cells alone: when the first setting's verdict is "not reproduced", each
-variant whose verdict on its full replicates is "reproduced" explains the miss, one whose verdict
-is "not reproduced" does not; a variant still short of its replicates is pending.
+The cause, from the cells alone: when the first setting's verdict is "not reproduced", each other
+column (a setting such as the stated SD, or a variant) whose verdict on its full replicates is
+"reproduced" explains the miss, one whose verdict is "not reproduced" does not; one still short of
+its replicates is pending.
 """
 import os
 import sys
@@ -66,7 +67,7 @@ def cause(verdicts, columns):
         return ""
     parts = []
     for label, kind in columns:
-        if kind != "variant" or label not in verdicts:
+        if label == settings[0] or label not in verdicts:
             continue
         verdict = verdicts[label]
         parts.append(f"{label}: " + ("explains it" if verdict == claims.REPRODUCED

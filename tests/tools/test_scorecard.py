@@ -80,11 +80,13 @@ def test_an_unknown_claim_text_is_refused(experiment):
 COLUMNS = [("ours", "setting"), ("stated", "setting"), ("variant 1", "variant"), ("variant 2", "variant")]
 
 
-def test_the_cause_names_each_variant_of_a_missed_claim():
+def test_the_cause_names_each_other_setting_and_variant_of_a_missed_claim():
     missed = {"ours": "not reproduced", "stated": "reproduced", "variant 1": "reproduced", "variant 2": None}
-    assert scorecard.cause(missed, COLUMNS) == "variant 1: explains it; variant 2: pending"
-    assert scorecard.cause(dict(missed, **{"variant 1": "not reproduced"}), COLUMNS) == \
-        "variant 1: does not explain it; variant 2: pending"
+    assert scorecard.cause(missed, COLUMNS) == "stated: explains it; variant 1: explains it; variant 2: pending"
+    assert scorecard.cause(dict(missed, stated="not reproduced", **{"variant 1": "not reproduced"}), COLUMNS) == \
+        "stated: does not explain it; variant 1: does not explain it; variant 2: pending"
+    # A column the row does not name is left out of the cause.
+    assert scorecard.cause({"ours": "not reproduced", "variant 2": "reproduced"}, COLUMNS) == "variant 2: explains it"
     # A claim held at the first setting has no cause to give, whatever the variants say.
     assert scorecard.cause(dict(missed, ours="reproduced"), COLUMNS) == ""
 
