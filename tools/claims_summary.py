@@ -29,6 +29,14 @@ def claims_of(experiment_file, source):
     return [c for c in spec.get("claim", []) if c.get("source", "paper") == source]
 
 
+def claim_of(experiment_file, text):
+    """The one claim of the file (the paper's or our own) with this text."""
+    matching = [c for source in ("paper", "ours") for c in claims_of(experiment_file, source) if c["text"] == text]
+    if len(matching) != 1:
+        raise ValueError(f"{experiment_file} has {len(matching)} claims with text '{text}'")
+    return matching[0]
+
+
 def verdicts(claim, studies):
     """[(measured, verdict)] of one claim on each study, each judged with the one before as its
     smaller budget."""

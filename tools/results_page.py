@@ -22,7 +22,8 @@ the same, or None while none is committed)
 S.n, S.curve, S.table2, S.budget, S.values ...); claims_table(SOURCE, (NAME, EXPERIMENT FILE,
 [(LABEL, study)]), ...) (tools/claims_summary.py) and verdict(EXPERIMENT FILE, CLAIM TEXT,
 [study, ...]) for one claim's verdict on the last study; claim_texts(EXPERIMENT FILE[, SOURCE]) the
-texts of its claims; ratio_stat(NUMERATOR VALUES, [DENOMINATOR VALUES, ...]) a ratio claim's
+texts of its claims; claim_band(EXPERIMENT FILE, CLAIM TEXT, CONDITION) the band a magnitude claim
+allows; ratio_stat(NUMERATOR VALUES, [DENOMINATOR VALUES, ...]) a ratio claim's
 (ratio, SE) as tools/claims.py computes it; table2(study) (the report's Table 2 from
 data/generalisation.csv); scorecard(ROWS, COLUMNS) (tools/scorecard.py: each claim's verdict
 under each setting and variant, and the cause of a miss); comparison_table(PAIRS, MEASURES),
@@ -78,12 +79,12 @@ def namespace():
     def verdict(experiment_file, text, studies):
         """The verdict of the claim with this text on the last of `studies` (smallest budget
         first), as claims_table gives it: for {% assert %} lines under prose that cites it."""
-        path = os.path.join(ROOT, experiment_file)
-        matching = [c for source in ("paper", "ours") for c in claims_summary.claims_of(path, source)
-                    if c["text"] == text]
-        if len(matching) != 1:
-            raise ValueError(f"{experiment_file} has {len(matching)} claims with text '{text}'")
-        return claims_summary.verdicts(matching[0], studies)[-1][1]
+        return claims_summary.verdicts(claims_summary.claim_of(os.path.join(ROOT, experiment_file), text), studies)[-1][1]
+
+    def claim_band(experiment_file, text, condition):
+        """The band a near, below or between claim allows the condition (tools/claims.py's Band:
+        .low, .high, .holds(x), str() as the claims table shows it)."""
+        return claims.bands(claims_summary.claim_of(os.path.join(ROOT, experiment_file), text), [condition])[condition]
 
     def claim_texts(experiment_file, source="paper"):
         """The texts of an experiment file's claims of `source`, in the file's order."""
@@ -97,7 +98,7 @@ def namespace():
         with open(os.path.join(ROOT, path), "rb") as f:
             return tomllib.load(f)
     return {"study": study, "study_if_run": study_if_run, "claims_table": claims_table, "table2": table2, "config": config, "verdict": verdict,
-            "claim_texts": claim_texts, "ratio_stat": claims.ratio_stat, "scorecard": scorecard,
+            "claim_texts": claim_texts, "claim_band": claim_band, "ratio_stat": claims.ratio_stat, "scorecard": scorecard,
             "comparison_table": comparisons.table, "comparison_verdict": comparisons.verdict,
             "comparison_verdicts": comparisons.verdicts}
 

@@ -24,14 +24,6 @@ import claims_summary  # noqa: E402
 DASH = "—"
 
 
-def _claim(experiment_file, text):
-    matching = [c for source in ("paper", "ours") for c in claims_summary.claims_of(experiment_file, source)
-                if c["text"] == text]
-    if len(matching) != 1:
-        raise ValueError(f"{experiment_file} has {len(matching)} claims with text '{text}'")
-    return matching[0]
-
-
 def _replicates(experiment_file):
     with open(experiment_file, "rb") as f:
         return int(tomllib.load(f).get("replicates", 1))
@@ -47,7 +39,7 @@ def _conditions(claim):
 
 def cell(experiment_file, text, study):
     """(shown text, verdict or None when not judged on full replicates) of one claim."""
-    claim = _claim(experiment_file, text)
+    claim = claims_summary.claim_of(experiment_file, text)
     replicates = _replicates(experiment_file)
     if study is None:
         return "not run yet", None
@@ -66,7 +58,7 @@ def cause(verdicts, columns):
     if not settings or verdicts[settings[0]] != claims.NOT_REPRODUCED:
         return ""
     parts = []
-    for label, kind in columns:
+    for label, _ in columns:
         if label == settings[0] or label not in verdicts:
             continue
         verdict = verdicts[label]
